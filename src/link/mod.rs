@@ -1,0 +1,1 @@
+//! The IO engine: one thread owns the transport; queue, priorities, timeouts, polling.

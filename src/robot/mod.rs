@@ -1,0 +1,1 @@
+//! SCARA model, kinematics, coordinate frames and motion profiles (pure math, no IO).

@@ -1,0 +1,1 @@
+//! The simulated X-SEL SCARA controller: a Format B slave built on protocol and robot.
