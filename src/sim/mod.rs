@@ -1,1 +1,3 @@
 //! The simulated X-SEL SCARA controller: a Format B slave built on protocol and robot.
+
+pub mod pipe;
