@@ -1,0 +1,144 @@
+//! What the link thread reports: traffic, answers, faults and the state of the line.
+
+use std::ops::Range;
+use std::time::{Duration, Instant};
+
+use super::health::LinkHealth;
+use super::request::{Origin, RequestId};
+use crate::protocol::{
+    AxisPattern, Command, CoordKind, DecodeError, ErrorCode, PerAxis, Reply, Thou,
+};
+
+/// One event from the link thread, in the order things happened on the line.
+#[derive(Debug, Clone, PartialEq)]
+pub enum LinkEvent {
+    /// The line is open (first time).
+    Connected { line: String },
+    /// The line was lost (port vanished, socket closed, read/write error).
+    Disconnected { reason: String },
+    /// The line is open again after a loss.
+    Reconnected { line: String },
+    /// A frame went out: the exact bytes, when the write returned.
+    FrameSent {
+        id: RequestId,
+        bytes: Vec<u8>,
+        at: Instant,
+    },
+    /// A well-formed frame came in.
+    FrameReceived {
+        bytes: Vec<u8>,
+        first_byte: Instant,
+        last_byte: Instant,
+    },
+    /// Bytes that did not make a valid frame (garbage, bad checksum, missing LF, cut-off
+    /// reply), or a valid frame nobody asked for.
+    Garbage {
+        bytes: Vec<u8>,
+        error: String,
+        at: Instant,
+    },
+    /// The reply to a request.
+    Reply {
+        id: RequestId,
+        origin: Origin,
+        command: Command,
+        reply: Reply,
+        round_trip: Duration,
+    },
+    /// The controller refused a request with an `&` error code.
+    ErrorReply {
+        id: RequestId,
+        origin: Origin,
+        command: Command,
+        code: ErrorCode,
+    },
+    /// No valid reply in time. `retrying` says whether the request goes out again; for
+    /// motion it never does, and `recheck` names the status read sent instead.
+    Timeout {
+        id: RequestId,
+        origin: Origin,
+        command: Command,
+        retrying: bool,
+        recheck: Option<RequestId>,
+    },
+    /// A request that never reached the line (line down, or it could not be encoded).
+    NotSent {
+        id: RequestId,
+        command: Command,
+        reason: String,
+    },
+    /// Progress of a coordinate-table download.
+    TableProgress {
+        kind: CoordKind,
+        received: u16,
+        total: u16,
+    },
+    /// A coordinate-table download ended; `missing` lists record ranges that could not
+    /// be read after the retries (empty when complete).
+    TableDone {
+        kind: CoordKind,
+        axes: AxisPattern,
+        records: Vec<Option<PerAxis<Thou>>>,
+        missing: Vec<Range<u16>>,
+    },
+    /// Figures of the line, about twice a second while connected.
+    Health(LinkHealth),
+}
+
+impl LinkEvent {
+    /// A one-line description for logs and the status bar.
+    pub fn summary(&self) -> String {
+        match self {
+            LinkEvent::Connected { line } => format!("connected to {line}"),
+            LinkEvent::Disconnected { reason } => format!("line lost: {reason}"),
+            LinkEvent::Reconnected { line } => format!("reconnected to {line}"),
+            LinkEvent::FrameSent { bytes, .. } => format!("sent {}", printable(bytes)),
+            LinkEvent::FrameReceived { bytes, .. } => format!("received {}", printable(bytes)),
+            LinkEvent::Garbage { bytes, error, .. } => {
+                format!("bad input {}: {error}", printable(bytes))
+            }
+            LinkEvent::Reply { command, .. } => format!("reply to {}", command.id()),
+            LinkEvent::ErrorReply { command, code, .. } => {
+                format!("{} refused with error {code}", command.id())
+            }
+            LinkEvent::Timeout {
+                command, retrying, ..
+            } => format!(
+                "no reply to {}{}",
+                command.id(),
+                if *retrying { ", retrying" } else { "" }
+            ),
+            LinkEvent::NotSent {
+                command, reason, ..
+            } => format!("{} not sent: {reason}", command.id()),
+            LinkEvent::TableProgress {
+                kind,
+                received,
+                total,
+            } => format!("{kind:?} table: {received}/{total} records"),
+            LinkEvent::TableDone { kind, missing, .. } if missing.is_empty() => {
+                format!("{kind:?} table read")
+            }
+            LinkEvent::TableDone { kind, missing, .. } => {
+                format!("{kind:?} table read with records missing: {missing:?}")
+            }
+            LinkEvent::Health(h) => {
+                format!("{} transactions, {} timeouts", h.transactions, h.timeouts)
+            }
+        }
+    }
+}
+
+/// Frame bytes as text, with CR, LF and other control bytes escaped.
+pub fn printable(bytes: &[u8]) -> String {
+    bytes.escape_ascii().to_string()
+}
+
+/// Internal: a decode error with its raw bytes, as the link reports it.
+pub(crate) fn garbage_event(error: &DecodeError, at: Instant) -> LinkEvent {
+    LinkEvent::Garbage {
+        bytes: error.raw().to_vec(),
+        error: error.to_string(),
+        at,
+    }
+}

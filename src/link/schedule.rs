@@ -1,0 +1,313 @@
+//! Which request goes on the line next: STOP first, then the user's commands, then status
+//! polls when due (never queued, so a stale poll is simply not sent), then table chunks.
+
+use std::collections::VecDeque;
+use std::time::{Duration, Instant};
+
+use super::request::{Origin, Pending, Priority, RequestId};
+use super::table::{TableJob, TableRequest};
+use crate::protocol::{AxisPattern, Command, PositionSystem, ScaraStatusQuery};
+
+/// Status polling: the commands of one cycle and how often a cycle starts.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Polling {
+    /// Time from one cycle's start to the next; `None` turns polling off. When the line
+    /// cannot keep up, cycles run back to back and the rate falls to what it allows.
+    pub interval: Option<Duration>,
+    /// Sent in order, one per free slot of the line.
+    pub commands: Vec<Command>,
+}
+
+impl Default for Polling {
+    fn default() -> Self {
+        Self {
+            interval: Some(Duration::from_millis(100)),
+            commands: vec![
+                Command::ScaraStatus(ScaraStatusQuery {
+                    axes: AxisPattern::SCARA_1,
+                    system: PositionSystem::Work,
+                }),
+                Command::SystemStatus,
+            ],
+        }
+    }
+}
+
+/// What the link thread should do now.
+#[derive(Debug, PartialEq)]
+pub enum Next {
+    Send(Pending),
+    /// Nothing to send before this instant (`None`: until something is submitted).
+    Wait(Option<Instant>),
+}
+
+/// The queues, the poll clock and the table download in progress.
+#[derive(Debug, Default)]
+pub struct Scheduler {
+    stops: VecDeque<Pending>,
+    user: VecDeque<Pending>,
+    background: VecDeque<Pending>,
+    polling: Polling,
+    cycle_pos: usize,
+    cycle_started: Option<Instant>,
+    next_poll_at: Option<Instant>,
+    /// After a poll cycle, one background request gets its turn before the next cycle.
+    background_turn: bool,
+    table: Option<TableJob>,
+}
+
+impl Scheduler {
+    pub fn new(polling: Polling, now: Instant) -> Self {
+        let mut s = Self::default();
+        s.set_polling(polling, now);
+        s
+    }
+
+    pub fn polling(&self) -> &Polling {
+        &self.polling
+    }
+
+    pub fn set_polling(&mut self, polling: Polling, now: Instant) {
+        self.next_poll_at = polling.interval.map(|_| now);
+        self.cycle_pos = 0;
+        self.cycle_started = None;
+        self.polling = polling;
+    }
+
+    /// Queues a request; 238H STOP always goes with the stops.
+    pub fn push(&mut self, pending: Pending, priority: Priority) {
+        self.queue(pending, priority).push_back(pending);
+    }
+
+    /// Puts a request back at the head of its queue (a retry, or a status recheck).
+    pub fn push_front(&mut self, pending: Pending, priority: Priority) {
+        self.queue(pending, priority).push_front(pending);
+    }
+
+    fn queue(&mut self, pending: Pending, priority: Priority) -> &mut VecDeque<Pending> {
+        if pending.command.is_stop() {
+            return &mut self.stops;
+        }
+        match priority {
+            Priority::Stop => &mut self.stops,
+            Priority::User => &mut self.user,
+            Priority::Background => &mut self.background,
+        }
+    }
+
+    /// Starts a table download, replacing one in progress (returned so it can be reported).
+    pub fn start_table(&mut self, request: TableRequest) -> Option<TableJob> {
+        self.background
+            .retain(|p| !matches!(p.origin, Origin::Table { .. }));
+        self.table.replace(TableJob::new(request))
+    }
+
+    pub fn table_mut(&mut self) -> Option<&mut TableJob> {
+        self.table.as_mut()
+    }
+
+    /// The finished download, once every chunk is answered or given up.
+    pub fn take_finished_table(&mut self) -> Option<TableJob> {
+        let chunk_waiting = self
+            .background
+            .iter()
+            .any(|p| matches!(p.origin, Origin::Table { .. }));
+        if self.table.as_ref()?.is_finished() && !chunk_waiting {
+            return self.table.take();
+        }
+        None
+    }
+
+    /// Everything queued, emptied (when the line is lost: none of it may go out later).
+    pub fn drain_queued(&mut self) -> Vec<Pending> {
+        let mut all: Vec<Pending> = self.stops.drain(..).collect();
+        all.extend(self.user.drain(..));
+        all.extend(self.background.drain(..));
+        all
+    }
+
+    /// Abandons the table download in progress.
+    pub fn abort_table(&mut self) -> Option<TableJob> {
+        self.background
+            .retain(|p| !matches!(p.origin, Origin::Table { .. }));
+        self.table.take()
+    }
+
+    /// The next request at `now`; `new_id` numbers polls and table chunks.
+    pub fn next(&mut self, now: Instant, new_id: &mut impl FnMut() -> RequestId) -> Next {
+        if let Some(p) = self.stops.pop_front().or_else(|| self.user.pop_front()) {
+            return Next::Send(p);
+        }
+        let poll_due = self.poll_due(now);
+        if (!poll_due || self.background_turn)
+            && let Some(p) = self.next_background(new_id)
+        {
+            self.background_turn = false;
+            return Next::Send(p);
+        }
+        if poll_due && let Some(p) = self.next_poll(now, new_id) {
+            return Next::Send(p);
+        }
+        Next::Wait(self.next_poll_at)
+    }
+
+    fn poll_due(&self, now: Instant) -> bool {
+        !self.polling.commands.is_empty()
+            && (self.cycle_pos > 0 || self.next_poll_at.is_some_and(|at| now >= at))
+    }
+
+    fn next_poll(
+        &mut self,
+        now: Instant,
+        new_id: &mut impl FnMut() -> RequestId,
+    ) -> Option<Pending> {
+        let interval = self.polling.interval?;
+        let command = *self.polling.commands.get(self.cycle_pos)?;
+        if self.cycle_pos == 0 {
+            self.cycle_started = Some(now);
+        }
+        self.cycle_pos += 1;
+        if self.cycle_pos >= self.polling.commands.len() {
+            self.cycle_pos = 0;
+            let start = self.cycle_started.unwrap_or(now);
+            self.next_poll_at = Some((start + interval).max(now));
+            self.background_turn = true;
+        }
+        Some(Pending {
+            id: new_id(),
+            command,
+            origin: Origin::Poll,
+            attempts: 0,
+        })
+    }
+
+    fn next_background(&mut self, new_id: &mut impl FnMut() -> RequestId) -> Option<Pending> {
+        if let Some(p) = self.background.pop_front() {
+            return Some(p);
+        }
+        let command = self.table.as_mut()?.next_query()?;
+        let Command::CoordQuery2(q) = command else {
+            return None;
+        };
+        Some(Pending {
+            id: new_id(),
+            command,
+            origin: Origin::Table {
+                kind: q.kind,
+                first: q.first,
+                count: q.count,
+            },
+            attempts: 0,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::protocol::{CoordKind, Stop};
+
+    fn ids() -> impl FnMut() -> RequestId {
+        let mut n = 1000;
+        move || {
+            n += 1;
+            RequestId(n)
+        }
+    }
+
+    fn user(id: u64, command: Command) -> Pending {
+        Pending {
+            id: RequestId(id),
+            command,
+            origin: Origin::User,
+            attempts: 0,
+        }
+    }
+
+    fn stop() -> Command {
+        Command::Stop(Stop {
+            axes: AxisPattern::ALL,
+            cancel_held_outputs: false,
+        })
+    }
+
+    #[test]
+    fn stop_overtakes_queued_user_commands_whatever_priority_it_was_given() {
+        let now = Instant::now();
+        let mut s = Scheduler::new(Polling::default(), now);
+        let mut new_id = ids();
+        s.push(user(1, Command::AlarmReset), Priority::User);
+        s.push(user(2, stop()), Priority::Background);
+        assert!(matches!(s.next(now, &mut new_id), Next::Send(p) if p.id == RequestId(2)));
+        assert!(matches!(s.next(now, &mut new_id), Next::Send(p) if p.id == RequestId(1)));
+    }
+
+    #[test]
+    fn polls_are_made_when_due_and_never_queue_up() {
+        let t0 = Instant::now();
+        let mut s = Scheduler::new(Polling::default(), t0);
+        let mut new_id = ids();
+        // One cycle: 2A1H then 215H, then nothing until the interval has passed.
+        let Next::Send(a) = s.next(t0, &mut new_id) else {
+            panic!("poll expected")
+        };
+        let Next::Send(b) = s.next(t0, &mut new_id) else {
+            panic!("poll expected")
+        };
+        assert_eq!((a.origin, b.origin), (Origin::Poll, Origin::Poll));
+        assert_eq!(b.command, Command::SystemStatus);
+        assert_eq!(
+            s.next(t0, &mut new_id),
+            Next::Wait(Some(t0 + Duration::from_millis(100)))
+        );
+        // Three intervals pass with the line busy: only one cycle is due, not three.
+        let late = t0 + Duration::from_millis(350);
+        assert!(matches!(s.next(late, &mut new_id), Next::Send(_)));
+        assert!(matches!(s.next(late, &mut new_id), Next::Send(_)));
+        assert_eq!(
+            s.next(late, &mut new_id),
+            Next::Wait(Some(late + Duration::from_millis(100)))
+        );
+    }
+
+    #[test]
+    fn user_commands_wait_behind_no_more_than_the_poll_in_flight() {
+        let t0 = Instant::now();
+        let mut s = Scheduler::new(Polling::default(), t0);
+        let mut new_id = ids();
+        let Next::Send(_poll) = s.next(t0, &mut new_id) else {
+            panic!()
+        };
+        s.push(user(7, Command::AlarmReset), Priority::User);
+        assert!(matches!(s.next(t0, &mut new_id), Next::Send(p) if p.id == RequestId(7)));
+    }
+
+    #[test]
+    fn table_chunks_interleave_with_polls() {
+        let t0 = Instant::now();
+        let polling = Polling {
+            interval: Some(Duration::ZERO),
+            commands: vec![Command::SystemStatus],
+        };
+        let mut s = Scheduler::new(polling, t0);
+        let mut new_id = ids();
+        s.start_table(TableRequest {
+            kind: CoordKind::Work,
+            axes: AxisPattern::SCARA_1,
+            records: 32,
+            reply_buffer: 2048,
+        });
+        let mut kinds = Vec::new();
+        for _ in 0..4 {
+            let Next::Send(p) = s.next(t0, &mut new_id) else {
+                panic!()
+            };
+            kinds.push(matches!(p.origin, Origin::Table { .. }));
+        }
+        assert_eq!(
+            kinds,
+            [false, true, false, false],
+            "poll, chunk, then polls (32 records = 1 chunk)"
+        );
+    }
+}
