@@ -1,3 +1,69 @@
 //! The simulated X-SEL SCARA controller: a Format B slave built on protocol and robot.
+//!
+//! - [`Controller`]: sans-IO, a frame and the time in, the reply (or silence) out.
+//! - [`start_embedded`]: the simulator on its own thread behind an in-memory pipe.
+//! - [`runner::start_pty`] / [`runner::start_tcp`]: serving a pseudo-terminal or TCP port.
+//! - [`errors::CODE_TABLE`]: the error codes of `&` replies.
 
+pub mod controller;
+pub mod coords_file;
+pub mod errors;
+pub mod faults;
+pub mod framing;
+mod handlers;
+pub mod line;
+pub mod motion;
 pub mod pipe;
+pub mod runner;
+pub mod state;
+
+pub use controller::{Controller, SimSetup, Snapshot};
+pub use errors::{CODE_TABLE, SimError};
+pub use faults::{Fault, FaultCounts, FaultSpec};
+pub use runner::{EmbeddedOptions, SimHandle, start_embedded};
+pub use state::{Counters, Mode, SimConfig};
+
+/// A short decoded summary of a frame for logs: kind, message name or error text.
+pub fn describe_frame(frame: &[u8]) -> String {
+    let body = frame.strip_suffix(b"\r\n").unwrap_or(frame);
+    match body.first() {
+        Some(b'&') if body.len() >= 6 => {
+            let code = framing::hex_value(&body[3..6]).unwrap_or(0) as u16;
+            format!("error {:03X}: {}", code, errors::describe_code(code))
+        }
+        Some(h @ (b'!' | b'#')) if body.len() >= 6 => {
+            let id = String::from_utf8_lossy(&body[3..6]).to_ascii_uppercase();
+            let kind = if *h == b'!' { "command" } else { "reply" };
+            format!("{kind} {id}H {}", message_name(&id))
+        }
+        _ => "not a frame".to_owned(),
+    }
+}
+
+/// The name of a message ID (PROTOCOL.md 3).
+pub fn message_name(id: &str) -> &'static str {
+    match id {
+        "200" => "test call",
+        "201" => "version",
+        "212" => "axis status",
+        "215" => "system status",
+        "216" => "error detail",
+        "232" => "servo on/off",
+        "233" => "home return",
+        "234" => "absolute move",
+        "235" => "relative move",
+        "236" => "jog/inching",
+        "238" => "stop",
+        "252" => "alarm reset",
+        "25B" => "software reset",
+        "262" => "speed change",
+        "2A0" => "coordinate systems",
+        "2A1" => "SCARA status",
+        "2A3" => "SCARA status 2",
+        "2A4" => "coordinate systems 2",
+        "2D4" => "SCARA absolute move",
+        "2D5" => "SCARA relative move",
+        "2D6" => "SCARA position move",
+        _ => "(unknown message)",
+    }
+}

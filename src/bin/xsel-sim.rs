@@ -1,0 +1,171 @@
+//! `xsel-sim`: the simulated X-SEL SCARA controller served on a pseudo-terminal or a TCP
+//! port, so any Format B client can talk to it.
+
+use std::io::Write;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+use clap::Parser;
+use xsel_pendant::robot::RobotModel;
+use xsel_pendant::sim::errors::code_table_text;
+use xsel_pendant::sim::line::byte_time_8n1;
+use xsel_pendant::sim::runner::{RunOptions, SimCore, format_entry, start_pty, start_tcp};
+use xsel_pendant::sim::{Controller, FaultSpec, SimSetup, coords_file};
+
+const AFTER_HELP: &str = "\
+Every frame in and out is logged to stderr with the time since start, e.g.
+  [  1.234567] rx !992120189\\r\\n  command 212H axis status
+
+Replies: '#' normal, '&' + 3-hex-digit error code. The simulator's error codes
+(also in the README, section \"Simulator\"; `--codes` prints them):
+";
+
+/// The simulated X-SEL SCARA controller (Format B slave).
+///
+/// Serves one client at a time on a pseudo-terminal (--pty: its path is the first line of
+/// stdout) or a TCP port (--tcp). The robot starts with servos off and not homed, in AUTO
+/// mode: send 232H (servo on), 233H (home), then move.
+#[derive(Parser, Debug)]
+#[command(version, after_help = format!("{AFTER_HELP}{}", code_table_text()))]
+struct Args {
+    /// Create a pseudo-terminal and print its path as the first line of stdout.
+    #[arg(long, conflicts_with = "tcp")]
+    pty: bool,
+    /// Serve TCP on this address (the default when --pty is not given).
+    #[arg(long, value_name = "ADDR", default_missing_value = "127.0.0.1:5099", num_args = 0..=1)]
+    tcp: Option<String>,
+    /// Station number, 2 hex digits.
+    #[arg(long, default_value = "99", value_parser = parse_station)]
+    station: u8,
+    /// Robot model TOML file (default: the built-in 500 mm SCARA), or a built-in name
+    /// (scara-500, scara-250).
+    #[arg(long, value_name = "FILE")]
+    robot: Option<String>,
+    /// Coordinate-table TOML file (work/tool tables, 2D6H positions; see
+    /// assets/coords/example.toml). Default: that example.
+    #[arg(long, value_name = "FILE")]
+    coords: Option<String>,
+    /// Pace reply bytes at this baud rate (10 bits a character). Default: no pacing.
+    #[arg(long)]
+    baud: Option<u32>,
+    /// Fault injection, e.g. `drop=0.05,corrupt=0.02,seed=7`. Keys: drop, corrupt,
+    /// garbage, delay, truncate, stall (probability per reply), seed, delay-ms, stall-ms.
+    #[arg(long, value_name = "SPEC")]
+    faults: Option<FaultSpec>,
+    /// Minimum reply delay in ms (I/O parameter 97 analogue).
+    #[arg(long, default_value_t = 2)]
+    delay_ms: u64,
+    /// Linear axes 5 and 6 (0, 1 or 2).
+    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u8).range(0..=2))]
+    linear_axes: u8,
+    /// Start with servos on and axes homed.
+    #[arg(long)]
+    ready: bool,
+    /// Reply buffer size: 2048, or 1024 for a J/K/TT model setting.
+    #[arg(long, default_value_t = 2048)]
+    reply_buffer: usize,
+    /// Do not log frames to stderr.
+    #[arg(long)]
+    quiet: bool,
+    /// Print the error code table and exit.
+    #[arg(long)]
+    codes: bool,
+}
+
+fn parse_station(s: &str) -> Result<u8, String> {
+    u8::from_str_radix(s, 16).map_err(|_| format!("`{s}` is not a 2-digit hex station number"))
+}
+
+fn main() {
+    if let Err(e) = run(Args::parse()) {
+        eprintln!("xsel-sim: {e}");
+        std::process::exit(1);
+    }
+}
+
+fn run(args: Args) -> Result<(), String> {
+    if args.codes {
+        print!("{}", code_table_text());
+        return Ok(());
+    }
+    let model = match &args.robot {
+        None => RobotModel::default_model(),
+        Some(r) if !r.ends_with(".toml") && RobotModel::builtin(r).is_ok() => {
+            RobotModel::builtin(r).map_err(|e| e.to_string())?
+        }
+        Some(path) => RobotModel::load(path).map_err(|e| e.to_string())?,
+    };
+    let mut setup = SimSetup::for_model(model);
+    if let Some(path) = &args.coords {
+        let file = coords_file::load(path, &setup.model).map_err(|e| e.to_string())?;
+        setup.coords = file.tables;
+        setup.positions = file.positions;
+    }
+    setup.config.station = args.station;
+    setup.config.reply_delay = Duration::from_millis(args.delay_ms);
+    setup.config.linear_axes = args.linear_axes;
+    setup.config.start_ready = args.ready;
+    if !matches!(args.reply_buffer, 1024 | 2048) {
+        return Err("--reply-buffer must be 1024 or 2048".into());
+    }
+    setup.config.reply_buffer = args.reply_buffer;
+    let core = SimCore::new(
+        Controller::new(setup),
+        args.faults.clone().unwrap_or_default(),
+    );
+    let quiet = args.quiet;
+    let opts = RunOptions {
+        pacing: args.baud.map(byte_time_8n1),
+        log: Some(Box::new(move |entry| {
+            if !quiet {
+                eprintln!("{}", format_entry(entry));
+            }
+        })),
+        ..RunOptions::default()
+    };
+    let stop = Arc::new(AtomicBool::new(false));
+    {
+        let stop = stop.clone();
+        ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed))
+            .map_err(|e| format!("cannot catch Ctrl-C: {e}"))?;
+    }
+    let handle = if args.pty {
+        let server =
+            start_pty(core, opts).map_err(|e| format!("cannot create a pseudo-terminal: {e}"))?;
+        let mut out = std::io::stdout();
+        let _ = writeln!(out, "{}", server.path);
+        let _ = out.flush();
+        server.handle
+    } else {
+        let addr = args.tcp.as_deref().unwrap_or("127.0.0.1:5099");
+        let server =
+            start_tcp(core, addr, opts).map_err(|e| format!("cannot listen on {addr}: {e}"))?;
+        let mut out = std::io::stdout();
+        let _ = writeln!(out, "{}", server.addr);
+        let _ = out.flush();
+        server.handle
+    };
+    eprintln!(
+        "xsel-sim: station {:02X}, faults: {}; Ctrl-C to stop",
+        args.station,
+        args.faults.map_or("none".to_owned(), |f| f.to_string())
+    );
+    while !stop.load(Ordering::Relaxed) && handle.is_running() {
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let counters = handle.counters();
+    let faults = handle.fault_counts();
+    handle.join();
+    eprintln!(
+        "xsel-sim: stopped; {} frames, {} replies, {} errors, {} silent; motion {} received / {} started; faults injected {}",
+        counters.frames,
+        counters.replies,
+        counters.errors,
+        counters.silent(),
+        counters.motion_received,
+        counters.motion_started,
+        faults.total()
+    );
+    Ok(())
+}

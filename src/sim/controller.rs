@@ -1,0 +1,607 @@
+//! `Controller`: the simulated X-SEL controller, sans-IO. A frame and the time in, the
+//! reply bytes (or silence) out; `advance(now)` moves the world.
+
+use std::time::Duration;
+
+use super::coords_file::{self, PositionTable};
+use super::errors::SimError;
+use super::framing::{self, Silence};
+use super::motion::{Motion, MotionKind};
+use super::state::{Alarm, AxisKind, AxisState, Counters, HomeState, Mode, ServoSwitch, SimConfig};
+use crate::robot::{ArmSystem, CoordSystem, CoordTables, Joints, Pose, RobotModel, Scara};
+
+/// Everything a controller starts from (no file IO: the caller loads files).
+#[derive(Debug, Clone)]
+pub struct SimSetup {
+    pub config: SimConfig,
+    pub model: RobotModel,
+    pub coords: CoordTables,
+    pub positions: PositionTable,
+}
+
+impl Default for SimSetup {
+    fn default() -> Self {
+        Self::for_model(RobotModel::default_model())
+    }
+}
+
+impl SimSetup {
+    /// A model with the shipped example coordinate tables and positions.
+    pub fn for_model(model: RobotModel) -> Self {
+        let defaults = coords_file::defaults(&model);
+        Self {
+            config: SimConfig::default(),
+            model,
+            coords: defaults.tables,
+            positions: defaults.positions,
+        }
+    }
+}
+
+/// How many alarms 216H type 3 can list (newest first).
+pub const ALARM_HISTORY: usize = 64;
+
+/// A picture of the controller for tests and the control API.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Snapshot {
+    pub joints: Joints,
+    /// Linear axes 5 and 6 (mm).
+    pub linear: [f64; 2],
+    pub axes: [AxisState; 8],
+    /// Axis pattern of the axes in use (moving, homing, switching servo).
+    pub in_use: u8,
+    pub mode: Mode,
+    pub emergency_stop: bool,
+    pub drive_cut_off: bool,
+    pub alarm: Option<Alarm>,
+    pub work: usize,
+    pub tool: usize,
+    /// Tool tip in the base frame.
+    pub tip_base: Pose,
+    pub arm: ArmSystem,
+}
+
+/// The simulated controller.
+pub struct Controller {
+    pub(crate) cfg: SimConfig,
+    pub(crate) model: RobotModel,
+    pub(crate) kin: Scara,
+    pub(crate) coords: CoordTables,
+    pub(crate) positions: PositionTable,
+    pub(crate) work_no: usize,
+    pub(crate) tool_no: usize,
+    pub(crate) axes: [AxisState; 8],
+    /// Axis values in axis order: J1 deg, J2 deg, Z mm, J4 deg, axis 5 mm, axis 6 mm.
+    pub(crate) values: [f64; 8],
+    pub(crate) motions: Vec<Motion>,
+    pub(crate) mode: Mode,
+    pub(crate) estop: bool,
+    pub(crate) drive_cut: bool,
+    pub(crate) alarm: Option<Alarm>,
+    pub(crate) history: Vec<Alarm>,
+    pub(crate) latest_error: u16,
+    pub(crate) rebooting_until: Option<Duration>,
+    pub(crate) now: Duration,
+    pub(crate) counters: Counters,
+}
+
+impl Controller {
+    pub fn new(setup: SimSetup) -> Self {
+        let kin = Scara::new(&setup.model);
+        let home = setup.model.home;
+        let mut values = [0.0; 8];
+        values[..4].copy_from_slice(&home.to_array());
+        let mut c = Controller {
+            cfg: setup.config,
+            kin,
+            model: setup.model,
+            coords: setup.coords,
+            positions: setup.positions,
+            work_no: 0,
+            tool_no: 0,
+            axes: [AxisState::default(); 8],
+            values,
+            motions: Vec::new(),
+            mode: Mode::Auto,
+            estop: false,
+            drive_cut: false,
+            alarm: None,
+            history: Vec::new(),
+            latest_error: 0,
+            rebooting_until: None,
+            now: Duration::ZERO,
+            counters: Counters::default(),
+        };
+        c.cfg.linear_axes = c.cfg.linear_axes.min(2);
+        if c.cfg.start_ready {
+            for i in 0..c.axis_count() {
+                c.axes[i].servo = true;
+                c.axes[i].home = HomeState::Done;
+            }
+        }
+        c
+    }
+
+    /// Axis pattern of the axes this controller has (SCARA 1-4, linear 5-6).
+    pub fn present(&self) -> u8 {
+        (1u16 << self.axis_count()).wrapping_sub(1) as u8
+    }
+
+    pub(crate) fn axis_count(&self) -> usize {
+        4 + usize::from(self.cfg.linear_axes)
+    }
+
+    /// Rotary (0.001 deg) or linear (0.001 mm) each-axis unit of axis index `i`.
+    pub fn axis_kind(i: usize) -> AxisKind {
+        if i == 0 || i == 1 || i == 3 {
+            AxisKind::Rotary
+        } else {
+            AxisKind::Linear
+        }
+    }
+
+    pub fn config(&self) -> &SimConfig {
+        &self.cfg
+    }
+
+    pub fn model(&self) -> &RobotModel {
+        &self.model
+    }
+
+    pub fn station(&self) -> u8 {
+        self.cfg.station
+    }
+
+    /// Minimum time between a command's last byte and the reply's first byte.
+    pub fn reply_delay(&self) -> Duration {
+        self.cfg.reply_delay
+    }
+
+    pub fn set_reply_delay(&mut self, delay: Duration) {
+        self.cfg.reply_delay = delay;
+    }
+
+    pub fn counters(&self) -> &Counters {
+        &self.counters
+    }
+
+    /// Answers one frame (bytes up to and including LF) received at `now`. Returns the
+    /// reply, or `None` when the controller stays silent.
+    pub fn handle(&mut self, frame: &[u8], now: Duration) -> Option<Vec<u8>> {
+        let mut out = Vec::with_capacity(64);
+        self.handle_into(frame, now, &mut out).then_some(out)
+    }
+
+    /// As [`Controller::handle`], writing the reply into `out` (cleared first); `true` when
+    /// there is a reply to send.
+    pub fn handle_into(&mut self, frame: &[u8], now: Duration, out: &mut Vec<u8>) -> bool {
+        out.clear();
+        self.advance(now);
+        self.counters.frames += 1;
+        if self.rebooting_until.is_some() {
+            self.counters.silent_rebooting += 1;
+            return false;
+        }
+        let accepted = match framing::accept(frame, self.cfg.station) {
+            Ok(a) => a,
+            Err(silence) => {
+                let c = &mut self.counters;
+                match silence {
+                    Silence::Header => c.silent_header += 1,
+                    Silence::Station => c.silent_station += 1,
+                    Silence::Checksum => c.silent_checksum += 1,
+                    Silence::Terminator => c.silent_terminator += 1,
+                    _ => c.silent_other += 1,
+                }
+                return false;
+            }
+        };
+        if frame.len() >= 4 && &frame[frame.len() - 4..frame.len() - 2] == b"@@" {
+            self.counters.at_at += 1;
+        }
+        let id = accepted.id;
+        let motion = matches!(
+            &id,
+            b"233" | b"234" | b"235" | b"236" | b"2D4" | b"2D5" | b"2D6"
+        );
+        if motion {
+            self.counters.motion_received += 1;
+        }
+        match self.dispatch(id, accepted.data, out) {
+            Ok(()) => {
+                self.counters.replies += 1;
+                if motion {
+                    self.counters.motion_started += 1;
+                }
+            }
+            Err(e) => {
+                self.counters.errors += 1;
+                if motion {
+                    self.counters.motion_refused += 1;
+                }
+                framing::error_reply(out, self.cfg.station, e.code());
+            }
+        }
+        if out.is_empty() {
+            return false;
+        }
+        true
+    }
+
+    fn dispatch(&mut self, id: [u8; 3], data: &[u8], out: &mut Vec<u8>) -> Result<(), SimError> {
+        match &id {
+            b"200" => self.msg_test_call(id, data, out),
+            b"201" => self.msg_version(id, data, out),
+            b"212" => self.msg_axis_status(id, data, out),
+            b"215" => self.msg_system_status(id, data, out),
+            b"216" => self.msg_error_detail(id, data, out),
+            b"232" => self.msg_servo(id, data, out),
+            b"233" => self.msg_home(id, data, out),
+            b"234" => self.msg_linear_move(id, data, out, false),
+            b"235" => self.msg_linear_move(id, data, out, true),
+            b"236" => self.msg_jog(id, data, out),
+            b"238" => self.msg_stop(id, data, out),
+            b"252" => self.msg_alarm_reset(id, data, out),
+            b"25B" => self.msg_reset(id, data, out),
+            b"262" => self.msg_speed_change(id, data, out),
+            b"2A0" => self.msg_coords(id, data, out),
+            b"2A1" => self.msg_scara_status(id, data, out, false),
+            b"2A3" => self.msg_scara_status(id, data, out, true),
+            b"2A4" => self.msg_coords2(id, data, out),
+            b"2D4" => self.msg_scara_move(id, data, out, false),
+            b"2D5" => self.msg_scara_move(id, data, out, true),
+            b"2D6" => self.msg_scara_position(id, data, out),
+            _ => Err(SimError::UnknownMessage),
+        }
+    }
+
+    /// Writes the plain acknowledge `#` + station + ID + SC CR LF.
+    pub(crate) fn ack(&self, id: [u8; 3], out: &mut Vec<u8>) {
+        framing::begin_reply(out, self.cfg.station, id);
+        framing::finish(out);
+    }
+
+    /// Moves the world to `now`: servo switches, homing, motions, reboot.
+    pub fn advance(&mut self, now: Duration) {
+        if now < self.now {
+            return;
+        }
+        self.now = now;
+        if let Some(until) = self.rebooting_until
+            && now >= until
+        {
+            self.rebooting_until = None;
+        }
+        for a in self.axes.iter_mut() {
+            if let Some(sw) = a.switching
+                && now >= sw.until
+            {
+                a.servo = sw.on;
+                a.switching = None;
+                a.completed = true;
+            }
+        }
+        if self.motions.is_empty() {
+            return;
+        }
+        let mut i = 0;
+        while i < self.motions.len() {
+            let m = &self.motions[i];
+            let finished = m.finished(now);
+            let (s, _) = m.state(now);
+            match m.values_at(s, &self.kin, &self.values) {
+                Some(v) => self.set_values(v),
+                None => {
+                    // The line left the workspace (cannot happen for a checked plan):
+                    // the arm halts where it is and the move is cancelled.
+                    let m = self.motions.swap_remove(i);
+                    self.end_motion(&m, true);
+                    continue;
+                }
+            }
+            if finished {
+                let m = self.motions.swap_remove(i);
+                let cancelled = m.cancelled;
+                self.end_motion(&m, cancelled);
+            } else {
+                i += 1;
+            }
+        }
+    }
+
+    /// Takes a motion's axis values (it leaves the axes it does not own unchanged).
+    fn set_values(&mut self, v: [f64; 8]) {
+        for (i, new) in v.into_iter().enumerate() {
+            self.values[i] = self.clamp_axis(i, new);
+        }
+    }
+
+    /// Keeps a value inside its axis range (guards against rounding at the limits).
+    pub(crate) fn clamp_axis(&self, i: usize, v: f64) -> f64 {
+        let (lo, hi) = self.axis_range(i);
+        if v.is_finite() {
+            v.clamp(lo, hi)
+        } else {
+            lo.max(0.0).min(hi)
+        }
+    }
+
+    /// Soft limits of an axis in its each-axis unit.
+    pub(crate) fn axis_range(&self, i: usize) -> (f64, f64) {
+        let m = &self.model;
+        match i {
+            0 => (m.j1.min, m.j1.max),
+            1 => (m.j2.min, m.j2.max),
+            2 => (m.z.min, m.z.max),
+            3 => (m.r.min, m.r.max),
+            _ => (0.0, self.cfg.linear_stroke_mm),
+        }
+    }
+
+    fn end_motion(&mut self, m: &Motion, cancelled: bool) {
+        for i in 0..8 {
+            if m.axes & (1 << i) == 0 {
+                continue;
+            }
+            let a = &mut self.axes[i];
+            a.completed = !cancelled;
+            if m.kind == MotionKind::Home {
+                a.home = if cancelled {
+                    HomeState::NotDone
+                } else {
+                    HomeState::Done
+                };
+            }
+        }
+        if cancelled {
+            self.counters.motion_cancelled += 1;
+        } else {
+            self.counters.motion_completed += 1;
+        }
+    }
+
+    /// Axis pattern of the axes in use: moving, homing or switching servo.
+    pub fn in_use(&self) -> u8 {
+        let moving = self.motions.iter().fold(0, |p, m| p | m.axes);
+        let switching = self
+            .axes
+            .iter()
+            .enumerate()
+            .filter(|(_, a)| a.switching.is_some())
+            .fold(0, |p, (i, _)| p | (1 << i));
+        moving | switching
+    }
+
+    /// Current SCARA joints.
+    pub fn joints(&self) -> Joints {
+        Joints::new(
+            self.values[0],
+            self.values[1],
+            self.values[2],
+            self.values[3],
+        )
+    }
+
+    pub(crate) fn work(&self) -> CoordSystem {
+        self.coords
+            .work
+            .get(self.work_no)
+            .copied()
+            .unwrap_or(CoordSystem::ZERO)
+    }
+
+    pub(crate) fn tool(&self) -> CoordSystem {
+        self.coords
+            .tool
+            .get(self.tool_no)
+            .copied()
+            .unwrap_or(CoordSystem::ZERO)
+    }
+
+    /// Tool tip of the selected tool, base frame.
+    pub fn tip_base(&self) -> Pose {
+        self.tool().flange_to_tip(&self.kin.forward(&self.joints()))
+    }
+
+    /// Tool tip of the selected tool, selected work frame.
+    pub fn tip_work(&self) -> Pose {
+        self.work().base_to_work(&self.tip_base())
+    }
+
+    // ---- control API (not on the wire) ----
+
+    /// Emergency stop: servos drop at once, moves end where they are (cancelled).
+    pub fn set_emergency_stop(&mut self, on: bool) {
+        self.estop = on;
+        if on {
+            self.halt_all();
+        }
+    }
+
+    /// Drive source cut-off: like an emergency stop for the motors.
+    pub fn set_drive_cut_off(&mut self, on: bool) {
+        self.drive_cut = on;
+        if on {
+            self.halt_all();
+        }
+    }
+
+    /// AUTO or MANUAL. Protocol commands that act are refused in MANUAL.
+    pub fn set_mode(&mut self, mode: Mode) {
+        self.mode = mode;
+    }
+
+    pub fn mode(&self) -> Mode {
+        self.mode
+    }
+
+    /// Selects the work coordinate system; `false` if the table has no such number.
+    pub fn select_work(&mut self, number: usize) -> bool {
+        let ok = number < self.coords.work.len();
+        if ok {
+            self.work_no = number;
+        }
+        ok
+    }
+
+    /// Selects the tool coordinate system; `false` if the table has no such number.
+    pub fn select_tool(&mut self, number: usize) -> bool {
+        let ok = number < self.coords.tool.len();
+        if ok {
+            self.tool_no = number;
+        }
+        ok
+    }
+
+    pub fn coords(&self) -> &CoordTables {
+        &self.coords
+    }
+
+    /// Replaces the coordinate tables (sizes as given); selections beyond them go to 0.
+    pub fn set_coords(&mut self, coords: CoordTables) {
+        self.coords = coords;
+        if self.work_no >= self.coords.work.len() {
+            self.work_no = 0;
+        }
+        if self.tool_no >= self.coords.tool.len() {
+            self.tool_no = 0;
+        }
+    }
+
+    pub fn positions_mut(&mut self) -> &mut PositionTable {
+        &mut self.positions
+    }
+
+    /// Raises an alarm: servos off, moves halted (cancelled), acting commands refused
+    /// until 252H.
+    pub fn raise_alarm(&mut self, code: u16, axis: Option<u8>, message: &str) {
+        let code = code & 0xFFF;
+        let alarm = Alarm {
+            code,
+            axis: axis.filter(|a| (1..=8).contains(a)),
+            message: message
+                .chars()
+                .filter(|c| c.is_ascii_graphic() || *c == ' ')
+                .take(255)
+                .collect(),
+        };
+        if let Some(a) = alarm.axis {
+            self.axes[usize::from(a - 1)].error = code;
+        }
+        self.latest_error = code;
+        self.history.insert(0, alarm.clone());
+        self.history.truncate(ALARM_HISTORY);
+        self.alarm = Some(alarm);
+        self.halt_all();
+    }
+
+    /// Stops everything at once (E-stop, cut-off, alarm): positions freeze, servos off.
+    fn halt_all(&mut self) {
+        let now = self.now;
+        self.advance(now);
+        for m in std::mem::take(&mut self.motions) {
+            self.end_motion(&m, true);
+        }
+        for a in self.axes.iter_mut() {
+            a.servo = false;
+            a.switching = None;
+            if let HomeState::Homing { .. } = a.home {
+                a.home = HomeState::NotDone;
+            }
+        }
+    }
+
+    /// Software reset (25BH): silent for the reboot time, then servos off, moves gone,
+    /// alarm cleared; home state and positions kept (absolute encoders) `[inferred,
+    /// PROTOCOL.md 3.13]`.
+    pub(crate) fn reboot(&mut self) {
+        self.halt_all();
+        self.alarm = None;
+        for a in self.axes.iter_mut() {
+            a.error = 0;
+            a.completed = false;
+        }
+        self.counters.resets += 1;
+        self.rebooting_until = Some(self.now + self.cfg.reboot_time);
+    }
+
+    pub fn is_rebooting(&self) -> bool {
+        self.rebooting_until.is_some()
+    }
+
+    pub(crate) fn start_servo_switch(&mut self, pattern: u8, on: bool) {
+        let until = self.now + self.cfg.servo_switch_time;
+        for i in 0..8 {
+            if pattern & (1 << i) != 0 {
+                let a = &mut self.axes[i];
+                a.completed = false;
+                if a.servo == on {
+                    a.completed = true;
+                } else {
+                    a.switching = Some(ServoSwitch { on, until });
+                }
+            }
+        }
+    }
+
+    /// The state in one picture.
+    pub fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            joints: self.joints(),
+            linear: [self.values[4], self.values[5]],
+            axes: self.axes,
+            in_use: self.in_use(),
+            mode: self.mode,
+            emergency_stop: self.estop,
+            drive_cut_off: self.drive_cut,
+            alarm: self.alarm.clone(),
+            work: self.work_no,
+            tool: self.tool_no,
+            tip_base: self.tip_base(),
+            arm: self.kin.arm_system(&self.joints()),
+        }
+    }
+
+    /// Checks that the state is coherent: positions inside their ranges and finite,
+    /// status bits consistent. `Err` names the first problem.
+    pub fn check_invariants(&self) -> Result<(), String> {
+        for i in 0..self.axis_count() {
+            let (lo, hi) = self.axis_range(i);
+            let v = self.values[i];
+            if !v.is_finite() || v < lo - 1e-9 || v > hi + 1e-9 {
+                return Err(format!("axis {} at {v} outside {lo}..{hi}", i + 1));
+            }
+        }
+        let in_use = self.in_use();
+        for (i, a) in self.axes.iter().enumerate() {
+            let bit = 1u8 << i;
+            if i >= self.axis_count() && (a.servo || in_use & bit != 0) {
+                return Err(format!("absent axis {} has state", i + 1));
+            }
+            if matches!(a.home, HomeState::Homing { .. }) && in_use & bit == 0 {
+                return Err(format!("axis {} homing but not in use", i + 1));
+            }
+            if (self.estop || self.drive_cut) && (a.servo || a.switching.is_some()) {
+                return Err(format!("axis {} servo on during E-stop/cut-off", i + 1));
+            }
+        }
+        for m in &self.motions {
+            if m.axes & !self.present() != 0 {
+                return Err("motion on an absent axis".into());
+            }
+            for i in 0..8 {
+                if m.axes & (1 << i) != 0 && !self.axes[i].servo {
+                    return Err(format!("axis {} moving with servo off", i + 1));
+                }
+            }
+        }
+        let mut seen = 0u8;
+        for m in &self.motions {
+            if seen & m.axes != 0 {
+                return Err("two motions own one axis".into());
+            }
+            seen |= m.axes;
+        }
+        Ok(())
+    }
+}

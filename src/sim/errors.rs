@@ -1,0 +1,185 @@
+//! The simulator's own table of error codes (3 hex digits), sent in `&` replies.
+//!
+//! PROTOCOL.md section 2: the retrieved spec pages carry no error list, so the simulator
+//! keeps this one documented table. Two numbers borrow a real controller meaning:
+//! `C74` (soft limit) and `CC1` (speed change condition error); every other code is the
+//! simulator's own choice `[inferred, PROTOCOL.md section 2]`.
+
+use std::fmt;
+
+/// Why the simulated controller refused a command it could parse.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum SimError {
+    /// The message ID is not one this controller knows.
+    UnknownMessage,
+    /// The data part has the wrong number of characters for this message.
+    WrongLength,
+    /// A field holds a non-hex character or a value outside its range.
+    BadValue,
+    /// The axis pattern names no axis of this controller, or an axis combination the
+    /// message does not allow.
+    BadAxis,
+    /// An axis to move has its servo off.
+    ServoOff,
+    /// An absolute or SCARA move needs homed axes.
+    NotHomed,
+    /// An axis to move is already in use (moving, homing, switching servo).
+    AxisBusy,
+    /// Emergency stop is active.
+    EmergencyStop,
+    /// The controller is in MANUAL mode; protocol commands that act need AUTO.
+    ManualMode,
+    /// The drive source is cut off.
+    DriveCutOff,
+    /// An alarm is pending; reset it with 252H first.
+    AlarmPending,
+    /// The target is outside the arm's reach (no inverse kinematics solution), or a CP
+    /// line leaves the workspace.
+    Unreachable,
+    /// Reaching the target would need the other arm system, and switching is not allowed.
+    ArmSystem,
+    /// 2D6H: the position number holds no data for the selected axes.
+    NoPosition,
+    /// A joint target or the current position lies beyond a soft limit (real number C74).
+    SoftLimit,
+    /// 262H: no move in progress on the selected axes to change (real number CC1).
+    SpeedChange,
+}
+
+/// One row of the table: code, enum, short text.
+pub struct CodeRow {
+    pub code: u16,
+    pub error: SimError,
+    pub text: &'static str,
+}
+
+/// Every code the simulator sends, in one place (also printed by `xsel-sim --codes` and
+/// copied into the README).
+pub const CODE_TABLE: &[CodeRow] = &[
+    row(0xA01, SimError::UnknownMessage, "unknown message ID"),
+    row(
+        0xA02,
+        SimError::WrongLength,
+        "wrong data length for this message",
+    ),
+    row(
+        0xA03,
+        SimError::BadValue,
+        "field value invalid or out of range",
+    ),
+    row(
+        0xA04,
+        SimError::BadAxis,
+        "axis pattern invalid for this message or controller",
+    ),
+    row(0xB01, SimError::ServoOff, "servo off on an axis to move"),
+    row(0xB02, SimError::NotHomed, "axis not homed"),
+    row(
+        0xB03,
+        SimError::AxisBusy,
+        "axis busy (moving, homing or switching servo)",
+    ),
+    row(0xB04, SimError::EmergencyStop, "emergency stop active"),
+    row(0xB05, SimError::ManualMode, "controller in MANUAL mode"),
+    row(0xB06, SimError::DriveCutOff, "drive source cut off"),
+    row(
+        0xB07,
+        SimError::AlarmPending,
+        "alarm pending (reset with 252H)",
+    ),
+    row(
+        0xB08,
+        SimError::Unreachable,
+        "target or path outside the arm's reach",
+    ),
+    row(
+        0xB09,
+        SimError::ArmSystem,
+        "target needs the other arm system; switching not allowed",
+    ),
+    row(
+        0xB0A,
+        SimError::NoPosition,
+        "position number holds no data for these axes",
+    ),
+    row(
+        0xC74,
+        SimError::SoftLimit,
+        "target beyond a joint soft limit",
+    ),
+    row(
+        0xCC1,
+        SimError::SpeedChange,
+        "speed change condition error (no move to change)",
+    ),
+];
+
+const fn row(code: u16, error: SimError, text: &'static str) -> CodeRow {
+    CodeRow { code, error, text }
+}
+
+impl SimError {
+    /// The 3-hex-digit number sent after `&`.
+    pub fn code(self) -> u16 {
+        CODE_TABLE
+            .iter()
+            .find(|r| r.error == self)
+            .map_or(0xA03, |r| r.code)
+    }
+
+    /// The table's short text.
+    pub fn text(self) -> &'static str {
+        CODE_TABLE
+            .iter()
+            .find(|r| r.error == self)
+            .map_or("", |r| r.text)
+    }
+
+    /// Looks a code up in the table.
+    pub fn from_code(code: u16) -> Option<SimError> {
+        CODE_TABLE.iter().find(|r| r.code == code).map(|r| r.error)
+    }
+}
+
+impl fmt::Display for SimError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{:03X} {}", self.code(), self.text())
+    }
+}
+
+/// The table as aligned text lines, for `--help` / `--codes` and logs.
+pub fn code_table_text() -> String {
+    let mut s = String::new();
+    for r in CODE_TABLE {
+        s.push_str(&format!("  {:03X}  {}\n", r.code, r.text));
+    }
+    s
+}
+
+/// Text for any alarm code the controller may carry (table codes or injected alarms).
+pub fn describe_code(code: u16) -> &'static str {
+    match SimError::from_code(code) {
+        Some(e) => e.text(),
+        None if code == 0 => "no error",
+        None => "alarm (raised through the control API)",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn codes_are_unique_and_three_hex_digits() {
+        for (i, a) in CODE_TABLE.iter().enumerate() {
+            assert!(a.code <= 0xFFF);
+            for b in &CODE_TABLE[i + 1..] {
+                assert_ne!(a.code, b.code);
+                assert_ne!(a.error, b.error);
+            }
+            assert_eq!(SimError::from_code(a.code), Some(a.error));
+        }
+        assert_eq!(SimError::SoftLimit.code(), 0xC74);
+        assert_eq!(SimError::SpeedChange.code(), 0xCC1);
+    }
+}

@@ -1,0 +1,460 @@
+//! The simulator's IO thread: reads frames from a line (embedded pipe, pty, TCP), lets
+//! the controller answer, applies the reply delay, faults and pacing, logs the traffic.
+
+use std::collections::VecDeque;
+use std::io;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use super::controller::Controller;
+use super::faults::{FaultCounts, FaultInjector, FaultSpec};
+use super::framing::Assembler;
+use super::line::{SimLine, is_timeout, sleep_until, write_paced};
+use super::pipe::{PipeConfig, PipeEnd, duplex};
+use super::state::{Counters, Mode};
+use super::{SimSetup, describe_frame};
+
+/// Direction of a logged frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Dir {
+    /// Received from the client.
+    In,
+    /// Sent to the client (as planned: with any injected fault applied).
+    Out,
+}
+
+/// One frame seen or sent, with the time since the simulator started.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct TrafficEntry {
+    pub at: Duration,
+    pub dir: Dir,
+    pub bytes: Vec<u8>,
+    /// The injected fault, if any (`Out` only).
+    pub fault: Option<&'static str>,
+}
+
+/// How many traffic entries the core keeps (oldest dropped first).
+pub const TRAFFIC_KEEP: usize = 4096;
+
+/// What the IO thread and the control API share: the controller, the fault injector and
+/// the recent traffic. Locked only for short moments (never during delays or pacing).
+pub struct SimCore {
+    pub controller: Controller,
+    pub faults: FaultInjector,
+    pub traffic: VecDeque<TrafficEntry>,
+    started: Instant,
+}
+
+impl SimCore {
+    pub fn new(controller: Controller, faults: FaultSpec) -> Self {
+        Self {
+            controller,
+            faults: FaultInjector::new(faults),
+            traffic: VecDeque::new(),
+            started: Instant::now(),
+        }
+    }
+
+    /// Time since the simulator started: the controller's clock.
+    pub fn now(&self) -> Duration {
+        self.started.elapsed()
+    }
+
+    fn record(&mut self, entry: TrafficEntry) {
+        if self.traffic.len() >= TRAFFIC_KEEP {
+            self.traffic.pop_front();
+        }
+        self.traffic.push_back(entry);
+    }
+}
+
+/// Receives every frame in and out as it happens (the standalone binary prints them).
+pub type LogFn = Box<dyn FnMut(&TrafficEntry) + Send>;
+
+/// How the runner treats its line.
+pub struct RunOptions {
+    /// Pace reply bytes at this time per byte (pty/TCP); `None` for the embedded pipe,
+    /// which paces by itself.
+    pub pacing: Option<Duration>,
+    /// How often the world is advanced while the line is quiet.
+    pub tick: Duration,
+    /// Called for every frame in and out.
+    pub log: Option<LogFn>,
+}
+
+impl Default for RunOptions {
+    fn default() -> Self {
+        Self {
+            pacing: None,
+            tick: Duration::from_millis(2),
+            log: None,
+        }
+    }
+}
+
+/// Why [`serve`] returned.
+#[derive(Debug)]
+pub enum ServeEnd {
+    /// The stop flag was set.
+    Stopped,
+    /// The other end closed the line.
+    Closed,
+    /// The line failed.
+    Failed(io::Error),
+}
+
+fn lock(shared: &Mutex<SimCore>) -> MutexGuard<'_, SimCore> {
+    // The core holds plain data; a panic while holding it leaves it usable.
+    shared.lock().unwrap_or_else(|p| p.into_inner())
+}
+
+/// Serves one line until it closes, fails or `stop` is set.
+pub fn serve(
+    line: &mut dyn SimLine,
+    shared: &Mutex<SimCore>,
+    stop: &AtomicBool,
+    opts: &mut RunOptions,
+) -> ServeEnd {
+    let mut assembler = Assembler::new();
+    let mut buf = [0u8; 512];
+    let mut reply = Vec::with_capacity(2048);
+    loop {
+        if stop.load(Ordering::Relaxed) {
+            return ServeEnd::Stopped;
+        }
+        let n = match line.read_some(&mut buf, opts.tick) {
+            Ok(0) => return ServeEnd::Closed,
+            Ok(n) => n,
+            Err(e) if is_timeout(&e) => 0,
+            Err(e) => return ServeEnd::Failed(e),
+        };
+        let arrived = Instant::now();
+        for &byte in &buf[..n] {
+            let Some(frame) = assembler.push(byte) else {
+                continue;
+            };
+            if let Err(e) = answer(line, shared, frame, arrived, &mut reply, opts) {
+                return ServeEnd::Failed(e);
+            }
+        }
+        if n == 0 {
+            let mut core = lock(shared);
+            let now = core.now();
+            core.controller.advance(now);
+        }
+    }
+}
+
+/// Handles one frame: controller, delay, faults, pacing, logging.
+fn answer(
+    line: &mut dyn SimLine,
+    shared: &Mutex<SimCore>,
+    frame: &[u8],
+    arrived: Instant,
+    reply: &mut Vec<u8>,
+    opts: &mut RunOptions,
+) -> io::Result<()> {
+    let (delivery, delay, started) = {
+        let mut core = lock(shared);
+        let at = arrived.saturating_duration_since(core.started);
+        let entry = TrafficEntry {
+            at,
+            dir: Dir::In,
+            bytes: frame.to_vec(),
+            fault: None,
+        };
+        if let Some(log) = opts.log.as_mut() {
+            log(&entry);
+        }
+        core.record(entry);
+        if !core.controller.handle_into(frame, at, reply) {
+            return Ok(());
+        }
+        let delivery = core.faults.plan(reply);
+        (delivery, core.controller.reply_delay(), core.started)
+    };
+    let mut start = arrived + delay;
+    for piece in &delivery.pieces {
+        start += piece.pause;
+        sleep_until(start);
+        match opts.pacing {
+            Some(bt) => {
+                write_paced(line, &piece.bytes, bt, start)?;
+                start += bt.saturating_mul(piece.bytes.len() as u32);
+            }
+            None => line.write_bytes(&piece.bytes)?,
+        }
+    }
+    let entry = TrafficEntry {
+        at: start.saturating_duration_since(started),
+        dir: Dir::Out,
+        bytes: delivery
+            .pieces
+            .iter()
+            .flat_map(|p| p.bytes.iter().copied())
+            .collect(),
+        fault: delivery.fault.map(|f| f.key()),
+    };
+    if let Some(log) = opts.log.as_mut() {
+        log(&entry);
+    }
+    lock(shared).record(entry);
+    Ok(())
+}
+
+/// Formats a traffic entry as one log line: time, direction, bytes, decoded summary.
+pub fn format_entry(entry: &TrafficEntry) -> String {
+    let arrow = match entry.dir {
+        Dir::In => "rx",
+        Dir::Out => "tx",
+    };
+    let text: String = entry
+        .bytes
+        .iter()
+        .map(|&b| match b {
+            b'\r' => "\\r".to_owned(),
+            b'\n' => "\\n".to_owned(),
+            0x20..=0x7E => (b as char).to_string(),
+            _ => format!("\\x{b:02X}"),
+        })
+        .collect();
+    let fault = entry
+        .fault
+        .map(|f| format!("  [fault: {f}]"))
+        .unwrap_or_default();
+    format!(
+        "[{:>10.6}] {arrow} {text}  {}{fault}",
+        entry.at.as_secs_f64(),
+        describe_frame(&entry.bytes)
+    )
+}
+
+/// Options of the embedded simulator.
+pub struct EmbeddedOptions {
+    pub setup: SimSetup,
+    /// Wire time of one byte on the pipe, both directions (`None` = instant).
+    pub byte_time: Option<Duration>,
+    /// Read timeout of the pendant's end of the pipe.
+    pub read_timeout: Duration,
+    pub faults: FaultSpec,
+    /// Called for every frame in and out (on the simulator's thread).
+    pub log: Option<LogFn>,
+}
+
+impl Default for EmbeddedOptions {
+    fn default() -> Self {
+        Self {
+            setup: SimSetup::default(),
+            byte_time: None,
+            read_timeout: Duration::from_millis(50),
+            faults: FaultSpec::none(),
+            log: None,
+        }
+    }
+}
+
+/// Starts the simulator on its own thread, joined to the returned pipe end by an
+/// in-memory duplex line; the world ticks in real time. Dropping the pipe end or the
+/// handle ends the thread.
+pub fn start_embedded(opts: EmbeddedOptions) -> (PipeEnd, SimHandle) {
+    let config = PipeConfig {
+        byte_time: opts.byte_time,
+        read_timeout: opts.read_timeout,
+    };
+    let (pendant, mut sim_end) = duplex(config);
+    let core = SimCore::new(Controller::new(opts.setup), opts.faults);
+    let mut run = RunOptions {
+        pacing: None,
+        log: opts.log,
+        ..RunOptions::default()
+    };
+    let handle = SimHandle::spawn(core, move |shared, stop| {
+        serve(&mut sim_end, shared, stop, &mut run);
+    });
+    (pendant, handle)
+}
+
+/// Owner's handle of a running simulator: control API, counters, stop/join.
+/// Dropping it stops the thread and waits for it.
+pub struct SimHandle {
+    shared: Arc<Mutex<SimCore>>,
+    stop: Arc<AtomicBool>,
+    thread: Option<JoinHandle<()>>,
+}
+
+impl SimHandle {
+    /// Runs `body` on a new thread with the shared core and the stop flag.
+    pub fn spawn(
+        core: SimCore,
+        body: impl FnOnce(&Mutex<SimCore>, &AtomicBool) + Send + 'static,
+    ) -> SimHandle {
+        let shared = Arc::new(Mutex::new(core));
+        let stop = Arc::new(AtomicBool::new(false));
+        let thread = {
+            let shared = shared.clone();
+            let stop = stop.clone();
+            std::thread::Builder::new()
+                .name("xsel-sim".into())
+                .spawn(move || body(&shared, &stop))
+                .ok()
+        };
+        SimHandle {
+            shared,
+            stop,
+            thread,
+        }
+    }
+
+    /// Runs `f` on the controller, after advancing it to the present.
+    pub fn with<R>(&self, f: impl FnOnce(&mut Controller) -> R) -> R {
+        let mut core = lock(&self.shared);
+        let now = core.now();
+        core.controller.advance(now);
+        f(&mut core.controller)
+    }
+
+    /// Runs `f` on the whole core (controller, faults, traffic).
+    pub fn with_core<R>(&self, f: impl FnOnce(&mut SimCore) -> R) -> R {
+        f(&mut lock(&self.shared))
+    }
+
+    pub fn set_emergency_stop(&self, on: bool) {
+        self.with(|c| c.set_emergency_stop(on));
+    }
+
+    pub fn set_mode(&self, mode: Mode) {
+        self.with(|c| c.set_mode(mode));
+    }
+
+    pub fn set_drive_cut_off(&self, on: bool) {
+        self.with(|c| c.set_drive_cut_off(on));
+    }
+
+    /// Selects the work coordinate system number; `false` if it is outside the table.
+    pub fn select_work(&self, number: usize) -> bool {
+        self.with(|c| c.select_work(number))
+    }
+
+    /// Selects the tool coordinate system number; `false` if it is outside the table.
+    pub fn select_tool(&self, number: usize) -> bool {
+        self.with(|c| c.select_tool(number))
+    }
+
+    /// Raises an alarm: servos go off, moves are cancelled, commands that act are
+    /// refused until 252H resets it.
+    pub fn raise_alarm(&self, code: u16, axis: Option<u8>) {
+        self.with(|c| c.raise_alarm(code, axis, "alarm raised through the control API"));
+    }
+
+    pub fn counters(&self) -> Counters {
+        self.with(|c| *c.counters())
+    }
+
+    pub fn fault_counts(&self) -> FaultCounts {
+        lock(&self.shared).faults.counts()
+    }
+
+    /// Replaces the fault spec (counts are kept).
+    pub fn set_faults(&self, spec: FaultSpec) {
+        lock(&self.shared).faults.set_spec(spec);
+    }
+
+    /// The recent traffic, oldest first.
+    pub fn traffic(&self) -> Vec<TrafficEntry> {
+        lock(&self.shared).traffic.iter().cloned().collect()
+    }
+
+    /// Asks the thread to stop (it notices within one tick).
+    pub fn stop(&self) {
+        self.stop.store(true, Ordering::Relaxed);
+    }
+
+    /// Stops the thread and waits for it.
+    pub fn join(mut self) {
+        self.stop_and_join();
+    }
+
+    fn stop_and_join(&mut self) {
+        self.stop();
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+
+    /// True while the thread runs.
+    pub fn is_running(&self) -> bool {
+        self.thread.as_ref().is_some_and(|t| !t.is_finished())
+    }
+}
+
+impl Drop for SimHandle {
+    fn drop(&mut self) {
+        self.stop_and_join();
+    }
+}
+
+/// A pseudo-terminal served by the simulator: clients open [`PtyServer::path`].
+pub struct PtyServer {
+    pub path: String,
+    pub handle: SimHandle,
+}
+
+/// Creates a pseudo-terminal and serves it on a new thread.
+pub fn start_pty(core: SimCore, mut opts: RunOptions) -> io::Result<PtyServer> {
+    let (mut master, slave) = serialport::TTYPort::pair().map_err(io::Error::other)?;
+    use serialport::SerialPort;
+    let path = slave
+        .name()
+        .ok_or_else(|| io::Error::other("the pseudo-terminal has no name"))?;
+    let handle = SimHandle::spawn(core, move |shared, stop| {
+        // The slave stays open here so the path stays valid and the master never sees a
+        // hang-up between clients.
+        let _slave = slave;
+        while !stop.load(Ordering::Relaxed) {
+            match serve(&mut master, shared, stop, &mut opts) {
+                ServeEnd::Stopped => break,
+                ServeEnd::Closed | ServeEnd::Failed(_) => {
+                    std::thread::sleep(Duration::from_millis(20))
+                }
+            }
+        }
+    });
+    Ok(PtyServer { path, handle })
+}
+
+/// A TCP port served by the simulator, one client at a time.
+pub struct TcpServer {
+    pub addr: std::net::SocketAddr,
+    pub handle: SimHandle,
+}
+
+/// Binds `addr` and serves clients one after the other on a new thread.
+pub fn start_tcp(core: SimCore, addr: &str, mut opts: RunOptions) -> io::Result<TcpServer> {
+    let listener = std::net::TcpListener::bind(addr)?;
+    listener.set_nonblocking(true)?;
+    let local = listener.local_addr()?;
+    let handle = SimHandle::spawn(core, move |shared, stop| {
+        while !stop.load(Ordering::Relaxed) {
+            match listener.accept() {
+                Ok((mut stream, _)) => {
+                    let _ = stream.set_nonblocking(false);
+                    let _ = stream.set_nodelay(true);
+                    serve(&mut stream, shared, stop, &mut opts);
+                }
+                Err(_) => {
+                    let mut core = lock(shared);
+                    let now = core.now();
+                    core.controller.advance(now);
+                    drop(core);
+                    std::thread::sleep(Duration::from_millis(10));
+                }
+            }
+        }
+    });
+    Ok(TcpServer {
+        addr: local,
+        handle,
+    })
+}
