@@ -222,7 +222,10 @@ impl Scara {
     /// reach, band and J2-limit checks. J1's limits are not checked here.
     pub fn planar(&self, x: f64, y: f64, arm: Arm) -> Result<(f64, f64), IkError> {
         let (j2, c2, s2) = self.elbow(x, y, arm)?;
-        let j1 = (y.atan2(x) - (self.l2 * s2).atan2(self.l1 + self.l2 * c2)).to_degrees();
+        // J1 = atan2(y, x) - atan2(k2, k1), folded into one atan2 of the product
+        // (x + iy)(k1 - i k2): one transcendental call fewer on the hot path.
+        let (k1, k2) = (self.l1 + self.l2 * c2, self.l2 * s2);
+        let j1 = (y * k1 - x * k2).atan2(x * k1 + y * k2).to_degrees();
         Ok((j1, j2))
     }
 
@@ -308,6 +311,11 @@ pub fn check(value: f64, spec: &JointSpec, joint: Joint) -> Result<f64, IkError>
 /// Among `value + k * 360` inside the limits, the one nearest `near`; when none fits, the
 /// refusal names the candidate that misses the limits by least.
 pub fn wrap_nearest(value: f64, near: f64, spec: &JointSpec, joint: Joint) -> Result<f64, IkError> {
+    // Usual case: the value itself is inside and within half a turn of `near`, so no
+    // other multiple can be nearer.
+    if value >= spec.min && value <= spec.max && (value - near).abs() <= 180.0 {
+        return Ok(value);
+    }
     let k_lo = ((spec.min - LIMIT_EPS - value) / 360.0).ceil();
     let k_hi = ((spec.max + LIMIT_EPS - value) / 360.0).floor();
     if k_lo <= k_hi {
