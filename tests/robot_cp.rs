@@ -275,6 +275,12 @@ fn bad_spacing_and_nan_targets_are_refused_not_panicked() {
     let t = Pose::new(310.0, 0.0, 0.0, 0.0);
     assert!(CpMove::plan(&k, start, &t, &CoordSystem::ZERO, &p, 0.0).is_err());
     assert!(CpMove::plan(&k, start, &t, &CoordSystem::ZERO, &p, f64::NAN).is_err());
+    let bad = CpParams {
+        speed_mm_s: f64::NAN,
+        ..p
+    };
+    let turn_and_move = Pose::new(310.0, 0.0, 0.0, 30.0);
+    assert!(CpMove::plan(&k, start, &turn_and_move, &CoordSystem::ZERO, &bad, SPACING).is_err());
     let nan = Pose::new(f64::NAN, 0.0, 0.0, 0.0);
     assert!(CpMove::plan(&k, start, &nan, &CoordSystem::ZERO, &p, SPACING).is_err());
     // Pure R turn without a tool: allowed, the tip stays put.

@@ -210,6 +210,14 @@ fn ptp_refuses_targets_beyond_limits_and_bad_parameters() {
         PtpMove::joints(&k, start, Joints::new(1.0, 90.0, 0.0, 0.0), &zero),
         Err(MoveError::Profile(_))
     ));
+    let nan = PtpParams {
+        accel_pct: f64::NAN,
+        ..full()
+    };
+    assert!(matches!(
+        PtpMove::joints(&k, start, Joints::new(1.0, 90.0, 0.0, 0.0), &nan),
+        Err(MoveError::Profile(_))
+    ));
 }
 
 #[test]

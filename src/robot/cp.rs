@@ -56,6 +56,7 @@ impl CpMove {
         params: &CpParams,
         spacing_mm: f64,
     ) -> Result<Self, MoveError> {
+        params.check()?;
         let tool_off = tool.offset();
         let flange0 = k.forward(&start);
         let start_tip = tool.flange_to_tip(&flange0);

@@ -132,7 +132,22 @@ pub struct PtpParams {
     pub decel_pct: f64,
 }
 
+fn check_positive(what: &'static str, value: f64) -> Result<(), ProfileError> {
+    if value > 0.0 && value.is_finite() {
+        Ok(())
+    } else {
+        Err(ProfileError::NotPositive { what, value })
+    }
+}
+
 impl PtpParams {
+    /// All three positive and finite.
+    pub fn check(&self) -> Result<(), ProfileError> {
+        check_positive("the speed %", self.speed_pct)?;
+        check_positive("the acceleration %", self.accel_pct)?;
+        check_positive("the deceleration %", self.decel_pct)
+    }
+
     /// From a move command's fields (2D4H/2D5H PTP, 236H each-axis): 0 means the model's
     /// default ("parameter value"); above 100 % is clamped to 100 `[inferred]`.
     pub fn from_command(model: &RobotModel, accel: u16, decel: u16, speed: u16) -> Self {
@@ -161,6 +176,13 @@ pub struct CpParams {
 }
 
 impl CpParams {
+    /// All three positive and finite.
+    pub fn check(&self) -> Result<(), ProfileError> {
+        check_positive("the CP speed", self.speed_mm_s)?;
+        check_positive("the CP acceleration", self.accel_mm_s2)?;
+        check_positive("the CP deceleration", self.decel_mm_s2)
+    }
+
     /// From a move command's fields: speed mm/s, accelerations in 0.01 G (98.0665 mm/s^2
     /// each); 0 means the model's default; values above the model's CP maxima are clamped
     /// to them (the spec's "safety limit may apply", `[inferred]`).
@@ -204,6 +226,7 @@ impl PtpMove {
         target: Joints,
         params: &PtpParams,
     ) -> Result<Self, MoveError> {
+        params.check()?;
         k.check_joints(&target).map_err(MoveError::Unreachable)?;
         if !start.is_finite() {
             return Err(MoveError::Unreachable(IkError::NotFinite));
@@ -220,8 +243,8 @@ impl PtpMove {
             }
         }
         let profile = if v.is_infinite() {
-            // No travel: check the parameters anyway, then a move that is already done.
-            Trapezoid::new(0.0, params.speed_pct, params.accel_pct, params.decel_pct)?
+            // No travel: a move that is already done.
+            Trapezoid::new(0.0, 1.0, 1.0, 1.0)?
         } else {
             Trapezoid::new(1.0, v, a, d)?
         };
