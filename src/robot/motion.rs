@@ -148,8 +148,9 @@ impl PtpParams {
         check_positive("the deceleration %", self.decel_pct)
     }
 
-    /// From a move command's fields (2D4H/2D5H PTP, 236H each-axis): 0 means the model's
-    /// default ("parameter value"); above 100 % is clamped to 100 `[inferred]`.
+    /// From a move command's fields (2D4H/2D5H/2D6H PTP, 236H each-axis; PROTOCOL.md
+    /// 3.10, 3.19-3.21): 0 means the model's default ("parameter value"); above 100 % is
+    /// clamped to 100 `[inferred]`.
     pub fn from_command(model: &RobotModel, accel: u16, decel: u16, speed: u16) -> Self {
         let d = &model.defaults;
         let pct = |v: u16, default: f64| {
@@ -183,9 +184,10 @@ impl CpParams {
         check_positive("the CP deceleration", self.decel_mm_s2)
     }
 
-    /// From a move command's fields: speed mm/s, accelerations in 0.01 G (98.0665 mm/s^2
-    /// each); 0 means the model's default; values above the model's CP maxima are clamped
-    /// to them (the spec's "safety limit may apply", `[inferred]`).
+    /// From a move command's fields (PROTOCOL.md 3.19-3.21): speed mm/s, accelerations in
+    /// 0.01 G (98.0665 mm/s^2 each); 0 means the model's default; values above the model's
+    /// CP maxima are clamped to them (the spec's "safety limit may apply"; clamping rather
+    /// than refusing is `[inferred]`).
     pub fn from_command(model: &RobotModel, accel_cg: u16, decel_cg: u16, speed_mm_s: u16) -> Self {
         let d = &model.defaults;
         let or = |v: u16, default: f64| if v == 0 { default } else { f64::from(v) };
