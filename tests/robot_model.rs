@@ -60,6 +60,12 @@ fn wrong_type_names_field_and_line() {
     assert_eq!(field, "j2.max", "{message}");
     assert_eq!(at, Some(line));
     let shown = RobotModel::from_toml_str(&text).unwrap_err().to_string();
+    assert_eq!(
+        shown,
+        format!(
+            "robot model line {line}, field `j2.max`: invalid type: string \"lots\", expected f64"
+        )
+    );
     assert!(
         shown.contains(&format!("line {line}")) && shown.contains("j2.max"),
         "{shown}"

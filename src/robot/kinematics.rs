@@ -221,6 +221,17 @@ impl Scara {
     /// The planar part of IK: `(J1 in -180..=180, J2)` for the flange at (x, y), with the
     /// reach, band and J2-limit checks. J1's limits are not checked here.
     pub fn planar(&self, x: f64, y: f64, arm: Arm) -> Result<(f64, f64), IkError> {
+        let (j2, c2, s2) = self.elbow(x, y, arm)?;
+        // J1 = atan2(y, x) - atan2(k2, k1), folded into one atan2 of the product
+        // (x + iy)(k1 - i k2): one transcendental call fewer on the hot path.
+        let (k1, k2) = (self.l1 + self.l2 * c2, self.l2 * s2);
+        let j1 = (y * k1 - x * k2).atan2(x * k1 + y * k2).to_degrees();
+        Ok((j1, j2))
+    }
+
+    /// The elbow for the flange at (x, y): `(J2 deg, cos J2, sin J2)`, after the reach,
+    /// singular-band and J2-limit checks.
+    pub(crate) fn elbow(&self, x: f64, y: f64, arm: Arm) -> Result<(f64, f64, f64), IkError> {
         let d2 = x * x + y * y;
         let d = d2.sqrt();
         if !d.is_finite() {
@@ -242,9 +253,10 @@ impl Scara {
         }
         let c = ((d2 - self.sq_sum) / self.two_l1l2).clamp(-1.0, 1.0);
         let mag = c.acos().to_degrees();
-        let j2 = match arm {
-            Arm::Right => mag,
-            Arm::Left => -mag,
+        let s = (1.0 - c * c).sqrt();
+        let (j2, s) = match arm {
+            Arm::Right => (mag, s),
+            Arm::Left => (-mag, -s),
         };
         if c > self.cos_band {
             return Err(IkError::Singular {
@@ -252,10 +264,7 @@ impl Scara {
                 band_deg: self.band_deg,
             });
         }
-        let j2 = check(j2, &self.j2, Joint::J2)?;
-        let s2 = j2.to_radians().sin();
-        let j1 = (y.atan2(x) - (self.l2 * s2).atan2(self.l1 + self.l2 * c)).to_degrees();
-        Ok((j1, j2))
+        Ok((check(j2, &self.j2, Joint::J2)?, c, s))
     }
 
     /// All four joints finite and within their limits; the first offender otherwise.
@@ -302,6 +311,11 @@ pub fn check(value: f64, spec: &JointSpec, joint: Joint) -> Result<f64, IkError>
 /// Among `value + k * 360` inside the limits, the one nearest `near`; when none fits, the
 /// refusal names the candidate that misses the limits by least.
 pub fn wrap_nearest(value: f64, near: f64, spec: &JointSpec, joint: Joint) -> Result<f64, IkError> {
+    // Usual case: the value itself is inside and within half a turn of `near`, so no
+    // other multiple can be nearer.
+    if value >= spec.min && value <= spec.max && (value - near).abs() <= 180.0 {
+        return Ok(value);
+    }
     let k_lo = ((spec.min - LIMIT_EPS - value) / 360.0).ceil();
     let k_hi = ((spec.max + LIMIT_EPS - value) / 360.0).floor();
     if k_lo <= k_hi {

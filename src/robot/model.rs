@@ -85,7 +85,7 @@ pub struct RobotModel {
 /// Why a model could not be loaded. Field errors name the dotted field and the line.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum ModelError {
-    #[error("robot model{}: `{field}`: {message}", line_text(*.line))]
+    #[error("robot model{}{}: {message}", line_text(*.line), field_text(.field))]
     Field {
         /// Dotted path, e.g. `j2.max`; empty when the file is not valid TOML at all.
         field: String,
@@ -101,6 +101,14 @@ pub enum ModelError {
 
 fn line_text(line: Option<usize>) -> String {
     line.map(|l| format!(" line {l}")).unwrap_or_default()
+}
+
+fn field_text(field: &str) -> String {
+    if field.is_empty() {
+        String::new()
+    } else {
+        format!(", field `{field}`")
+    }
 }
 
 impl RobotModel {
