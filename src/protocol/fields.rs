@@ -189,6 +189,20 @@ impl<'a, 'r> Reader<'a, 'r> {
         }
     }
 
+    /// The next `len` characters without consuming them, unless recording (then the
+    /// field-by-field path must run).
+    pub(crate) fn peek_block(&self, len: usize) -> Option<&'a [u8]> {
+        if self.rec.is_some() {
+            return None;
+        }
+        self.data.get(self.pos..self.pos + len)
+    }
+
+    /// Consumes `len` characters already checked through [`Reader::peek_block`].
+    pub(crate) fn skip(&mut self, len: usize) {
+        self.pos = (self.pos + len).min(self.data.len());
+    }
+
     /// Data characters not read yet.
     pub(crate) fn remaining(&self) -> usize {
         self.data.len().saturating_sub(self.pos)
