@@ -5,7 +5,7 @@
 use std::io::{Read, Write};
 use std::time::{Duration, Instant};
 
-use serialport::{SerialPort, TTYPort};
+use serialport::TTYPort;
 use xsel_pendant::sim::runner::{PtyServer, RunOptions, SimCore, start_pty};
 use xsel_pendant::sim::{Controller, FaultSpec, Mode, SimSetup};
 

@@ -186,6 +186,16 @@ impl<T: Copy + Default> PerAxis<T> {
         }
     }
 
+    /// From a pattern and values indexed by axis (slots outside the pattern are reset).
+    pub(crate) fn from_slots(pattern: AxisPattern, mut values: [T; 8]) -> Self {
+        for (i, v) in values.iter_mut().enumerate() {
+            if pattern.0 & (1 << i) == 0 {
+                *v = T::default();
+            }
+        }
+        PerAxis { pattern, values }
+    }
+
     /// A value for every axis of `pattern`, from `f`.
     pub fn from_fn(pattern: AxisPattern, mut f: impl FnMut(Axis) -> T) -> Self {
         let mut p = Self::new();

@@ -42,28 +42,45 @@ pub(crate) fn parse_hex(s: &[u8]) -> Option<u32> {
     if bad & 0xF0 != 0 { None } else { Some(v) }
 }
 
-/// Parses exactly 8 hex digits into a `u32` (the hot path of coordinate tables).
+/// Parses exactly 8 hex digits (either case) into a `u32`, eight bytes at a time (SWAR):
+/// the hot path of coordinate tables.
 #[inline]
 pub(crate) fn parse_hex8(s: &[u8; 8]) -> Option<u32> {
-    let mut v: u32 = 0;
-    let mut bad: u8 = 0;
-    for &c in s {
-        let d = LUT[c as usize];
-        bad |= d;
-        v = (v << 4) | u32::from(d & 0x0F);
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    const HIGH: u64 = 0x8080_8080_8080_8080;
+    // Most significant digit in the most significant byte.
+    let x = u64::from_be_bytes(*s);
+    if x & HIGH != 0 {
+        return None;
     }
-    if bad & 0xF0 != 0 { None } else { Some(v) }
+    // High bit of each byte set where lo <= byte <= hi (bytes are < 80H, so no carries).
+    let in_range = |v: u64, lo: u8, hi: u8| {
+        let ge = v.wrapping_add(ONES * u64::from(0x80 - lo));
+        let gt = v.wrapping_add(ONES * u64::from(0x7F - hi));
+        ge & !gt & HIGH
+    };
+    let digit = in_range(x, b'0', b'9');
+    // Setting bit 5 maps 'A'-'F' onto 'a'-'f' and nothing else onto them.
+    let alpha = in_range(x | (ONES * 0x20), b'a', b'f');
+    if digit | alpha != HIGH {
+        return None;
+    }
+    let nib = (x & (ONES * 0x0F)) + (alpha >> 7) * 9;
+    let b = ((nib >> 4) | nib) & 0x00FF_00FF_00FF_00FF;
+    let w = ((b >> 8) | b) & 0x0000_FFFF_0000_FFFF;
+    Some((((w >> 16) | w) & 0xFFFF_FFFF) as u32)
 }
 
 /// Appends `v` as exactly `width` upper-case hex digits (`width` <= 8; higher digits of
 /// `v` beyond `width` are dropped, so callers check the range first).
 #[inline]
 pub(crate) fn push_hex(out: &mut Vec<u8>, v: u32, width: usize) {
-    let mut i = width.min(8);
-    while i > 0 {
-        i -= 1;
-        out.push(DIGITS[((v >> (4 * i)) & 0xF) as usize]);
+    let width = width.min(8);
+    let mut digits = [0u8; 8];
+    for (i, d) in digits.iter_mut().enumerate() {
+        *d = DIGITS[((v >> (28 - 4 * i)) & 0xF) as usize];
     }
+    out.extend_from_slice(digits.get(8 - width..).unwrap_or(&[]));
 }
 
 /// Whether `v` fits in `width` hex digits.
@@ -100,6 +117,20 @@ mod tests {
         assert_eq!(parse_hex(b""), None);
         assert_eq!(parse_hex(b"123456789"), None);
         assert_eq!(parse_hex8(b"0000C35@"), None);
+    }
+
+    #[test]
+    fn swar_parser_agrees_with_the_table_on_every_byte_in_every_position() {
+        for pos in 0..8 {
+            for c in 0..=255u8 {
+                let mut s = *b"8aF0c3E1";
+                s[pos] = c;
+                assert_eq!(parse_hex8(&s), parse_hex(&s), "{pos} {c:#x}");
+            }
+        }
+        assert_eq!(parse_hex8(b"FFFFFFFF"), Some(u32::MAX));
+        assert_eq!(parse_hex8(b"01234567"), Some(0x0123_4567));
+        assert_eq!(parse_hex8(b"89abcdef"), Some(0x89AB_CDEF));
     }
 
     #[test]

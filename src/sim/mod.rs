@@ -23,21 +23,20 @@ pub use faults::{Fault, FaultCounts, FaultSpec};
 pub use runner::{EmbeddedOptions, SimHandle, start_embedded};
 pub use state::{Counters, Mode, SimConfig};
 
-/// A short decoded summary of a frame for logs: kind, message name or error text.
+/// A short decoded summary of a frame for logs: the protocol describer's title, the
+/// first problem it finds, and the simulator's text for an error code.
 pub fn describe_frame(frame: &[u8]) -> String {
+    let d = crate::protocol::describe(frame);
+    let mut s = d.title;
     let body = frame.strip_suffix(b"\r\n").unwrap_or(frame);
-    match body.first() {
-        Some(b'&') if body.len() >= 6 => {
-            let code = framing::hex_value(&body[3..6]).unwrap_or(0) as u16;
-            format!("error {:03X}: {}", code, errors::describe_code(code))
-        }
-        Some(h @ (b'!' | b'#')) if body.len() >= 6 => {
-            let id = String::from_utf8_lossy(&body[3..6]).to_ascii_uppercase();
-            let kind = if *h == b'!' { "command" } else { "reply" };
-            format!("{kind} {id}H {}", message_name(&id))
-        }
-        _ => "not a frame".to_owned(),
+    if body.first() == Some(&b'&') && body.len() >= 6 {
+        let code = framing::hex_value(&body[3..6]).unwrap_or(0) as u16;
+        s.push_str(&format!(" — {:03X}: {}", code, errors::describe_code(code)));
     }
+    if let Some(p) = d.problems.first() {
+        s.push_str(&format!(" [{}]", p.message));
+    }
+    s
 }
 
 /// The name of a message ID (PROTOCOL.md 3).

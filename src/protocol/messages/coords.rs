@@ -2,8 +2,10 @@
 
 use crate::protocol::axis::{Axis, AxisPattern, PerAxis};
 use crate::protocol::error::{EncodeError, MessageError};
-use crate::protocol::fields::{Name, Reader, Show, Writer};
+use crate::protocol::fields::{Name, Reader, Show};
+use crate::protocol::hex::parse_hex8;
 use crate::protocol::units::{AxisUnit, Thou};
+use crate::protocol::writer::Writer;
 
 /// Which table a coordinate query reads.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -202,6 +204,45 @@ pub struct CoordTable2 {
     pub records: Vec<PerAxis<Thou>>,
 }
 
+/// All records at once when every character is a hex digit (the common case); `None`
+/// sends the caller down the field-by-field path, which names any bad field.
+fn fast_records(
+    r: &mut Reader<'_, '_>,
+    axes: AxisPattern,
+    count: usize,
+) -> Option<Vec<PerAxis<Thou>>> {
+    let per = axes.count();
+    let len = count * per * 8;
+    let block = r.peek_block(len)?;
+    let mut slots = [0usize; 8];
+    for (slot, a) in slots.iter_mut().zip(axes) {
+        *slot = a.index();
+    }
+    let slots = slots.get(..per)?;
+    let mut records = Vec::with_capacity(count);
+    let mut bad = false;
+    if per > 0 {
+        for rec in block.chunks_exact(per * 8) {
+            let mut vals = [Thou(0); 8];
+            for (field, &slot) in rec.chunks_exact(8).zip(slots) {
+                let v = <&[u8; 8]>::try_from(field).ok().and_then(parse_hex8);
+                bad |= v.is_none();
+                if let Some(dst) = vals.get_mut(slot) {
+                    *dst = Thou::from_wire(v.unwrap_or(0));
+                }
+            }
+            records.push(PerAxis::from_slots(axes, vals));
+        }
+    } else {
+        records.resize(count, PerAxis::new());
+    }
+    if bad {
+        return None;
+    }
+    r.skip(len);
+    Some(records)
+}
+
 /// Unit of a 2A4H offset: R axes (4, 8) in deg, others in mm.
 fn offset_unit(a: Axis) -> AxisUnit {
     if a.is_scara_r() {
@@ -217,6 +258,14 @@ impl CoordTable2 {
         let kind = read_kind(r)?;
         let first = r.u8(Name::new("first definition number"), 2, Show::Number)?;
         let count = usize::from(r.u8(Name::new("number of records"), 2, Show::Number)?);
+        if let Some(records) = fast_records(r, axes, count) {
+            return Ok(CoordTable2 {
+                axes,
+                kind,
+                first,
+                records,
+            });
+        }
         let mut records = Vec::with_capacity(count);
         for i in 0..count {
             let no = usize::from(first) + i;
