@@ -1,0 +1,246 @@
+//! Trapezoidal (triangular when short) motion profiles, sampled in closed form at time t.
+
+use thiserror::Error;
+
+/// Where a profile is, as the Delta RMC status bits report it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Phase {
+    Accel,
+    ConstantVelocity,
+    Decel,
+    Complete,
+}
+
+/// A profile's state at one instant: distance covered and speed (units of the profile).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ProfileSample {
+    pub s: f64,
+    pub v: f64,
+    pub phase: Phase,
+}
+
+/// A speed, acceleration or distance that cannot make a profile.
+#[derive(Debug, Clone, Copy, PartialEq, Error)]
+pub enum ProfileError {
+    #[error("{what} must be a positive number, got {value}")]
+    NotPositive { what: &'static str, value: f64 },
+    #[error("the distance must be a finite number, got {0}")]
+    BadDistance(f64),
+}
+
+/// A 1-D trapezoidal profile from rest to rest over `distance` (>= 0): accelerate at
+/// `accel` to the peak speed, cruise, decelerate at `decel`. When the distance is too
+/// short to reach `speed`, the cruise vanishes and the peak is lower (a triangle).
+/// Everything is precomputed; [`Trapezoid::sample`] is a few multiplications.
+/// Time 0 is the start of the move; time is always an argument, never read from a clock.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Trapezoid {
+    distance: f64,
+    accel: f64,
+    decel: f64,
+    v_peak: f64,
+    /// End of acceleration.
+    t1: f64,
+    /// End of constant velocity (= t1 for a triangle).
+    t2: f64,
+    /// End of the move.
+    t3: f64,
+    /// Distance at t1.
+    s1: f64,
+    stopped: bool,
+}
+
+fn positive(what: &'static str, value: f64) -> Result<f64, ProfileError> {
+    if value > 0.0 && value.is_finite() {
+        Ok(value)
+    } else {
+        Err(ProfileError::NotPositive { what, value })
+    }
+}
+
+impl Trapezoid {
+    /// A profile covering `distance` (negative is taken as its magnitude) with the given
+    /// maximum speed, acceleration and deceleration (all > 0, finite).
+    pub fn new(distance: f64, speed: f64, accel: f64, decel: f64) -> Result<Self, ProfileError> {
+        if !distance.is_finite() {
+            return Err(ProfileError::BadDistance(distance));
+        }
+        let speed = positive("the speed", speed)?;
+        let accel = positive("the acceleration", accel)?;
+        let decel = positive("the deceleration", decel)?;
+        let distance = distance.abs();
+        let ramps = speed * speed / (2.0 * accel) + speed * speed / (2.0 * decel);
+        let (v_peak, cruise) = if ramps <= distance {
+            (speed, (distance - ramps) / speed)
+        } else {
+            (
+                (2.0 * distance * accel * decel / (accel + decel)).sqrt(),
+                0.0,
+            )
+        };
+        Ok(Self::from_parts(
+            distance,
+            accel,
+            decel,
+            v_peak,
+            v_peak / accel,
+            cruise,
+        ))
+    }
+
+    fn from_parts(
+        distance: f64,
+        accel: f64,
+        decel: f64,
+        v_peak: f64,
+        t1: f64,
+        cruise: f64,
+    ) -> Self {
+        let t2 = t1 + cruise;
+        Trapezoid {
+            distance,
+            accel,
+            decel,
+            v_peak,
+            t1,
+            t2,
+            t3: t2 + v_peak / decel,
+            s1: 0.5 * accel * t1 * t1,
+            stopped: false,
+        }
+    }
+
+    /// The state at time `t` (seconds since the start). Before 0 it is at rest at 0;
+    /// from the end on it is at rest at the full distance, phase `Complete`.
+    #[inline]
+    pub fn sample(&self, t: f64) -> ProfileSample {
+        // Negative times and NaN: at rest at the start.
+        let t = if t > 0.0 { t } else { 0.0 };
+        if t >= self.t3 {
+            ProfileSample {
+                s: self.distance,
+                v: 0.0,
+                phase: Phase::Complete,
+            }
+        } else if t < self.t1 {
+            ProfileSample {
+                s: 0.5 * self.accel * t * t,
+                v: self.accel * t,
+                phase: Phase::Accel,
+            }
+        } else if t < self.t2 {
+            ProfileSample {
+                s: self.s1 + self.v_peak * (t - self.t1),
+                v: self.v_peak,
+                phase: Phase::ConstantVelocity,
+            }
+        } else {
+            // Measured back from the end, so the end lands exactly on the distance.
+            let tau = self.t3 - t;
+            ProfileSample {
+                s: self.distance - 0.5 * self.decel * tau * tau,
+                v: self.decel * tau,
+                phase: Phase::Decel,
+            }
+        }
+    }
+
+    /// The same move told to stop at time `t` (238H): from the state at `t` it
+    /// decelerates at the move's own deceleration and ends short of the distance. A stop
+    /// already in the final deceleration changes nothing but the cancelled mark; a stop
+    /// after the end changes nothing at all.
+    pub fn stopped_at(&self, t: f64) -> Trapezoid {
+        if t >= self.t3 || self.stopped {
+            return *self;
+        }
+        let t = if t > 0.0 { t } else { 0.0 };
+        let mut p = if t < self.t1 {
+            // Cut the acceleration short: peak = speed reached at t, no cruise.
+            let mut p = Self::from_parts(0.0, self.accel, self.decel, self.accel * t, t, 0.0);
+            p.distance = p.s1 + p.v_peak * p.v_peak / (2.0 * self.decel);
+            p
+        } else if t < self.t2 {
+            // Cut the cruise short.
+            let mut p = Self::from_parts(
+                0.0,
+                self.accel,
+                self.decel,
+                self.v_peak,
+                self.t1,
+                t - self.t1,
+            );
+            p.distance =
+                self.s1 + self.v_peak * (t - self.t1) + p.v_peak * p.v_peak / (2.0 * self.decel);
+            p
+        } else {
+            *self
+        };
+        p.distance = p.distance.min(self.distance);
+        p.stopped = true;
+        p
+    }
+
+    /// Distance covered at the end (shorter than asked for after a stop).
+    pub fn distance(&self) -> f64 {
+        self.distance
+    }
+    /// Time from start to rest.
+    pub fn duration(&self) -> f64 {
+        self.t3
+    }
+    /// Highest speed reached.
+    pub fn peak_speed(&self) -> f64 {
+        self.v_peak
+    }
+    pub fn accel(&self) -> f64 {
+        self.accel
+    }
+    pub fn decel(&self) -> f64 {
+        self.decel
+    }
+    /// Ends of the acceleration, constant-velocity and deceleration phases.
+    pub fn phase_ends(&self) -> [f64; 3] {
+        [self.t1, self.t2, self.t3]
+    }
+    /// No constant-velocity phase.
+    pub fn is_triangular(&self) -> bool {
+        self.t2 <= self.t1
+    }
+    /// Cut short by [`Trapezoid::stopped_at`] (cancelled, not completed normally).
+    pub fn is_stopped(&self) -> bool {
+        self.stopped
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn trapezoid_and_triangle_shapes() {
+        let p = Trapezoid::new(100.0, 50.0, 100.0, 200.0).unwrap();
+        // 12.5 mm to accelerate, 6.25 mm to decelerate, 81.25 mm at 50 mm/s.
+        assert_eq!(
+            p.phase_ends(),
+            [0.5, 0.5 + 81.25 / 50.0, 0.5 + 81.25 / 50.0 + 0.25]
+        );
+        assert!(!p.is_triangular());
+        let q = Trapezoid::new(1.0, 50.0, 100.0, 100.0).unwrap();
+        assert!(q.is_triangular() && (q.peak_speed() - 10.0).abs() < 1e-12);
+        assert_eq!(q.sample(q.duration()).s, 1.0);
+    }
+
+    #[test]
+    fn bad_parameters_are_refused() {
+        assert!(Trapezoid::new(1.0, 0.0, 1.0, 1.0).is_err());
+        assert!(Trapezoid::new(1.0, 1.0, f64::NAN, 1.0).is_err());
+        assert!(Trapezoid::new(f64::INFINITY, 1.0, 1.0, 1.0).is_err());
+        let z = Trapezoid::new(0.0, 1.0, 1.0, 1.0).unwrap();
+        assert_eq!(z.duration(), 0.0);
+        assert_eq!(z.sample(0.0).phase, Phase::Complete);
+        assert_eq!(z.sample(f64::NAN).s, 0.0);
+        let p = Trapezoid::new(10.0, 1.0, 1.0, 1.0).unwrap();
+        let s = p.sample(f64::NAN);
+        assert_eq!((s.s, s.v, s.phase), (0.0, 0.0, Phase::Accel));
+    }
+}
