@@ -1,1 +1,54 @@
 //! The Format B codec, sans-IO: bytes <-> typed commands and replies, in both roles.
+//!
+//! * [`Frame`] parses one complete frame and checks its SC; [`StreamDecoder`] splits a byte
+//!   stream into frames and typed errors, resynchronising on the next header.
+//! * [`Command`] and [`Reply`] encode and decode every message of PROTOCOL.md section 3.
+//! * [`describe()`] explains any bytes field by field, for the frame log.
+//!
+//! No IO, no clock, no threads; nothing else of the project is imported.
+
+pub mod arm;
+pub mod axis;
+pub mod checksum;
+pub mod command;
+pub mod decoder;
+pub mod describe;
+pub mod error;
+mod fields;
+pub mod frame;
+mod hex;
+pub mod ids;
+pub mod messages;
+pub mod reply;
+pub mod units;
+mod writer;
+
+pub use arm::{ArmPolicy, ArmSystem};
+pub use axis::{Axis, AxisIter, AxisPattern, PerAxis};
+pub use checksum::{Sc, ScMode, checksum};
+pub use command::Command;
+pub use decoder::{DecodeError, StreamDecoder};
+pub use describe::{
+    BitNote, ChecksumVerdict, FieldDescription, FrameDescription, Problem, describe,
+};
+pub use error::{Columns, EncodeError, MessageError, MessageErrorKind};
+pub use frame::{Frame, FrameError, FrameErrorKind, MAX_FRAME_LEN, MIN_FRAME_LEN, OwnedFrame};
+pub use ids::{ErrorCode, Header, MessageId, Role, Station};
+pub use messages::basic::{
+    ErrorDetail, ErrorDetailQuery, TestData, UnitType, VersionInfo, VersionQuery,
+};
+pub use messages::coords::{CoordKind, CoordQuery, CoordQuery2, CoordTable, CoordTable2, XyzR};
+pub use messages::motion::{
+    AxisMove, Direction, Home, Jog, JogFrame, JogMotion, Servo, SpeedChange, Stop,
+};
+pub use messages::scara::{ScaraMotion, ScaraMove, ScaraPositionMove};
+pub use messages::scara_status::{
+    CommonStatus, PositionSystem, ScaraStatus, ScaraStatus2, ScaraStatusQuery, ScaraStatusQuery2,
+    ScaraUnitStatus,
+};
+pub use messages::status::{
+    AxisState, AxisStatus, EncoderStatus, HomeState, SensorInput, SystemMode, SystemStatus,
+    SystemStatus1, SystemStatus2, SystemStatus3,
+};
+pub use reply::Reply;
+pub use units::{AxisUnit, CentiG, MmPerSec, Percent, Thou};

@@ -1,0 +1,285 @@
+//! Frame-level identifiers: header kind, station, message ID, error code, role.
+
+use std::fmt;
+
+/// The first character of a frame (PROTOCOL.md 1.3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Header {
+    /// `!`: a command, host to controller.
+    Command,
+    /// `#`: a normal reply.
+    Reply,
+    /// `&`: an error reply (no message ID, a 3-digit error code instead).
+    Error,
+}
+
+impl Header {
+    /// The header byte on the wire.
+    pub const fn byte(self) -> u8 {
+        match self {
+            Header::Command => b'!',
+            Header::Reply => b'#',
+            Header::Error => b'&',
+        }
+    }
+
+    /// The header for a wire byte, if it is one.
+    pub const fn from_byte(b: u8) -> Option<Header> {
+        match b {
+            b'!' => Some(Header::Command),
+            b'#' => Some(Header::Reply),
+            b'&' => Some(Header::Error),
+            _ => None,
+        }
+    }
+
+    /// Words for the frame log: "command", "reply", "error reply".
+    pub const fn describe(self) -> &'static str {
+        match self {
+            Header::Command => "command",
+            Header::Reply => "reply",
+            Header::Error => "error reply",
+        }
+    }
+}
+
+impl fmt::Display for Header {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "'{}' ({})", self.byte() as char, self.describe())
+    }
+}
+
+/// Which side of a transaction a message belongs to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Role {
+    /// Host to controller (`!`).
+    Command,
+    /// Controller to host (`#` or `&`).
+    Reply,
+}
+
+impl fmt::Display for Role {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Role::Command => "command",
+            Role::Reply => "reply",
+        })
+    }
+}
+
+/// A station number: the wire value of the 2-hex-digit station field. The usual station
+/// "99" is `Station(0x99)` (PROTOCOL.md 1.3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Station(pub u8);
+
+impl Station {
+    /// Station "99", used by every observed host.
+    pub const DEFAULT: Station = Station(0x99);
+}
+
+impl Default for Station {
+    fn default() -> Self {
+        Station::DEFAULT
+    }
+}
+
+impl fmt::Display for Station {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{:02X}", self.0)
+    }
+}
+
+/// A 3-hex-digit message ID, e.g. `MessageId::AXIS_STATUS` = 212H.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct MessageId(pub u16);
+
+impl MessageId {
+    /// 200H test call.
+    pub const TEST_CALL: MessageId = MessageId(0x200);
+    /// 201H version code query.
+    pub const VERSION: MessageId = MessageId(0x201);
+    /// 212H axis status query.
+    pub const AXIS_STATUS: MessageId = MessageId(0x212);
+    /// 215H system status query.
+    pub const SYSTEM_STATUS: MessageId = MessageId(0x215);
+    /// 216H error detail query.
+    pub const ERROR_DETAIL: MessageId = MessageId(0x216);
+    /// 232H servo ON/OFF.
+    pub const SERVO: MessageId = MessageId(0x232);
+    /// 233H home return.
+    pub const HOME: MessageId = MessageId(0x233);
+    /// 234H absolute-coordinate move.
+    pub const MOVE_ABSOLUTE: MessageId = MessageId(0x234);
+    /// 235H relative-coordinate move.
+    pub const MOVE_RELATIVE: MessageId = MessageId(0x235);
+    /// 236H jogging / inching.
+    pub const JOG: MessageId = MessageId(0x236);
+    /// 238H operation stop and cancel.
+    pub const STOP: MessageId = MessageId(0x238);
+    /// 252H alarm reset.
+    pub const ALARM_RESET: MessageId = MessageId(0x252);
+    /// 25BH software reset.
+    pub const SOFTWARE_RESET: MessageId = MessageId(0x25B);
+    /// 262H speed change.
+    pub const SPEED_CHANGE: MessageId = MessageId(0x262);
+    /// 2A0H coordinate system definition data query (4 axes per record).
+    pub const COORD_QUERY: MessageId = MessageId(0x2A0);
+    /// 2A1H SCARA axis status query.
+    pub const SCARA_STATUS: MessageId = MessageId(0x2A1);
+    /// 2A3H SCARA axis status query 2.
+    pub const SCARA_STATUS_2: MessageId = MessageId(0x2A3);
+    /// 2A4H coordinate system definition data query 2 (axis pattern).
+    pub const COORD_QUERY_2: MessageId = MessageId(0x2A4);
+    /// 2D4H SCARA absolute-coordinate move.
+    pub const SCARA_MOVE_ABSOLUTE: MessageId = MessageId(0x2D4);
+    /// 2D5H SCARA relative-coordinate move.
+    pub const SCARA_MOVE_RELATIVE: MessageId = MessageId(0x2D5);
+    /// 2D6H SCARA position-number move.
+    pub const SCARA_MOVE_POSITION: MessageId = MessageId(0x2D6);
+
+    /// Every message ID this library knows, ascending.
+    pub const ALL: [MessageId; 21] = [
+        Self::TEST_CALL,
+        Self::VERSION,
+        Self::AXIS_STATUS,
+        Self::SYSTEM_STATUS,
+        Self::ERROR_DETAIL,
+        Self::SERVO,
+        Self::HOME,
+        Self::MOVE_ABSOLUTE,
+        Self::MOVE_RELATIVE,
+        Self::JOG,
+        Self::STOP,
+        Self::ALARM_RESET,
+        Self::SOFTWARE_RESET,
+        Self::SPEED_CHANGE,
+        Self::COORD_QUERY,
+        Self::SCARA_STATUS,
+        Self::SCARA_STATUS_2,
+        Self::COORD_QUERY_2,
+        Self::SCARA_MOVE_ABSOLUTE,
+        Self::SCARA_MOVE_RELATIVE,
+        Self::SCARA_MOVE_POSITION,
+    ];
+
+    /// The spec's name of the message, or `None` for an ID this library does not know.
+    pub const fn name(self) -> Option<&'static str> {
+        Some(match self.0 {
+            0x200 => "test call",
+            0x201 => "version code query",
+            0x212 => "axis status query",
+            0x215 => "system status query",
+            0x216 => "error detail query",
+            0x232 => "servo ON/OFF",
+            0x233 => "home return",
+            0x234 => "absolute move",
+            0x235 => "relative move",
+            0x236 => "jog / inching",
+            0x238 => "stop and cancel",
+            0x252 => "alarm reset",
+            0x25B => "software reset",
+            0x262 => "speed change",
+            0x2A0 => "coordinate system data query",
+            0x2A1 => "SCARA axis status query",
+            0x2A3 => "SCARA axis status query 2",
+            0x2A4 => "coordinate system data query 2",
+            0x2D4 => "SCARA absolute move",
+            0x2D5 => "SCARA relative move",
+            0x2D6 => "SCARA position-number move",
+            _ => return None,
+        })
+    }
+
+    /// Whether the normal reply to this message is the plain 10-character acknowledge
+    /// (`#` + station + ID + SC) (PROTOCOL.md 1.3 and section 3).
+    pub const fn is_plain_ack(self) -> bool {
+        matches!(
+            self.0,
+            0x232
+                | 0x233
+                | 0x234
+                | 0x235
+                | 0x236
+                | 0x238
+                | 0x252
+                | 0x25B
+                | 0x262
+                | 0x2D4
+                | 0x2D5
+                | 0x2D6
+        )
+    }
+}
+
+impl fmt::Display for MessageId {
+    /// Written as in the spec: `212H`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{:03X}H", self.0)
+    }
+}
+
+/// A controller error number: 3 hex digits (PROTOCOL.md section 2). `000` means none.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
+pub struct ErrorCode(pub u16);
+
+impl ErrorCode {
+    /// `000`: no error.
+    pub const NONE: ErrorCode = ErrorCode(0);
+    /// CC1: speed change condition error (262H on an S-motion axis) [spec p.57].
+    pub const SPEED_CHANGE_CONDITION: ErrorCode = ErrorCode(0xCC1);
+    /// C74: actual position beyond the soft limit (vendor manual; PROTOCOL.md section 2).
+    pub const SOFT_LIMIT: ErrorCode = ErrorCode(0xC74);
+
+    /// The known meaning of this number, if any.
+    pub const fn text(self) -> Option<&'static str> {
+        match self.0 {
+            0 => Some("no error"),
+            0xCC1 => Some("speed change condition error"),
+            0xC74 => Some("actual position beyond the soft limit"),
+            _ => None,
+        }
+    }
+}
+
+impl fmt::Display for ErrorCode {
+    /// The 3 hex digits, plus the meaning where known: `CC1 (speed change condition error)`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{:03X}", self.0)?;
+        if let Some(t) = self.text() {
+            write!(f, " ({t})")?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn displays_as_in_the_spec() {
+        assert_eq!(MessageId::SCARA_MOVE_RELATIVE.to_string(), "2D5H");
+        assert_eq!(Station::default().to_string(), "99");
+        assert_eq!(
+            ErrorCode(0xCC1).to_string(),
+            "CC1 (speed change condition error)"
+        );
+        assert_eq!(ErrorCode(0x0A2).to_string(), "0A2");
+    }
+
+    #[test]
+    fn every_known_id_has_a_name() {
+        for id in MessageId::ALL {
+            assert!(id.name().is_some(), "{id}");
+        }
+        assert_eq!(MessageId(0x20B).name(), None);
+    }
+
+    #[test]
+    fn header_bytes_round_trip() {
+        for h in [Header::Command, Header::Reply, Header::Error] {
+            assert_eq!(Header::from_byte(h.byte()), Some(h));
+        }
+        assert_eq!(Header::from_byte(b':'), None);
+    }
+}

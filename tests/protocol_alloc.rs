@@ -1,0 +1,59 @@
+//! Encoding a command into a buffer that has room allocates nothing.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use xsel_pendant::protocol::*;
+
+struct Counting;
+
+static ALLOCS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::SeqCst);
+        // SAFETY: forwarded unchanged to the system allocator.
+        unsafe { System.alloc(layout) }
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: forwarded unchanged to the system allocator.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::SeqCst);
+        // SAFETY: forwarded unchanged to the system allocator.
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+#[test]
+fn encoding_a_scara_move_into_a_reused_buffer_does_not_allocate() {
+    let cmd = Command::ScaraMoveRelative(ScaraMove {
+        motion: ScaraMotion::Cp {
+            acc: CentiG(30),
+            dec: CentiG(30),
+            speed: MmPerSec(50),
+        },
+        targets: PerAxis::new()
+            .with(Axis::A1, Thou(1000))
+            .with(Axis::A2, Thou(-5000))
+            .with(Axis::A3, Thou(0))
+            .with(Axis::A4, Thou(45_000)),
+    });
+    let mut buf = Vec::with_capacity(128);
+    let before = ALLOCS.load(Ordering::SeqCst);
+    for _ in 0..100 {
+        buf.clear();
+        cmd.encode_into(Station::DEFAULT, ScMode::Computed, &mut buf)
+            .unwrap();
+    }
+    let after = ALLOCS.load(Ordering::SeqCst);
+    assert_eq!(after - before, 0, "allocations while encoding");
+    assert_eq!(buf.len(), 58);
+    assert!(buf.ends_with(b"\r\n"));
+}

@@ -1,0 +1,793 @@
+//! Every frame of PROTOCOL.md section 6 decodes to the meaning given there; the
+//! computed-SC frames re-encode byte for byte from their typed form.
+
+use xsel_pendant::protocol::*;
+
+fn wire(s: &str) -> Vec<u8> {
+    let mut v = s.as_bytes().to_vec();
+    v.extend_from_slice(b"\r\n");
+    v
+}
+
+fn frame(s: &str) -> OwnedFrame {
+    Frame::parse(&wire(s))
+        .unwrap_or_else(|e| panic!("{s}: {e}"))
+        .into_owned()
+}
+
+fn cmd(s: &str) -> Command {
+    Command::decode(&frame(s)).unwrap_or_else(|e| panic!("{s}: {e}"))
+}
+
+fn reply(s: &str) -> Reply {
+    Reply::decode(&frame(s)).unwrap_or_else(|e| panic!("{s}: {e}"))
+}
+
+/// Decodes a computed-SC command, checks the SC is valid, and that it re-encodes exactly.
+fn cmd_vector(s: &str) -> Command {
+    let f = frame(s);
+    assert!(matches!(f.sc(), Sc::Valid(_)), "{s}");
+    let c = cmd(s);
+    let again = c.to_bytes(Station::DEFAULT, ScMode::Computed).unwrap();
+    assert_eq!(
+        String::from_utf8_lossy(&again),
+        String::from_utf8_lossy(&wire(s)),
+        "{c:?}"
+    );
+    let d = describe(&wire(s));
+    assert!(d.is_ok(), "{d}");
+    c
+}
+
+fn reply_vector(s: &str) -> Reply {
+    let f = frame(s);
+    assert!(matches!(f.sc(), Sc::Valid(_)), "{s}");
+    let r = reply(s);
+    let again = r.to_bytes(Station::DEFAULT).unwrap();
+    assert_eq!(
+        String::from_utf8_lossy(&again),
+        String::from_utf8_lossy(&wire(s)),
+        "{r:?}"
+    );
+    let d = describe(&wire(s));
+    assert!(d.is_ok(), "{d}");
+    r
+}
+
+/// An `@@` command: decodes as given, SC reported as `@@`, re-encodes with `@@` exactly,
+/// and with a computed SC gives the section's recomputed value.
+fn at_at_vector(s: &str, real_sc: &str) -> Command {
+    let f = frame(s);
+    assert_eq!(f.sc(), Sc::AtAt, "{s}");
+    let c = cmd(s);
+    let again = c.to_bytes(Station::DEFAULT, ScMode::AtAt).unwrap();
+    assert_eq!(again, wire(s), "{c:?}");
+    let computed = c.to_bytes(Station::DEFAULT, ScMode::Computed).unwrap();
+    let body = &s[..s.len() - 2];
+    assert_eq!(
+        String::from_utf8_lossy(&computed),
+        format!("{body}{real_sc}\r\n")
+    );
+    c
+}
+
+fn t(v: i32) -> Thou {
+    Thou(v)
+}
+
+fn axes<T: Copy + Default>(vals: &[(u8, T)]) -> PerAxis<T> {
+    PerAxis::from_pairs(vals.iter().map(|&(n, v)| (Axis::new(n).unwrap(), v)))
+}
+
+// ---------------------------------------------------------------- 6.1
+
+#[test]
+fn s6_1_servo_ack() {
+    assert_eq!(reply_vector("#992322C"), Reply::Ack(MessageId::SERVO));
+}
+
+#[test]
+fn s6_1_axis_status_fixture() {
+    let Reply::AxisStatus(a) = reply_vector("#99212021C00000000002715AF") else {
+        panic!()
+    };
+    assert_eq!(a.pattern(), AxisPattern(0x02));
+    let s = a.get(Axis::A2).unwrap();
+    assert_eq!(s.status, AxisStatus(0x1C));
+    assert!(s.status.servo_on() && s.status.completed_normally());
+    assert_eq!(s.status.home_state(), HomeState::Done);
+    assert_eq!(s.position, t(10_005));
+}
+
+#[test]
+fn s6_1_hand_edited_fixture_is_a_checksum_error() {
+    let e = Frame::parse(&wire("#9921202040000000000270EAF")).unwrap_err();
+    assert_eq!(
+        e.kind,
+        FrameErrorKind::Checksum {
+            found: 0xAF,
+            computed: 0xAE,
+            column: 25
+        }
+    );
+    assert_eq!(
+        e.to_string(),
+        "checksum is AF, but the frame's bytes sum to AE (column 25)"
+    );
+    let mut d = StreamDecoder::new();
+    d.push(&wire("#9921202040000000000270EAF"));
+    assert!(matches!(
+        d.pull(),
+        Some(Err(DecodeError::Frame(FrameError {
+            kind: FrameErrorKind::Checksum { .. },
+            ..
+        })))
+    ));
+    let desc = describe(&wire("#9921202040000000000270EAF"));
+    assert_eq!(
+        desc.checksum,
+        ChecksumVerdict::Wrong {
+            found: 0xAF,
+            computed: 0xAE
+        }
+    );
+    assert!(!desc.is_ok());
+}
+
+// ---------------------------------------------------------------- 6.2
+
+#[test]
+fn s6_2_servo_on_axes_1_to_3() {
+    let c = at_at_vector("!99232071@@", "C2");
+    assert_eq!(
+        c,
+        Command::Servo(Servo {
+            axes: AxisPattern(0x07),
+            on: true
+        })
+    );
+}
+
+#[test]
+fn s6_2_not_a_vector_232_one_char_too_long() {
+    let f = frame("!992320101@@");
+    assert_eq!(f.sc(), Sc::AtAt);
+    let e = Command::decode(&f).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "232H command: unexpected extra data '1' at column 10 after the last field"
+    );
+    assert_eq!(checksum(b"!992320101"), 0xEC);
+}
+
+#[test]
+fn s6_2_home() {
+    assert_eq!(
+        at_at_vector("!9923307000000@@", "B2"),
+        Command::Home(Home {
+            axes: AxisPattern(0x07),
+            search: MmPerSec(0),
+            creep: MmPerSec(0)
+        })
+    );
+    assert_eq!(
+        at_at_vector("!9923301040000@@", "B0"),
+        Command::Home(Home {
+            axes: AxisPattern(0x01),
+            search: MmPerSec(64),
+            creep: MmPerSec(0)
+        })
+    );
+}
+
+#[test]
+fn s6_2_axis_status_queries() {
+    assert_eq!(
+        at_at_vector("!9921201@@", "89"),
+        Command::AxisStatus {
+            axes: AxisPattern(0x01)
+        }
+    );
+    assert_eq!(
+        at_at_vector("!9921207@@", "8F"),
+        Command::AxisStatus {
+            axes: AxisPattern(0x07)
+        }
+    );
+}
+
+#[test]
+fn s6_2_absolute_moves() {
+    assert_eq!(
+        at_at_vector("!9923401001E001E00640000C350@@", "9E"),
+        Command::MoveAbsolute(AxisMove {
+            acc: CentiG(30),
+            dec: CentiG(30),
+            speed: MmPerSec(100),
+            targets: axes(&[(1, t(50_000))]),
+        })
+    );
+    assert_eq!(
+        at_at_vector("!992340100640064006400000000@@", "6B"),
+        Command::MoveAbsolute(AxisMove {
+            acc: CentiG(100),
+            dec: CentiG(100),
+            speed: MmPerSec(100),
+            targets: axes(&[(1, t(0))]),
+        })
+    );
+}
+
+#[test]
+fn s6_2_test_call_alarm_and_software_reset() {
+    assert_eq!(
+        at_at_vector("!992000123456789@@", "32"),
+        Command::TestCall(TestData::new(b"0123456789").unwrap())
+    );
+    assert_eq!(at_at_vector("!99252@@", "2C"), Command::AlarmReset);
+    assert_eq!(at_at_vector("!9925B@@", "3C"), Command::SoftwareReset);
+}
+
+#[test]
+fn s6_2_input_port_query_is_unknown_but_described() {
+    let f = frame("!9920B00100001@@");
+    assert_eq!(f.id(), Some(MessageId(0x20B)));
+    let e = Command::decode(&f).unwrap_err();
+    assert_eq!(e.kind, MessageErrorKind::UnknownMessage);
+    assert_eq!(
+        e.to_string(),
+        "20BH command: unknown message ID: no layout is known for it"
+    );
+    let d = describe(&wire("!9920B00100001@@"));
+    assert!(d.is_ok(), "{d}");
+    assert_eq!(d.checksum, ChecksumVerdict::AtAt { computed: 0xB9 });
+    assert!(
+        d.fields
+            .iter()
+            .any(|f| f.name == "data (unknown message)" && f.raw == "00100001")
+    );
+}
+
+#[test]
+fn s6_2_stop_without_appended_byte_is_refused() {
+    let f = frame("!9923807@@");
+    let e = Command::decode(&f).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "238H command: field 'appended command byte' at columns 9-10 is missing — the data has only 2 characters"
+    );
+    assert_eq!(checksum(b"!9923807"), 0x97);
+    let d = describe(&wire("!9923807@@"));
+    assert_eq!(d.problems[0].column, 9);
+    assert!(
+        d.fields
+            .iter()
+            .any(|f| f.name == "stop axis pattern" && f.value == "07 (axes 1, 2, 3)")
+    );
+}
+
+#[test]
+fn s6_2_mock_reply_with_at_at() {
+    let f = frame("#99212010C000000000049B2@@");
+    assert_eq!(f.sc(), Sc::AtAt);
+    let Reply::AxisStatus(a) = reply("#99212010C000000000049B2@@") else {
+        panic!()
+    };
+    let s = a.get(Axis::A1).unwrap();
+    assert_eq!(s.status, AxisStatus(0x0C));
+    assert_eq!(s.position, t(18_866));
+    assert_eq!(
+        describe(&wire("#99212010C000000000049B2@@")).checksum,
+        ChecksumVerdict::AtAt { computed: 0xBF }
+    );
+}
+
+#[test]
+fn s6_2_other_protocols_are_not_format_b() {
+    for s in ["?99TST0123456789@@", ":0103000000027A"] {
+        let e = Frame::parse(&wire(s)).unwrap_err();
+        assert!(matches!(e.kind, FrameErrorKind::BadHeader { .. }), "{s}");
+        assert!(!describe(&wire(s)).is_ok());
+    }
+    let e = Frame::parse(&wire("!99MOV 1 2")).unwrap_err();
+    assert_eq!(e.kind, FrameErrorKind::BadMessageId);
+    assert_eq!(
+        e.to_string(),
+        "message ID is 'MOV', expected 3 hex digits (column 4)"
+    );
+}
+
+// ---------------------------------------------------------------- 6.3
+
+#[test]
+fn s6_3_test_call() {
+    assert_eq!(cmd_vector("!9920025"), Command::TestCall(TestData::EMPTY));
+    assert_eq!(reply_vector("#9920027"), Reply::TestCall(TestData::EMPTY));
+    assert_eq!(
+        cmd_vector("!99200012345678932"),
+        Command::TestCall(TestData::new(b"0123456789").unwrap())
+    );
+}
+
+#[test]
+fn s6_3_version() {
+    assert_eq!(
+        cmd_vector("!99201000B6"),
+        Command::Version(VersionQuery {
+            unit: UnitType::MAIN_APPLICATION,
+            device: 0
+        })
+    );
+    assert_eq!(
+        reply_vector("#992010001200011007E8030F0A141E46"),
+        Reply::Version(VersionInfo {
+            unit: UnitType(0),
+            device: 0,
+            model: 0x12,
+            unit_code: 0,
+            version: 0x0110,
+            year: 2024,
+            month: 3,
+            day: 15,
+            hour: 10,
+            minute: 20,
+            second: 30,
+        })
+    );
+}
+
+#[test]
+fn s6_3_axis_status() {
+    assert_eq!(
+        cmd_vector("!992120189"),
+        Command::AxisStatus {
+            axes: AxisPattern(0x01)
+        }
+    );
+    let Reply::AxisStatus(a) = reply_vector("#99212011C0000000000C350BA") else {
+        panic!()
+    };
+    let s = a.get(Axis::A1).unwrap();
+    assert!(s.status.servo_on());
+    assert_eq!(s.status.home_state(), HomeState::Done);
+    assert!(s.status.completed_normally());
+    assert_eq!(s.position, t(50_000));
+
+    assert_eq!(
+        cmd_vector("!99212038B"),
+        Command::AxisStatus {
+            axes: AxisPattern(0x03)
+        }
+    );
+    let Reply::AxisStatus(a) = reply_vector("#99212030D400000FFFFCFC70C0000000003D09073") else {
+        panic!()
+    };
+    let a1 = a.get(Axis::A1).unwrap();
+    assert!(a1.status.in_use());
+    assert!(a1.sensor.home());
+    assert_eq!(a1.error, ErrorCode::NONE);
+    assert_eq!(a1.position, t(-12_345));
+    let a2 = a.get(Axis::A2).unwrap();
+    assert!(!a2.status.in_use());
+    assert_eq!(a2.position, t(250_000));
+}
+
+#[test]
+fn s6_3_system_status() {
+    assert_eq!(cmd_vector("!992152B"), Command::SystemStatus);
+    let Reply::SystemStatus(s) = reply_vector("#9921510000000000060004") else {
+        panic!()
+    };
+    assert_eq!(s.mode, SystemMode::AUTO);
+    assert_eq!(s.critical_error, ErrorCode::NONE);
+    assert_eq!(s.latest_error, ErrorCode::NONE);
+    assert!(s.status3.ready());
+    assert!(s.status3.auto_operation());
+    assert!(!s.status3.drive_cut_off());
+    assert!(!s.status1.emergency_stop());
+    assert!(s.motion_allowed());
+}
+
+#[test]
+fn s6_3_servo() {
+    assert_eq!(
+        cmd_vector("!99232011BC"),
+        Command::Servo(Servo {
+            axes: AxisPattern(0x01),
+            on: true
+        })
+    );
+    assert_eq!(
+        cmd_vector("!99232070C1"),
+        Command::Servo(Servo {
+            axes: AxisPattern(0x07),
+            on: false
+        })
+    );
+    assert_eq!(reply_vector("#992322C"), Reply::Ack(MessageId::SERVO));
+}
+
+#[test]
+fn s6_3_home() {
+    assert_eq!(
+        cmd_vector("!9923301000000AC"),
+        Command::Home(Home {
+            axes: AxisPattern(0x01),
+            ..Home::default()
+        })
+    );
+    assert_eq!(
+        cmd_vector("!9923307014003BA"),
+        Command::Home(Home {
+            axes: AxisPattern(0x07),
+            search: MmPerSec(20),
+            creep: MmPerSec(3)
+        })
+    );
+    assert_eq!(reply_vector("#992332D"), Reply::Ack(MessageId::HOME));
+}
+
+#[test]
+fn s6_3_absolute_and_relative_moves() {
+    assert_eq!(
+        cmd_vector("!9923401001E001E00640000C3509E"),
+        Command::MoveAbsolute(AxisMove {
+            acc: CentiG(30),
+            dec: CentiG(30),
+            speed: MmPerSec(100),
+            targets: axes(&[(1, t(50_000))]),
+        })
+    );
+    assert_eq!(
+        cmd_vector("!99234030000000000C8FFFFCFC7000186A0A5"),
+        Command::MoveAbsolute(AxisMove {
+            acc: CentiG(0),
+            dec: CentiG(0),
+            speed: MmPerSec(200),
+            targets: axes(&[(1, t(-12_345)), (2, t(100_000))]),
+        })
+    );
+    assert_eq!(
+        reply_vector("#992342E"),
+        Reply::Ack(MessageId::MOVE_ABSOLUTE)
+    );
+    assert_eq!(
+        cmd_vector("!9923501000000000032FFFFD8F0DD"),
+        Command::MoveRelative(AxisMove {
+            acc: CentiG(0),
+            dec: CentiG(0),
+            speed: MmPerSec(50),
+            targets: axes(&[(1, t(-10_000))]),
+        })
+    );
+    assert_eq!(
+        reply_vector("#992352F"),
+        Reply::Ack(MessageId::MOVE_RELATIVE)
+    );
+}
+
+#[test]
+fn s6_3_jog_and_inching() {
+    let cart = |frame, speed| JogMotion::Cartesian {
+        frame,
+        acc: CentiG(0),
+        dec: CentiG(0),
+        speed: MmPerSec(speed),
+    };
+    assert_eq!(
+        cmd_vector("!992360100000000000A00000000191"),
+        Command::Jog(Jog {
+            axes: AxisPattern(0x01),
+            direction: Direction::Positive,
+            distance: t(0),
+            motion: cart(JogFrame::Base, 10),
+        })
+    );
+    assert_eq!(
+        cmd_vector("!992360200000000000A000003E80B1"),
+        Command::Jog(Jog {
+            axes: AxisPattern(0x02),
+            direction: Direction::Negative,
+            distance: t(1000),
+            motion: cart(JogFrame::Base, 10),
+        })
+    );
+    assert_eq!(
+        cmd_vector("!9923601000000000005000001F43A2"),
+        Command::Jog(Jog {
+            axes: AxisPattern(0x01),
+            direction: Direction::Positive,
+            distance: t(500),
+            motion: cart(JogFrame::Work, 5),
+        })
+    );
+    assert_eq!(reply_vector("#9923630"), Reply::Ack(MessageId::JOG));
+}
+
+#[test]
+fn s6_3_stop() {
+    let c = cmd_vector("!992380100F1");
+    assert_eq!(
+        c,
+        Command::Stop(Stop {
+            axes: AxisPattern(0x01),
+            cancel_held_outputs: false
+        })
+    );
+    assert!(c.is_stop() && !c.is_motion());
+    assert_eq!(
+        cmd_vector("!99238FF001C"),
+        Command::Stop(Stop {
+            axes: AxisPattern::ALL,
+            cancel_held_outputs: false
+        })
+    );
+    assert_eq!(reply_vector("#9923832"), Reply::Ack(MessageId::STOP));
+}
+
+#[test]
+fn s6_3_alarm_reset_software_reset_speed_change() {
+    assert_eq!(cmd_vector("!992522C"), Command::AlarmReset);
+    assert_eq!(reply_vector("#992522E"), Reply::Ack(MessageId::ALARM_RESET));
+    assert_eq!(cmd_vector("!9925B3C"), Command::SoftwareReset);
+    assert_eq!(
+        reply_vector("#9925B3E"),
+        Reply::Ack(MessageId::SOFTWARE_RESET)
+    );
+    let c = cmd_vector("!9926201003253");
+    assert_eq!(
+        c,
+        Command::SpeedChange(SpeedChange {
+            axes: AxisPattern(0x01),
+            speed: MmPerSec(50)
+        })
+    );
+    assert!(c.is_motion());
+    assert_eq!(
+        reply_vector("#992622F"),
+        Reply::Ack(MessageId::SPEED_CHANGE)
+    );
+}
+
+#[test]
+fn s6_3_coordinate_tables() {
+    assert_eq!(
+        cmd_vector("!992A00010128"),
+        Command::CoordQuery(CoordQuery {
+            kind: CoordKind::Work,
+            first: 1,
+            count: 1
+        })
+    );
+    assert_eq!(
+        reply_vector("#992A000101000186A0FFFF3CB00000000000015F90EF"),
+        Reply::CoordTable(CoordTable {
+            kind: CoordKind::Work,
+            first: 1,
+            records: vec![XyzR {
+                x: t(100_000),
+                y: t(-50_000),
+                z: t(0),
+                r: t(90_000)
+            }],
+        })
+    );
+    assert_eq!(
+        cmd_vector("!992A40F10001A2"),
+        Command::CoordQuery2(CoordQuery2 {
+            axes: AxisPattern::SCARA_1,
+            kind: CoordKind::Tool,
+            first: 0,
+            count: 1
+        })
+    );
+    assert_eq!(
+        reply_vector("#992A40F100010000000000000000000088B800000000CE"),
+        Reply::CoordTable2(CoordTable2 {
+            axes: AxisPattern::SCARA_1,
+            kind: CoordKind::Tool,
+            first: 0,
+            records: vec![axes(&[(1, t(0)), (2, t(0)), (3, t(35_000)), (4, t(0))])],
+        })
+    );
+    let d = describe(&wire("#992A000101000186A0FFFF3CB00000000000015F90EF"));
+    assert!(
+        d.fields
+            .iter()
+            .any(|f| f.name == "record 1 R offset" && f.value == "90.000 deg")
+    );
+    assert!(
+        d.fields
+            .iter()
+            .any(|f| f.name == "record 1 Y offset" && f.value == "-50.000 mm")
+    );
+}
+
+fn scara_axes() -> PerAxis<AxisState> {
+    let st = AxisStatus(0x1C);
+    let blk = |p| AxisState {
+        status: st,
+        position: t(p),
+        ..AxisState::default()
+    };
+    axes(&[
+        (1, blk(300_000)),
+        (2, blk(-150_000)),
+        (3, blk(20_000)),
+        (4, blk(45_000)),
+    ])
+}
+
+#[test]
+fn s6_3_scara_status() {
+    assert_eq!(
+        cmd_vector("!992A10F0DD"),
+        Command::ScaraStatus(ScaraStatusQuery {
+            axes: AxisPattern::SCARA_1,
+            system: PositionSystem::Base
+        })
+    );
+    let r = reply_vector(
+        "#992A10100000F1C000000000493E01C000000FFFDB6101C00000000004E201C0000000000AFC811",
+    );
+    assert_eq!(
+        r,
+        Reply::ScaraStatus(ScaraStatus {
+            work: 1,
+            tool: 0,
+            common: CommonStatus {
+                arm: ArmSystem::Right,
+                system: PositionSystem::Base
+            },
+            axes: scara_axes(),
+        })
+    );
+    let d = describe(&wire(
+        "#992A10100000F1C000000000493E01C000000FFFDB6101C00000000004E201C0000000000AFC811",
+    ));
+    assert!(
+        d.fields
+            .iter()
+            .any(|f| f.name == "axis 4 position" && f.value == "45.000 deg"),
+        "{d}"
+    );
+}
+
+#[test]
+fn s6_3_scara_status_2_uses_its_own_arm_codes() {
+    assert_eq!(
+        cmd_vector("!992A30F000F"),
+        Command::ScaraStatus2(ScaraStatusQuery2 {
+            axes: AxisPattern::SCARA_1,
+            system_1_4: PositionSystem::Base,
+            system_5_8: PositionSystem::Base
+        })
+    );
+    let Reply::ScaraStatus2(s) = reply_vector(
+        "#992A30F0100010000000F1C000000000493E01C000000FFFDB6101C00000000004E201C0000000000AFC8AA",
+    ) else {
+        panic!()
+    };
+    assert_eq!(s.scara_axes, AxisPattern::SCARA_1);
+    assert_eq!(s.unit1.work, 1);
+    assert_eq!(s.unit1.tool, 0);
+    // Code 01 means right arm in 2A3H (in 2A1H it would mean left).
+    assert_eq!(s.unit1.common.arm, ArmSystem::Right);
+    assert_eq!(s.unit2.common.arm, ArmSystem::Undetermined);
+    assert_eq!(s.axes, scara_axes());
+}
+
+#[test]
+fn s6_3_scara_moves() {
+    let c = cmd_vector("!992D40F00000000001E02000493E0FFFDB61000004E200000AFC85C");
+    assert_eq!(
+        c,
+        Command::ScaraMoveAbsolute(ScaraMove {
+            motion: ScaraMotion::Ptp {
+                acc: Percent(0),
+                dec: Percent(0),
+                speed: Percent(30),
+                arm: ArmPolicy::KeepNoSwitch
+            },
+            targets: axes(&[
+                (1, t(300_000)),
+                (2, t(-150_000)),
+                (3, t(20_000)),
+                (4, t(45_000))
+            ]),
+        })
+    );
+    assert!(c.is_motion());
+    assert_eq!(
+        reply_vector("#992D43F"),
+        Reply::Ack(MessageId::SCARA_MOVE_ABSOLUTE)
+    );
+    assert_eq!(
+        cmd_vector("!992D50F0000000000320300000000FFFFEC780000000000000000EB"),
+        Command::ScaraMoveRelative(ScaraMove {
+            motion: ScaraMotion::Cp {
+                acc: CentiG(0),
+                dec: CentiG(0),
+                speed: MmPerSec(50)
+            },
+            targets: axes(&[(1, t(0)), (2, t(-5000)), (3, t(0)), (4, t(0))]),
+        })
+    );
+    assert_eq!(
+        reply_vector("#992D540"),
+        Reply::Ack(MessageId::SCARA_MOVE_RELATIVE)
+    );
+    assert_eq!(
+        cmd_vector("!992D60F00000000000002000C2A"),
+        Command::ScaraMovePosition(ScaraPositionMove {
+            axes: AxisPattern::SCARA_1,
+            motion: ScaraMotion::default(),
+            position: 12
+        })
+    );
+    assert_eq!(
+        reply_vector("#992D641"),
+        Reply::Ack(MessageId::SCARA_MOVE_POSITION)
+    );
+    let d = describe(&wire(
+        "!992D40F00000000001E02000493E0FFFDB61000004E200000AFC85C",
+    ));
+    assert!(
+        d.fields
+            .iter()
+            .any(|f| f.name == "speed" && f.value == "30 %"),
+        "{d}"
+    );
+    assert!(
+        d.fields
+            .iter()
+            .any(|f| f.name == "axis 4 target" && f.value == "45.000 deg"),
+        "{d}"
+    );
+}
+
+#[test]
+fn s6_3_error_reply() {
+    let r = reply_vector("&99CC14F");
+    assert_eq!(r, Reply::Error(ErrorCode::SPEED_CHANGE_CONDITION));
+    assert_eq!(r.id(), None);
+}
+
+// ---------------------------------------------------------------- signed coordinates
+
+#[test]
+fn negative_coordinates_encode_and_decode_exactly() {
+    for (v, hex) in [
+        (-5000, "FFFFEC78"),
+        (-1, "FFFFFFFF"),
+        (-12_345, "FFFFCFC7"),
+        (i32::MIN, "80000000"),
+        (i32::MAX, "7FFFFFFF"),
+    ] {
+        let c = Command::ScaraMoveRelative(ScaraMove {
+            motion: ScaraMotion::Cp {
+                acc: CentiG(0),
+                dec: CentiG(0),
+                speed: MmPerSec(50),
+            },
+            targets: axes(&[(2, t(v))]),
+        });
+        let bytes = c.to_bytes(Station::DEFAULT, ScMode::Computed).unwrap();
+        let text = String::from_utf8(bytes.clone()).unwrap();
+        assert_eq!(&text[22..30], hex, "{text}");
+        assert_eq!(Command::decode(&Frame::parse(&bytes).unwrap()).unwrap(), c);
+    }
+    // Lower-case hex decodes to the same value.
+    let lower = {
+        let body = "!992D50200000000003203ffffec78";
+        let mut v = body.as_bytes().to_vec();
+        let sc = checksum(&v);
+        v.extend_from_slice(format!("{sc:02X}\r\n").as_bytes());
+        v
+    };
+    let Command::ScaraMoveRelative(m) = Command::decode(&Frame::parse(&lower).unwrap()).unwrap()
+    else {
+        panic!()
+    };
+    assert_eq!(m.targets.get(Axis::A2), Some(t(-5000)));
+}
