@@ -48,7 +48,7 @@ impl Default for LinkConfig {
             .copied()
             .unwrap_or(Command::SystemStatus);
         Self {
-            station: Station(99),
+            station: Station::DEFAULT,
             sc_mode: ScMode::Computed,
             timing: Timing::default(),
             query_retries: 2,

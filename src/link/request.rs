@@ -54,8 +54,13 @@ pub struct Pending {
 
 impl Pending {
     /// Whether a time-out may be answered by sending it again: never motion; never a
-    /// poll (the next poll is the retry); queries and STOP (stopping twice is harmless).
+    /// poll (the next poll is the retry); never 25BH software reset (the controller
+    /// may be rebooting without a reply, PROTOCOL.md 3.13); queries and STOP (stopping
+    /// twice is harmless).
     pub fn may_retry(&self, retries: u8) -> bool {
-        !self.command.is_motion() && self.origin != Origin::Poll && self.attempts <= retries
+        !self.command.is_motion()
+            && self.command != Command::SoftwareReset
+            && self.origin != Origin::Poll
+            && self.attempts <= retries
     }
 }
