@@ -94,21 +94,23 @@ impl Engine {
 
     pub(crate) fn run(mut self) {
         while !self.shutting_down {
+            let now = Instant::now();
+            // Connecting comes first, so requests submitted while the line opens are
+            // judged against the opened line, not refused.
+            if self.transport.is_none() {
+                self.try_reconnect(now);
+            }
             self.drain_control();
             if self.shutting_down {
                 break;
             }
-            let now = Instant::now();
             if self.transport.is_none() {
-                self.try_reconnect(now);
-                if self.transport.is_none() {
-                    let wait = self
-                        .next_reconnect
-                        .map_or(IDLE_CHECK, |t| t.saturating_duration_since(now))
-                        .min(IDLE_CHECK);
-                    self.wait_for_control(wait);
-                    continue;
-                }
+                let wait = self
+                    .next_reconnect
+                    .map_or(IDLE_CHECK, |t| t.saturating_duration_since(now))
+                    .min(IDLE_CHECK);
+                self.wait_for_control(wait);
+                continue;
             }
             if now.duration_since(self.last_health) >= HEALTH_EVERY {
                 self.last_health = now;

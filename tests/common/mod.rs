@@ -1,0 +1,100 @@
+//! Shared set-up for the link tests: a link joined to a simulator, and event waiting.
+#![allow(dead_code)]
+
+use std::time::{Duration, Instant};
+
+use crossbeam_channel::Receiver;
+use xsel_pendant::link::transport::StreamTransport;
+use xsel_pendant::link::{Connector, LinkConfig, LinkEvent, LinkHandle, Polling, spawn};
+use xsel_pendant::protocol::{
+    ArmPolicy, Axis, AxisPattern, Command, PerAxis, Percent, ScaraMotion, ScaraMove, Thou,
+};
+use xsel_pendant::sim::pipe::PipeEnd;
+use xsel_pendant::sim::{EmbeddedOptions, FaultSpec, SimHandle, SimSetup, start_embedded};
+
+/// A simulator that starts homed with servos on, so moves are accepted at once.
+pub fn ready_setup(reply_delay: Duration) -> SimSetup {
+    let mut setup = SimSetup::default();
+    setup.config.start_ready = true;
+    setup.config.reply_delay = reply_delay;
+    setup
+}
+
+/// A connector that hands out the one pipe end once; later attempts fail like a
+/// missing port.
+pub fn pipe_connector(pipe: PipeEnd) -> Connector {
+    let mut pipe = Some(pipe);
+    Box::new(move || match pipe.take() {
+        Some(p) => Ok(Box::new(StreamTransport::new(
+            p,
+            "embedded simulator",
+            PipeEnd::set_read_timeout,
+        ))),
+        None => Err(std::io::Error::new(
+            std::io::ErrorKind::NotFound,
+            "the simulator is gone",
+        )),
+    })
+}
+
+/// Link + embedded simulator.
+pub fn embedded_link(
+    setup: SimSetup,
+    faults: FaultSpec,
+    byte_time: Option<Duration>,
+    config: LinkConfig,
+) -> (LinkHandle, Receiver<LinkEvent>, SimHandle) {
+    let (pipe, sim) = start_embedded(EmbeddedOptions {
+        setup,
+        byte_time,
+        read_timeout: Duration::from_millis(20),
+        faults,
+        log: None,
+    });
+    let (link, events) = spawn(pipe_connector(pipe), config, std::sync::Arc::new(|| {}));
+    (link, events, sim)
+}
+
+/// A link configuration without polling (tests that count frames).
+pub fn quiet_config() -> LinkConfig {
+    LinkConfig {
+        polling: Polling {
+            interval: None,
+            commands: Vec::new(),
+        },
+        ..LinkConfig::default()
+    }
+}
+
+/// Waits for the first event matching `pred`; every event seen is kept in `seen`.
+pub fn wait_for(
+    events: &Receiver<LinkEvent>,
+    timeout: Duration,
+    seen: &mut Vec<LinkEvent>,
+    mut pred: impl FnMut(&LinkEvent) -> bool,
+) -> Option<LinkEvent> {
+    let deadline = Instant::now() + timeout;
+    loop {
+        let left = deadline.saturating_duration_since(Instant::now());
+        let event = events.recv_timeout(left).ok()?;
+        seen.push(event.clone());
+        if pred(&event) {
+            return Some(event);
+        }
+    }
+}
+
+/// 2D5H relative PTP move of axis 1 (X in the work frame) by `micrometres`.
+pub fn step_x(micrometres: i32) -> Command {
+    Command::ScaraMoveRelative(ScaraMove {
+        motion: ScaraMotion::Ptp {
+            acc: Percent(50),
+            dec: Percent(50),
+            speed: Percent(30),
+            arm: ArmPolicy::KeepNoSwitch,
+        },
+        targets: PerAxis::new().with(Axis::A1, Thou(micrometres)),
+    })
+}
+
+pub const SCARA: AxisPattern = AxisPattern::SCARA_1;
