@@ -391,10 +391,12 @@ fn a_table_that_cannot_be_read_names_the_missing_records() {
 
 #[test]
 fn polling_stops_for_nothing_but_yields_to_user_commands() {
-    let mut config = LinkConfig::default();
-    config.polling = Polling {
-        interval: Some(Duration::ZERO),
-        commands: vec![Command::SystemStatus],
+    let config = LinkConfig {
+        polling: Polling {
+            interval: Some(Duration::ZERO),
+            commands: vec![Command::SystemStatus],
+        },
+        ..LinkConfig::default()
     };
     let (link, events, _sim) = embedded_link(
         ready_setup(Duration::from_millis(1)),
