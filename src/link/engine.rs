@@ -308,16 +308,7 @@ impl Engine {
             Ok(bytes) => bytes,
             Err(e) => return self.line_lost(e.to_string()),
         };
-        let mut leftover = self.decoder.take_pending();
-        leftover.extend_from_slice(&stale);
-        if !leftover.is_empty() {
-            self.health.bad_frame();
-            self.emit(LinkEvent::Garbage {
-                bytes: leftover,
-                error: "discarded before sending: not the answer to anything outstanding".into(),
-                at: Instant::now(),
-            });
-        }
+        self.report_stale(&stale);
         let Some(transport) = self.transport.as_mut() else {
             return;
         };
@@ -363,6 +354,33 @@ impl Engine {
         }
         if let Some(job) = self.sched.take_finished_table() {
             self.report_table(job);
+        }
+    }
+
+    /// Reports bytes that arrived while no command waited for them, frame by frame: a
+    /// late reply, a frame with a bad checksum, noise, or a frame cut short.
+    fn report_stale(&mut self, stale: &[u8]) {
+        let at = Instant::now();
+        self.decoder.push(stale);
+        while let Some(item) = self.decoder.pull() {
+            self.health.bad_frame();
+            match item {
+                Ok(frame) => self.emit(LinkEvent::Garbage {
+                    bytes: frame.raw().to_vec(),
+                    error: "late frame: not the answer to anything outstanding".into(),
+                    at,
+                }),
+                Err(error) => self.emit(garbage_event(&error, at)),
+            }
+        }
+        let rest = self.decoder.take_pending();
+        if !rest.is_empty() {
+            self.health.bad_frame();
+            self.emit(LinkEvent::Garbage {
+                bytes: rest,
+                error: "incomplete frame: no line end".into(),
+                at,
+            });
         }
     }
 

@@ -1,0 +1,145 @@
+//! Soak: 10,000 transactions through the link against the simulator injecting faults
+//! into 10% of its replies. Nothing panics or hangs, every fault shows up as an event,
+//! and the controller receives exactly the motion commands that were submitted.
+
+mod common;
+
+use std::collections::HashSet;
+use std::time::{Duration, Instant};
+
+use common::*;
+use xsel_pendant::link::{LinkConfig, LinkEvent, Polling, Priority};
+use xsel_pendant::protocol::{AxisPattern, Command, PositionSystem, ScaraStatusQuery};
+use xsel_pendant::sim::{Fault, FaultSpec};
+
+const TRANSACTIONS: usize = 10_000;
+
+#[test]
+fn ten_thousand_transactions_with_ten_percent_faults() {
+    let mut faults = FaultSpec::none()
+        .with(Fault::Drop, 0.02)
+        .with(Fault::Corrupt, 0.02)
+        .with(Fault::Garbage, 0.02)
+        .with(Fault::Delay, 0.015)
+        .with(Fault::Truncate, 0.015)
+        .with(Fault::Stall, 0.01)
+        .seeded(20_261_121);
+    // Both longer than the reply timeout below, so each is a fault the link must see.
+    faults.delay = Duration::from_millis(40);
+    faults.stall = Duration::from_millis(40);
+    let mut config = LinkConfig {
+        polling: Polling {
+            interval: Some(Duration::ZERO),
+            commands: vec![
+                Command::ScaraStatus(ScaraStatusQuery {
+                    axes: AxisPattern::SCARA_1,
+                    system: PositionSystem::Work,
+                }),
+                Command::SystemStatus,
+            ],
+        },
+        ..LinkConfig::default()
+    };
+    config.timing.margin = Duration::from_millis(15);
+    let (link, events, sim) = embedded_link(ready_setup(Duration::ZERO), faults, None, config);
+
+    let deadline = Instant::now() + Duration::from_secs(240);
+    let mut sent = 0usize;
+    let mut motion_frames_sent = 0u64;
+    let mut motion_submitted = HashSet::new();
+    let mut motion_resolved = HashSet::new();
+    let (mut timeouts, mut garbage, mut checksum_errors, mut not_sent) = (0u64, 0u64, 0u64, 0u64);
+    let mut step = 200;
+    while sent < TRANSACTIONS || motion_resolved.len() < motion_submitted.len() {
+        assert!(
+            Instant::now() < deadline,
+            "the soak hung after {sent} transactions"
+        );
+        let Ok(event) = events.recv_timeout(Duration::from_secs(5)) else {
+            panic!("no event for 5 s after {sent} transactions")
+        };
+        match &event {
+            LinkEvent::FrameSent { id, bytes, .. } => {
+                sent += 1;
+                if motion_submitted.contains(id) {
+                    motion_frames_sent += 1;
+                    assert!(bytes.starts_with(b"!992D5"));
+                }
+                // A motion command about every 25 transactions, from the "user".
+                if sent % 25 == 0 && sent < TRANSACTIONS {
+                    step = -step;
+                    motion_submitted.insert(link.submit(step_x(step), Priority::User));
+                }
+            }
+            LinkEvent::Timeout { .. } => timeouts += 1,
+            LinkEvent::Garbage { error, .. } => {
+                garbage += 1;
+                if error.contains("checksum") {
+                    checksum_errors += 1;
+                }
+            }
+            LinkEvent::NotSent { .. } => not_sent += 1,
+            LinkEvent::Disconnected { reason } => panic!("the line was lost: {reason}"),
+            _ => {}
+        }
+        if let LinkEvent::Reply { id, .. }
+        | LinkEvent::ErrorReply { id, .. }
+        | LinkEvent::Timeout { id, .. }
+        | LinkEvent::NotSent { id, .. } = &event
+            && motion_submitted.contains(id)
+        {
+            motion_resolved.insert(*id);
+        }
+    }
+    // Let the last replies land before counting: polls off, the line drains.
+    link.set_polling(Polling {
+        interval: None,
+        commands: Vec::new(),
+    });
+    while let Ok(event) = events.recv_timeout(Duration::from_millis(300)) {
+        match &event {
+            LinkEvent::Timeout { .. } => timeouts += 1,
+            LinkEvent::Garbage { error, .. } => {
+                garbage += 1;
+                if error.contains("checksum") {
+                    checksum_errors += 1;
+                }
+            }
+            _ => {}
+        }
+    }
+    drop(link);
+    let injected = sim.fault_counts();
+    let counters = sim.counters();
+    eprintln!(
+        "{sent} transactions; faults injected {injected:?}; timeouts {timeouts}, bad input {garbage}"
+    );
+    assert_eq!(not_sent, 0);
+    assert!(
+        injected.total() >= 500,
+        "about 10% of replies were faulty: {injected:?}"
+    );
+    assert!(
+        timeouts >= injected.drop + injected.delay + injected.stall,
+        "every lost, late or stalled reply is a timeout: {timeouts} vs {injected:?}"
+    );
+    assert!(
+        checksum_errors >= injected.corrupt,
+        "every corrupted checksum is reported: {checksum_errors} vs {}",
+        injected.corrupt
+    );
+    assert!(
+        timeouts + garbage >= injected.total(),
+        "every fault shows as an event: {timeouts} + {garbage} vs {}",
+        injected.total()
+    );
+    assert_eq!(
+        motion_frames_sent,
+        motion_submitted.len() as u64,
+        "each motion command went out exactly once"
+    );
+    assert_eq!(
+        counters.motion_received, motion_frames_sent,
+        "the controller received exactly the motion commands submitted"
+    );
+}
