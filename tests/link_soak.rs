@@ -66,7 +66,7 @@ fn ten_thousand_transactions_with_ten_percent_faults() {
                     assert!(bytes.starts_with(b"!992D5"));
                 }
                 // A motion command about every 25 transactions, from the "user".
-                if sent % 25 == 0 && sent < TRANSACTIONS {
+                if sent.is_multiple_of(25) && sent < TRANSACTIONS {
                     step = -step;
                     motion_submitted.insert(link.submit(step_x(step), Priority::User));
                 }
