@@ -90,7 +90,7 @@ impl LinkEvent {
     pub fn summary(&self) -> String {
         match self {
             LinkEvent::Connected { line } => format!("connected to {line}"),
-            LinkEvent::Disconnected { reason } => format!("line lost: {reason}"),
+            LinkEvent::Disconnected { reason } => format!("line down: {reason}"),
             LinkEvent::Reconnected { line } => format!("reconnected to {line}"),
             LinkEvent::FrameSent { bytes, .. } => format!("sent {}", printable(bytes)),
             LinkEvent::FrameReceived { bytes, .. } => format!("received {}", printable(bytes)),
