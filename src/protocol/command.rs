@@ -4,7 +4,7 @@ use super::axis::AxisPattern;
 use super::checksum::ScMode;
 use super::describe::FieldDescription;
 use super::error::{EncodeError, MessageError, MessageErrorKind};
-use super::fields::{Reader, Writer, encode_frame};
+use super::fields::Reader;
 use super::frame::Frame;
 use super::ids::{Header, MessageId, Role, Station};
 use super::messages::basic::{ErrorDetailQuery, TestData, VersionQuery};
@@ -12,6 +12,7 @@ use super::messages::coords::{CoordQuery, CoordQuery2};
 use super::messages::motion::{AxisMove, Home, Jog, Servo, SpeedChange, Stop};
 use super::messages::scara::{ScaraMove, ScaraPositionMove};
 use super::messages::scara_status::{ScaraStatusQuery, ScaraStatusQuery2};
+use super::writer::{Writer, encode_frame};
 
 /// A command frame's meaning (PROTOCOL.md section 3).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -56,6 +56,30 @@ impl fmt::Display for DecodeError {
 
 impl std::error::Error for DecodeError {}
 
+/// Position of the first LF in `s`, eight bytes at a time.
+#[inline]
+fn find_lf(s: &[u8]) -> Option<usize> {
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    const HIGH: u64 = 0x8080_8080_8080_8080;
+    let mut chunks = s.chunks_exact(8);
+    let mut base = 0;
+    for c in &mut chunks {
+        let w = u64::from_le_bytes(<[u8; 8]>::try_from(c).unwrap_or([0; 8]))
+            ^ (ONES * u64::from(b'\n'));
+        // Nonzero iff some byte of `w` is zero (the classic has-zero-byte test).
+        let z = w.wrapping_sub(ONES) & !w & HIGH;
+        if z != 0 {
+            return Some(base + (z.trailing_zeros() / 8) as usize);
+        }
+        base += 8;
+    }
+    chunks
+        .remainder()
+        .iter()
+        .position(|&b| b == b'\n')
+        .map(|p| base + p)
+}
+
 #[inline]
 fn is_header(b: u8) -> bool {
     matches!(b, b'!' | b'#' | b'&')
@@ -129,7 +153,7 @@ impl StreamDecoder {
         }
         let from = self.scanned.max(self.start + 1);
         let tail = self.buf.get(from..).unwrap_or(&[]);
-        let Some(off) = tail.iter().position(|&b| b == b'\n') else {
+        let Some(off) = find_lf(tail) else {
             self.scanned = self.buf.len();
             if self.buf.len() - self.start > MAX_FRAME_LEN {
                 return Some(Err(self.overlong()));
@@ -231,6 +255,24 @@ mod tests {
 
     fn drain(d: &mut StreamDecoder) -> Vec<Result<OwnedFrame, DecodeError>> {
         std::iter::from_fn(|| d.pull()).collect()
+    }
+
+    #[test]
+    fn lf_search_finds_the_first_lf_anywhere() {
+        for len in 0..40 {
+            for at in 0..=len {
+                let mut v = vec![b'A'; len];
+                if at < len {
+                    v[at] = b'\n';
+                    if at + 3 < len {
+                        v[at + 3] = b'\n';
+                    }
+                }
+                let want = v.iter().position(|&b| b == b'\n');
+                assert_eq!(find_lf(&v), want, "{len} {at}");
+            }
+        }
+        assert_eq!(find_lf(&[0x8A, 0x0B, 0x0A]), Some(2));
     }
 
     #[test]

@@ -21,6 +21,7 @@ pub mod ids;
 pub mod messages;
 pub mod reply;
 pub mod units;
+mod writer;
 
 pub use arm::{ArmPolicy, ArmSystem};
 pub use axis::{Axis, AxisIter, AxisPattern, PerAxis};

@@ -4,7 +4,7 @@ use super::axis::PerAxis;
 use super::checksum::ScMode;
 use super::describe::FieldDescription;
 use super::error::{EncodeError, MessageError, MessageErrorKind};
-use super::fields::{Name, Reader, Writer, encode_frame};
+use super::fields::{Name, Reader};
 use super::frame::Frame;
 use super::ids::{ErrorCode, Header, MessageId, Role, Station};
 use super::messages::basic::{ErrorDetail, TestData, VersionInfo};
@@ -12,6 +12,7 @@ use super::messages::coords::{CoordTable, CoordTable2};
 use super::messages::scara_status::{ScaraStatus, ScaraStatus2};
 use super::messages::status::{AxisState, SystemStatus, read_axis_blocks, write_axis_blocks};
 use super::units::AxisUnit;
+use super::writer::{Writer, encode_frame};
 
 /// A reply frame's meaning (PROTOCOL.md sections 2 and 3).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]

@@ -3,8 +3,9 @@
 use std::fmt;
 
 use crate::protocol::error::{EncodeError, MessageError};
-use crate::protocol::fields::{Name, Reader, Show, Writer, decimal, printable};
+use crate::protocol::fields::{Name, Reader, Show, decimal, printable};
 use crate::protocol::ids::ErrorCode;
+use crate::protocol::writer::Writer;
 
 /// 200H test data: 0 to 10 printable ASCII characters, echoed by the controller.
 /// [inferred] PROTOCOL.md 3.1: layout unknown; a host sends 10 characters.

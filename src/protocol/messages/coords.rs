@@ -2,9 +2,10 @@
 
 use crate::protocol::axis::{Axis, AxisPattern, PerAxis};
 use crate::protocol::error::{EncodeError, MessageError};
-use crate::protocol::fields::{Name, Reader, Show, Writer};
+use crate::protocol::fields::{Name, Reader, Show};
 use crate::protocol::hex::parse_hex8;
 use crate::protocol::units::{AxisUnit, Thou};
+use crate::protocol::writer::Writer;
 
 /// Which table a coordinate query reads.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]

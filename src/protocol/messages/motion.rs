@@ -3,8 +3,9 @@
 
 use crate::protocol::axis::{Axis, AxisPattern, PerAxis};
 use crate::protocol::error::{EncodeError, MessageError};
-use crate::protocol::fields::{BitDef, Name, Reader, Show, Writer, bit};
+use crate::protocol::fields::{BitDef, Name, Reader, Show, bit};
 use crate::protocol::units::{AxisUnit, CentiG, MmPerSec, Percent, Thou};
+use crate::protocol::writer::Writer;
 
 /// 232H: servo ON or OFF for the axes of `axes`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]

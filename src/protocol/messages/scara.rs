@@ -3,8 +3,9 @@
 use crate::protocol::arm::ArmPolicy;
 use crate::protocol::axis::{Axis, AxisPattern, PerAxis};
 use crate::protocol::error::{EncodeError, MessageError};
-use crate::protocol::fields::{BitDef, Name, Reader, Show, Writer};
+use crate::protocol::fields::{BitDef, Name, Reader, Show};
 use crate::protocol::units::{AxisUnit, CentiG, MmPerSec, Percent, Thou};
+use crate::protocol::writer::Writer;
 
 /// Motion control of a SCARA move, with its rates in the units that mode uses
 /// (PROTOCOL.md 3.20: % for PTP, 0.01 G and mm/s for CP). 0 = parameter value (2D6H: the

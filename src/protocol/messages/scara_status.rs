@@ -3,8 +3,9 @@
 use crate::protocol::arm::ArmSystem;
 use crate::protocol::axis::{Axis, AxisPattern, PerAxis};
 use crate::protocol::error::{EncodeError, MessageError};
-use crate::protocol::fields::{BitDef, Name, Reader, Show, Writer};
+use crate::protocol::fields::{BitDef, Name, Reader, Show};
 use crate::protocol::units::AxisUnit;
+use crate::protocol::writer::Writer;
 
 use super::status::{AxisState, read_axis_blocks, write_axis_blocks};
 

@@ -2,9 +2,10 @@
 
 use crate::protocol::axis::{Axis, AxisPattern, PerAxis};
 use crate::protocol::error::{EncodeError, MessageError};
-use crate::protocol::fields::{BitDef, Name, Reader, Show, Writer, bit};
+use crate::protocol::fields::{BitDef, Name, Reader, Show, bit};
 use crate::protocol::ids::ErrorCode;
 use crate::protocol::units::{AxisUnit, Thou};
+use crate::protocol::writer::Writer;
 
 /// Home state, bits 1-2 of the axis status (PROTOCOL.md 3.3).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
