@@ -5,10 +5,27 @@ use std::time::Duration;
 
 use super::coords_file::{self, PositionTable};
 use super::errors::SimError;
-use super::framing::{self, Silence};
+use super::framing::{MAX_COMMAND, Silence};
 use super::motion::{Motion, MotionKind};
 use super::state::{Alarm, AxisKind, AxisState, Counters, HomeState, Mode, ServoSwitch, SimConfig};
+use crate::protocol::{
+    Command, ErrorCode, Frame, FrameErrorKind, Header, MessageId, Reply, Sc, Station,
+};
 use crate::robot::{ArmSystem, CoordSystem, CoordTables, Joints, Pose, RobotModel, Scara};
+
+/// Motion commands, counted as received, started and refused (233H-236H, 2D4H-2D6H).
+fn is_motion_id(id: MessageId) -> bool {
+    matches!(
+        id,
+        MessageId::HOME
+            | MessageId::MOVE_ABSOLUTE
+            | MessageId::MOVE_RELATIVE
+            | MessageId::JOG
+            | MessageId::SCARA_MOVE_ABSOLUTE
+            | MessageId::SCARA_MOVE_RELATIVE
+            | MessageId::SCARA_MOVE_POSITION
+    )
+}
 
 /// Everything a controller starts from (no file IO: the caller loads files).
 #[derive(Debug, Clone)]
@@ -182,8 +199,8 @@ impl Controller {
             self.counters.silent_rebooting += 1;
             return false;
         }
-        let accepted = match framing::accept(frame, self.cfg.station) {
-            Ok(a) => a,
+        let frame = match self.accept(frame) {
+            Ok(f) => f,
             Err(silence) => {
                 let c = &mut self.counters;
                 match silence {
@@ -196,22 +213,27 @@ impl Controller {
                 return false;
             }
         };
-        if frame.len() >= 4 && &frame[frame.len() - 4..frame.len() - 2] == b"@@" {
+        if frame.sc() == Sc::AtAt {
             self.counters.at_at += 1;
         }
-        let id = accepted.id;
-        let motion = matches!(
-            &id,
-            b"233" | b"234" | b"235" | b"236" | b"2D4" | b"2D5" | b"2D6"
-        );
+        let motion = frame.id().is_some_and(is_motion_id);
         if motion {
             self.counters.motion_received += 1;
         }
-        match self.dispatch(id, accepted.data, out) {
-            Ok(()) => {
+        let result = Command::decode(&frame)
+            .map_err(|e| SimError::from_message_error(&e))
+            .and_then(|cmd| self.dispatch(&cmd));
+        let station = Station(self.cfg.station);
+        match result {
+            Ok(reply) => {
                 self.counters.replies += 1;
                 if motion {
                     self.counters.motion_started += 1;
+                }
+                match reply {
+                    // Typed replies are built within their fields' ranges.
+                    Some(r) => r.encode_into(station, out).is_ok(),
+                    None => false,
                 }
             }
             Err(e) => {
@@ -219,46 +241,80 @@ impl Controller {
                 if motion {
                     self.counters.motion_refused += 1;
                 }
-                framing::error_reply(out, self.cfg.station, e.code());
+                Reply::Error(ErrorCode(e.code()))
+                    .encode_into(station, out)
+                    .is_ok()
             }
         }
-        if out.is_empty() {
-            return false;
-        }
-        true
     }
 
-    fn dispatch(&mut self, id: [u8; 3], data: &[u8], out: &mut Vec<u8>) -> Result<(), SimError> {
-        match &id {
-            b"200" => self.msg_test_call(id, data, out),
-            b"201" => self.msg_version(id, data, out),
-            b"212" => self.msg_axis_status(id, data, out),
-            b"215" => self.msg_system_status(id, data, out),
-            b"216" => self.msg_error_detail(id, data, out),
-            b"232" => self.msg_servo(id, data, out),
-            b"233" => self.msg_home(id, data, out),
-            b"234" => self.msg_linear_move(id, data, out, false),
-            b"235" => self.msg_linear_move(id, data, out, true),
-            b"236" => self.msg_jog(id, data, out),
-            b"238" => self.msg_stop(id, data, out),
-            b"252" => self.msg_alarm_reset(id, data, out),
-            b"25B" => self.msg_reset(id, data, out),
-            b"262" => self.msg_speed_change(id, data, out),
-            b"2A0" => self.msg_coords(id, data, out),
-            b"2A1" => self.msg_scara_status(id, data, out, false),
-            b"2A3" => self.msg_scara_status(id, data, out, true),
-            b"2A4" => self.msg_coords2(id, data, out),
-            b"2D4" => self.msg_scara_move(id, data, out, false),
-            b"2D5" => self.msg_scara_move(id, data, out, true),
-            b"2D6" => self.msg_scara_position(id, data, out),
+    /// The silence rules (PROTOCOL.md 1.6): a command frame for this station, whole, with a
+    /// right SC or `@@`, no longer than the receive buffer; anything else gets no reply.
+    fn accept<'a>(&self, bytes: &'a [u8]) -> Result<Frame<'a>, Silence> {
+        if bytes.len() > MAX_COMMAND {
+            return Err(Silence::Overflow);
+        }
+        let frame = Frame::parse(bytes).map_err(|e| match e.kind {
+            FrameErrorKind::BadHeader { .. } => Silence::Header,
+            FrameErrorKind::BadStation => Silence::Station,
+            FrameErrorKind::MissingCr { .. }
+            | FrameErrorKind::MissingLf { .. }
+            | FrameErrorKind::MissingLineEnd { .. } => Silence::Terminator,
+            FrameErrorKind::BadSc { .. } | FrameErrorKind::Checksum { .. } => Silence::Checksum,
+            FrameErrorKind::TooShort { .. } => Silence::TooShort,
+            FrameErrorKind::TooLong { .. } => Silence::Overflow,
+            FrameErrorKind::BadMessageId => Silence::MessageId,
+        })?;
+        if frame.header() != Header::Command {
+            return Err(Silence::Header);
+        }
+        if frame.station() != Station(self.cfg.station) {
+            return Err(Silence::Station);
+        }
+        Ok(frame)
+    }
+
+    /// Runs one decoded command: the reply to send (`None`: none, as after 25BH when
+    /// `reset_replies` is off), or the refusal.
+    fn dispatch(&mut self, cmd: &Command) -> Result<Option<Reply>, SimError> {
+        let reply = match *cmd {
+            Command::TestCall(data) => Reply::TestCall(data),
+            Command::Version(q) => self.msg_version(q)?,
+            Command::AxisStatus { axes } => self.msg_axis_status(axes),
+            Command::SystemStatus => self.msg_system_status(),
+            Command::ErrorDetail(q) => self.msg_error_detail(q)?,
+            Command::CoordQuery(q) => self.msg_coords(q)?,
+            Command::CoordQuery2(q) => self.msg_coords2(q)?,
+            Command::ScaraStatus(q) => self.msg_scara_status(q.axes, q.system),
+            Command::ScaraStatus2(q) => self.msg_scara_status2(q.axes, q.system_1_4),
+            Command::SoftwareReset => {
+                self.msg_reset()?;
+                return Ok(self.cfg.reset_replies.then_some(Reply::Ack(cmd.id())));
+            }
+            _ => {
+                self.act(cmd)?;
+                Reply::Ack(cmd.id())
+            }
+        };
+        Ok(Some(reply))
+    }
+
+    /// Commands answered with the plain acknowledge.
+    fn act(&mut self, cmd: &Command) -> Result<(), SimError> {
+        match cmd {
+            Command::Servo(s) => self.msg_servo(s),
+            Command::Home(h) => self.msg_home(h),
+            Command::MoveAbsolute(m) => self.msg_linear_move(m, false),
+            Command::MoveRelative(m) => self.msg_linear_move(m, true),
+            Command::Jog(j) => self.msg_jog(j),
+            Command::Stop(s) => self.msg_stop(s),
+            Command::AlarmReset => self.msg_alarm_reset(),
+            Command::SpeedChange(s) => self.msg_speed_change(s),
+            Command::ScaraMoveAbsolute(m) => self.msg_scara_move(m, false),
+            Command::ScaraMoveRelative(m) => self.msg_scara_move(m, true),
+            Command::ScaraMovePosition(m) => self.msg_scara_position(m),
             _ => Err(SimError::UnknownMessage),
         }
-    }
-
-    /// Writes the plain acknowledge `#` + station + ID + SC CR LF.
-    pub(crate) fn ack(&self, id: [u8; 3], out: &mut Vec<u8>) {
-        framing::begin_reply(out, self.cfg.station, id);
-        framing::finish(out);
     }
 
     /// Moves the world to `now`: servo switches, homing, motions, reboot.

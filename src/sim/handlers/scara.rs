@@ -2,7 +2,7 @@
 //! SCARA side of 236H jog/inching (base, work, tool or each-axis system).
 
 use super::axis::{LINEAR, SCARA};
-use super::{Fields, bits, expect_len};
+use crate::protocol::{ScaraMotion, ScaraMove, ScaraPositionMove};
 use crate::robot::{Arm, ArmSystem, G_MM_S2, IkError, JogFrame, Joints, Pose, jog_delta_to_work};
 use crate::sim::controller::Controller;
 use crate::sim::errors::SimError;
@@ -19,21 +19,35 @@ fn ik_error(e: IkError) -> SimError {
     }
 }
 
-/// Positioning operation type of 2D4H/2D5H/2D6H (PROTOCOL.md 3.20).
+/// A SCARA move's kind and rates: CP in mm/s and 0.01 G, PTP in % with an arm policy
+/// (PROTOCOL.md 3.20).
 struct OpType {
     cp: bool,
     policy: u8,
 }
 
-fn op_type(op: u8) -> Result<OpType, SimError> {
-    // Bits 1-2 must say "selected work coordinate system"; bits 5-7 reserved = 0.
-    if (op >> 1) & 3 != 1 || op & 0xE0 != 0 {
-        return Err(SimError::BadValue);
+fn op_type(m: &ScaraMotion) -> (OpType, [u16; 3]) {
+    match *m {
+        ScaraMotion::Cp { acc, dec, speed } => (
+            OpType {
+                cp: true,
+                policy: 0,
+            },
+            [speed.0, acc.0, dec.0],
+        ),
+        ScaraMotion::Ptp {
+            acc,
+            dec,
+            speed,
+            arm,
+        } => (
+            OpType {
+                cp: false,
+                policy: arm.code(),
+            },
+            [speed.0, acc.0, dec.0],
+        ),
     }
-    Ok(OpType {
-        cp: op & 1 == 1,
-        policy: (op >> 3) & 3,
-    })
 }
 
 impl Controller {
@@ -180,34 +194,15 @@ impl Controller {
 
     /// 2D4H absolute (layout as 2D5H `[inferred, PROTOCOL.md 3.19]`) and 2D5H relative
     /// (PROTOCOL.md 3.20) SCARA moves in the selected work frame.
-    pub(crate) fn msg_scara_move(
-        &mut self,
-        id: [u8; 3],
-        data: &[u8],
-        out: &mut Vec<u8>,
-        relative: bool,
-    ) -> Result<(), SimError> {
-        if data.len() < 16 {
-            return Err(SimError::WrongLength);
-        }
-        let mut f = Fields::new(data);
-        let pattern = f.u8(2)?;
-        let accel = f.u16(4)?;
-        let decel = f.u16(4)?;
-        let speed = f.u16(4)?;
-        let op = f.u8(2)?;
-        expect_len(data, 16 + 8 * bits(pattern))?;
+    pub(crate) fn msg_scara_move(&mut self, m: &ScaraMove, relative: bool) -> Result<(), SimError> {
+        let pattern = m.targets.pattern().0;
         self.check_pattern(pattern)?;
         let mut values = [0i32; 8];
-        for (i, v) in values.iter_mut().enumerate() {
-            if pattern & (1 << i) != 0 {
-                *v = f.i32()?;
-            }
+        for (axis, v) in m.targets.iter() {
+            values[axis.index()] = v.0;
         }
-        let op = op_type(op)?;
-        self.scara_or_linear_move(pattern, &values, relative, op, [speed, accel, decel])?;
-        self.ack(id, out);
-        Ok(())
+        let (op, rates) = op_type(&m.motion);
+        self.scara_or_linear_move(pattern, &values, relative, op, rates)
     }
 
     /// Runs a 2D4H/2D5H/2D6H move once decoded: `values` are wire units per axis.
@@ -294,22 +289,10 @@ impl Controller {
     }
 
     /// 2D6H move to a position number (PROTOCOL.md 3.21; 4-digit number `[inferred]`).
-    pub(crate) fn msg_scara_position(
-        &mut self,
-        id: [u8; 3],
-        data: &[u8],
-        out: &mut Vec<u8>,
-    ) -> Result<(), SimError> {
-        expect_len(data, 20)?;
-        let mut f = Fields::new(data);
-        let pattern = f.u8(2)?;
-        let accel = f.u16(4)?;
-        let decel = f.u16(4)?;
-        let speed = f.u16(4)?;
-        let op = f.u8(2)?;
-        let number = f.u16(4)?;
+    pub(crate) fn msg_scara_position(&mut self, m: &ScaraPositionMove) -> Result<(), SimError> {
+        let (pattern, number) = (m.axes.0, m.position);
         self.check_pattern(pattern)?;
-        let op = op_type(op)?;
+        let (op, [speed, accel, decel]) = op_type(&m.motion);
         let record = *self.positions.get(&number).ok_or(SimError::NoPosition)?;
         let pattern = pattern & record.pattern();
         if pattern == 0 {
@@ -325,9 +308,7 @@ impl Controller {
             pick(accel, record.accel),
             pick(decel, record.decel),
         ];
-        self.scara_or_linear_move(pattern, &values, false, op, rates)?;
-        self.ack(id, out);
-        Ok(())
+        self.scara_or_linear_move(pattern, &values, false, op, rates)
     }
 
     /// The SCARA side of 236H: one axis of the base/work/tool frame (X, Y, Z, R) or one
