@@ -343,22 +343,12 @@ impl Controller {
         let mut i = 0;
         while i < self.motions.len() {
             let m = &self.motions[i];
+            let v = m.values_at(now, &self.values);
             let finished = m.finished(now);
-            let (s, _) = m.state(now);
-            match m.values_at(s, &self.kin, &self.values) {
-                Some(v) => self.set_values(v),
-                None => {
-                    // The line left the workspace (cannot happen for a checked plan):
-                    // the arm halts where it is and the move is cancelled.
-                    let m = self.motions.swap_remove(i);
-                    self.end_motion(&m, true);
-                    continue;
-                }
-            }
+            self.set_values(v);
             if finished {
                 let m = self.motions.swap_remove(i);
-                let cancelled = m.cancelled;
-                self.end_motion(&m, cancelled);
+                self.end_motion(&m, m.cancelled());
             } else {
                 i += 1;
             }

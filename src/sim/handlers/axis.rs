@@ -5,9 +5,10 @@ use crate::protocol::{
     AxisMove, Direction, Home, Jog, JogFrame, JogMotion, Servo, SpeedChange, Stop,
 };
 use crate::robot::G_MM_S2;
+use crate::robot::Trapezoid;
 use crate::sim::controller::Controller;
 use crate::sim::errors::SimError;
-use crate::sim::motion::{Motion, MotionKind, Path, Profile};
+use crate::sim::motion::{Motion, MotionKind, Plan};
 use crate::sim::state::{HomeState, Mode};
 
 /// Axes 5-6: the linear axes (234H/235H move only these; the SCARA uses 2D4H/2D5H).
@@ -20,26 +21,14 @@ const LINEAR_DEFAULT_SPEED: f64 = 100.0;
 const LINEAR_DEFAULT_ACCEL_CG: f64 = 30.0;
 
 impl Controller {
-    /// Starts a motion owning `axes`. `length` is the path length in the unit speeds are
-    /// given in; `v`, `a`, `d` in that unit per second (squared).
-    #[allow(clippy::too_many_arguments)]
+    /// Starts a motion owning `axes`; their "completed normally" bits drop.
     pub(crate) fn start_motion(
         &mut self,
         kind: MotionKind,
         axes: u8,
-        path: Path,
-        length: f64,
-        v: f64,
-        a: f64,
-        d: f64,
+        plan: Plan,
         speed_changeable: bool,
     ) {
-        let length = if length.is_finite() && length > 1e-9 {
-            length
-        } else {
-            1e-9
-        };
-        let profile = Profile::plan(0.0, 0.0, 1.0, v / length, a / length, d / length);
         for i in 0..8 {
             if axes & (1 << i) != 0 {
                 self.axes[i].completed = false;
@@ -48,14 +37,9 @@ impl Controller {
         self.motions.push(Motion {
             kind,
             axes,
-            path,
-            profile,
+            plan,
             t0: self.now,
-            cancelled: false,
             speed_changeable,
-            length,
-            accel: a / length,
-            decel: d / length,
         });
     }
 
@@ -106,26 +90,22 @@ impl Controller {
                     since: self.now,
                     until,
                 };
-                self.axes[i].completed = false;
             }
         }
-        self.motions.push(Motion {
-            kind: MotionKind::Home,
-            axes: pattern,
-            path: Path::Joint { from, to },
-            profile: Profile::timed(self.cfg.homing_time),
-            t0: self.now,
-            cancelled: false,
-            speed_changeable: false,
+        let secs = self.cfg.homing_time.as_secs_f64().max(1e-3);
+        let profile = Trapezoid::timed(1.0, secs).map_err(|_| SimError::BadValue)?;
+        let plan = Plan::Axes {
+            from,
+            to,
             length: 1.0,
-            accel: 1e3,
-            decel: 4.5 / self.cfg.homing_time.as_secs_f64().max(1e-3).powi(2),
-        });
+            profile,
+        };
+        self.start_motion(MotionKind::Home, pattern, plan, false);
         Ok(())
     }
 
     /// Speed (mm/s) and accelerations (mm/s²) of a linear-axis move from its fields.
-    fn linear_rates(&self, speed: u16, accel: u16, decel: u16) -> (f64, f64, f64) {
+    pub(crate) fn linear_rates(&self, speed: u16, accel: u16, decel: u16) -> (f64, f64, f64) {
         let v = if speed == 0 {
             LINEAR_DEFAULT_SPEED
         } else {
@@ -135,8 +115,9 @@ impl Controller {
         (v.min(self.cfg.linear_max_speed), cg(accel), cg(decel))
     }
 
-    /// Starts a straight joint-space move of linear axes to `to`.
-    fn linear_move(
+    /// Starts a straight move of linear axes to `to` (each-axis values), refused beyond
+    /// the stroke.
+    pub(crate) fn linear_move(
         &mut self,
         pattern: u8,
         to: [f64; 8],
@@ -157,16 +138,15 @@ impl Controller {
             .map(|i| (to[i] - from[i]).powi(2))
             .sum::<f64>()
             .sqrt();
-        self.start_motion(
-            kind,
-            pattern,
-            Path::Joint { from, to },
+        let profile =
+            Trapezoid::new(length, rates.0, rates.1, rates.2).map_err(|_| SimError::BadValue)?;
+        let plan = Plan::Axes {
+            from,
+            to,
             length,
-            rates.0,
-            rates.1,
-            rates.2,
-            true,
-        );
+            profile,
+        };
+        self.start_motion(kind, pattern, plan, true);
         Ok(())
     }
 
@@ -218,15 +198,7 @@ impl Controller {
             JogMotion::Joint { acc, dec, speed } => (acc.0, dec.0, speed.0, 3),
         };
         if pattern & SCARA != 0 {
-            self.scara_jog(
-                pattern,
-                accel,
-                decel,
-                speed,
-                distance as i32,
-                positive,
-                system,
-            )?;
+            self.scara_jog(pattern, [speed, accel, decel], distance, positive, system)?;
         } else {
             self.check_ready_to_move(pattern)?;
             let i = pattern.trailing_zeros() as usize;
@@ -255,7 +227,7 @@ impl Controller {
         self.counters.stops += 1;
         let now = self.now;
         for m in self.motions.iter_mut() {
-            if m.axes & pattern != 0 && !m.cancelled {
+            if m.axes & pattern != 0 && !m.cancelled() {
                 m.stop(now);
             }
         }
@@ -277,7 +249,7 @@ impl Controller {
         if affected.is_empty()
             || affected
                 .iter()
-                .any(|&k| !self.motions[k].speed_changeable || self.motions[k].cancelled)
+                .any(|&k| !self.motions[k].speed_changeable || self.motions[k].cancelled())
         {
             return Err(SimError::SpeedChange);
         }
@@ -287,8 +259,8 @@ impl Controller {
         for k in affected {
             let m = &mut self.motions[k];
             let max = if m.axes & SCARA != 0 { cp_max } else { lin_max };
-            let v = f64::from(speed).min(max) / m.length;
-            m.change_speed(now, v);
+            m.change_speed(now, f64::from(speed).min(max))
+                .map_err(|_| SimError::BadValue)?;
         }
         Ok(())
     }
