@@ -5,6 +5,7 @@
 //! - [`runner::start_pty`] / [`runner::start_tcp`]: serving a pseudo-terminal or TCP port.
 //! - [`errors::CODE_TABLE`]: the error codes of `&` replies.
 
+mod control;
 pub mod controller;
 pub mod coords_file;
 pub mod errors;
