@@ -15,7 +15,7 @@
 use super::frames::CoordSystem;
 use super::kinematics::{Arm, ArmSystem, IkError, Joint, Scara, check};
 use super::motion::{CpParams, MoveError, MoveSample};
-use super::profile::{Phase, Trapezoid};
+use super::profile::{Phase, ProfileError, Trapezoid};
 use super::units::{Joints, Pose};
 
 /// Default distance between CP check points, mm.
@@ -23,6 +23,13 @@ pub const DEFAULT_CHECK_SPACING_MM: f64 = 0.1;
 
 /// Most check points one line may take; longer lines get a wider spacing.
 pub const MAX_CHECK_POINTS: usize = 2_000_000;
+
+/// Check points for a path of `length` at `spacing`: at least 1, at most the maximum.
+fn check_points(length: f64, spacing: f64) -> usize {
+    (length / spacing)
+        .ceil()
+        .clamp(1.0, MAX_CHECK_POINTS as f64) as usize
+}
 
 /// A planned, fully checked CP move.
 #[derive(Debug, Clone, PartialEq)]
@@ -131,11 +138,83 @@ impl CpMove {
         }
         // Path length of the flange, which also turns about the tip when R changes.
         let swing = tool_off.x.hypot(tool_off.y) * turn.to_radians();
-        let n = ((length_mm + swing) / spacing_mm)
-            .ceil()
-            .clamp(1.0, MAX_CHECK_POINTS as f64) as usize;
-        m.end = m.check_line(n)?;
+        m.end = m.check_line(check_points(length_mm + swing, spacing_mm))?;
         Ok(m)
+    }
+
+    /// As [`CpMove::plan`], but a line that leaves the workspace or a joint range is cut
+    /// at the last check point before the first refused one instead of being refused: a
+    /// continuous jog that runs to the edge. Check points are also at most `spacing_mm`
+    /// degrees apart in R, so a turn stops at the J4 limit. Refused only when not even
+    /// the first check point after the start can be reached.
+    pub fn plan_to_limit(
+        k: &Scara,
+        start: Joints,
+        target_tip: &Pose,
+        tool: &CoordSystem,
+        params: &CpParams,
+        spacing_mm: f64,
+    ) -> Result<Self, MoveError> {
+        let refusal = match Self::plan(k, start, target_tip, tool, params, spacing_mm) {
+            Err(e @ (MoveError::CpLine { index: 1.., .. } | MoveError::CpAroundBase { .. })) => e,
+            other => return other,
+        };
+        let full = Self::unchecked(k, start, target_tip, tool, params)?;
+        let turn = (full.end_tip.r - full.start_tip.r).abs();
+        let n = check_points(full.length_mm.max(turn), spacing_mm);
+        let mut last_good = match full.check_line(n) {
+            Err(MoveError::CpLine { index, .. } | MoveError::CpAroundBase { index, .. }) => {
+                index.saturating_sub(1)
+            }
+            _ => n,
+        };
+        // The cut line is checked again at its own spacing; step back a little if a check
+        // point between the scan's points fails.
+        for _ in 0..8 {
+            if last_good == 0 {
+                break;
+            }
+            let u = last_good as f64 / n as f64;
+            match Self::plan(k, start, &full.tip_at_progress(u), tool, params, spacing_mm) {
+                Err(MoveError::CpLine { .. } | MoveError::CpAroundBase { .. }) => last_good -= 1,
+                other => return other,
+            }
+        }
+        Err(refusal)
+    }
+
+    /// The plan of [`CpMove::plan`] with a huge spacing: the line and profile, checked
+    /// only at its ends (for [`CpMove::plan_to_limit`], which checks it itself).
+    fn unchecked(
+        k: &Scara,
+        start: Joints,
+        target_tip: &Pose,
+        tool: &CoordSystem,
+        params: &CpParams,
+    ) -> Result<Self, MoveError> {
+        let here = tool.flange_to_tip(&k.forward(&start));
+        let mut m = Self::plan(k, start, &here, tool, params, f64::MAX)?;
+        m.end_tip = *target_tip;
+        let d = *target_tip - m.start_tip;
+        m.length_mm = (d.x * d.x + d.y * d.y + d.z * d.z).sqrt();
+        Ok(m)
+    }
+
+    /// Re-plans the rest of the line at a new tip speed in mm/s (262H): the same
+    /// accelerations, the same end; R's own speed limit still applies.
+    pub fn change_speed(&mut self, t: f64, speed_mm_s: f64) -> Result<(), ProfileError> {
+        let turn = (self.end_tip.r - self.start_tip.r).abs();
+        let mut v = f64::INFINITY;
+        if self.length_mm > 0.0 {
+            v = speed_mm_s / self.length_mm;
+        }
+        if turn > 0.0 {
+            v = v.min(self.k.r.max_speed / turn);
+        }
+        if v.is_finite() {
+            self.profile = self.profile.with_speed_at(t, v)?;
+        }
+        Ok(())
     }
 
     /// Solves `n + 1` evenly spaced points; the joints at the end, or the first refusal.
@@ -270,5 +349,39 @@ impl CpMove {
     /// Tool tip poses (base frame) at the start and the planned end.
     pub fn tip_line(&self) -> (Pose, Pose) {
         (self.start_tip, self.end_tip)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::robot::model::RobotModel;
+
+    #[test]
+    fn a_line_to_the_limit_stops_at_the_edge_and_can_change_speed() {
+        let model = RobotModel::default_model();
+        let k = Scara::new(&model);
+        let start = model.home;
+        let params = CpParams::from_command(&model, 0, 0, 0);
+        let tool = CoordSystem::ZERO;
+        let tip = k.forward(&start);
+        let along = |dx: f64| Pose::new(tip.x + dx, tip.y, tip.z, tip.r);
+        let far = along(5000.0);
+        assert!(CpMove::plan(&k, start, &far, &tool, &params, 0.1).is_err());
+        let cut = CpMove::plan_to_limit(&k, start, &far, &tool, &params, 0.1).unwrap();
+        let (_, end) = cut.tip_line();
+        assert!(end.x > tip.x + 1.0 && end.x < far.x, "{end:?}");
+        let beyond = along(end.x - tip.x + 0.5);
+        assert!(CpMove::plan(&k, start, &beyond, &tool, &params, 0.1).is_err());
+        // A reachable line is planned as it is.
+        let near = along(10.0);
+        let whole = CpMove::plan(&k, start, &near, &tool, &params, 0.1).unwrap();
+        let same = CpMove::plan_to_limit(&k, start, &near, &tool, &params, 0.1).unwrap();
+        assert_eq!(whole, same);
+        // 262H: slower from 10 ms on, same end.
+        let mut slow = whole.clone();
+        slow.change_speed(0.01, 1.0).unwrap();
+        assert!(slow.profile().duration() > whole.profile().duration());
+        assert_eq!(slow.sample(slow.profile().duration()).joints, whole.end());
     }
 }

@@ -5,10 +5,27 @@ use std::time::Duration;
 
 use super::coords_file::{self, PositionTable};
 use super::errors::SimError;
-use super::framing::{self, Silence};
+use super::framing::{MAX_COMMAND, Silence};
 use super::motion::{Motion, MotionKind};
-use super::state::{Alarm, AxisKind, AxisState, Counters, HomeState, Mode, ServoSwitch, SimConfig};
+use super::state::{Alarm, AxisKind, AxisState, Counters, HomeState, Mode, SimConfig};
+use crate::protocol::{
+    Command, ErrorCode, Frame, FrameErrorKind, Header, MessageId, Reply, Sc, Station,
+};
 use crate::robot::{ArmSystem, CoordSystem, CoordTables, Joints, Pose, RobotModel, Scara};
+
+/// Motion commands, counted as received, started and refused (233H-236H, 2D4H-2D6H).
+fn is_motion_id(id: MessageId) -> bool {
+    matches!(
+        id,
+        MessageId::HOME
+            | MessageId::MOVE_ABSOLUTE
+            | MessageId::MOVE_RELATIVE
+            | MessageId::JOG
+            | MessageId::SCARA_MOVE_ABSOLUTE
+            | MessageId::SCARA_MOVE_RELATIVE
+            | MessageId::SCARA_MOVE_POSITION
+    )
+}
 
 /// Everything a controller starts from (no file IO: the caller loads files).
 #[derive(Debug, Clone)]
@@ -182,8 +199,8 @@ impl Controller {
             self.counters.silent_rebooting += 1;
             return false;
         }
-        let accepted = match framing::accept(frame, self.cfg.station) {
-            Ok(a) => a,
+        let frame = match self.accept(frame) {
+            Ok(f) => f,
             Err(silence) => {
                 let c = &mut self.counters;
                 match silence {
@@ -196,22 +213,27 @@ impl Controller {
                 return false;
             }
         };
-        if frame.len() >= 4 && &frame[frame.len() - 4..frame.len() - 2] == b"@@" {
+        if frame.sc() == Sc::AtAt {
             self.counters.at_at += 1;
         }
-        let id = accepted.id;
-        let motion = matches!(
-            &id,
-            b"233" | b"234" | b"235" | b"236" | b"2D4" | b"2D5" | b"2D6"
-        );
+        let motion = frame.id().is_some_and(is_motion_id);
         if motion {
             self.counters.motion_received += 1;
         }
-        match self.dispatch(id, accepted.data, out) {
-            Ok(()) => {
+        let result = Command::decode(&frame)
+            .map_err(|e| SimError::from_message_error(&e))
+            .and_then(|cmd| self.dispatch(&cmd));
+        let station = Station(self.cfg.station);
+        match result {
+            Ok(reply) => {
                 self.counters.replies += 1;
                 if motion {
                     self.counters.motion_started += 1;
+                }
+                match reply {
+                    // Typed replies are built within their fields' ranges.
+                    Some(r) => r.encode_into(station, out).is_ok(),
+                    None => false,
                 }
             }
             Err(e) => {
@@ -219,46 +241,80 @@ impl Controller {
                 if motion {
                     self.counters.motion_refused += 1;
                 }
-                framing::error_reply(out, self.cfg.station, e.code());
+                Reply::Error(ErrorCode(e.code()))
+                    .encode_into(station, out)
+                    .is_ok()
             }
         }
-        if out.is_empty() {
-            return false;
-        }
-        true
     }
 
-    fn dispatch(&mut self, id: [u8; 3], data: &[u8], out: &mut Vec<u8>) -> Result<(), SimError> {
-        match &id {
-            b"200" => self.msg_test_call(id, data, out),
-            b"201" => self.msg_version(id, data, out),
-            b"212" => self.msg_axis_status(id, data, out),
-            b"215" => self.msg_system_status(id, data, out),
-            b"216" => self.msg_error_detail(id, data, out),
-            b"232" => self.msg_servo(id, data, out),
-            b"233" => self.msg_home(id, data, out),
-            b"234" => self.msg_linear_move(id, data, out, false),
-            b"235" => self.msg_linear_move(id, data, out, true),
-            b"236" => self.msg_jog(id, data, out),
-            b"238" => self.msg_stop(id, data, out),
-            b"252" => self.msg_alarm_reset(id, data, out),
-            b"25B" => self.msg_reset(id, data, out),
-            b"262" => self.msg_speed_change(id, data, out),
-            b"2A0" => self.msg_coords(id, data, out),
-            b"2A1" => self.msg_scara_status(id, data, out, false),
-            b"2A3" => self.msg_scara_status(id, data, out, true),
-            b"2A4" => self.msg_coords2(id, data, out),
-            b"2D4" => self.msg_scara_move(id, data, out, false),
-            b"2D5" => self.msg_scara_move(id, data, out, true),
-            b"2D6" => self.msg_scara_position(id, data, out),
+    /// The silence rules (PROTOCOL.md 1.6): a command frame for this station, whole, with a
+    /// right SC or `@@`, no longer than the receive buffer; anything else gets no reply.
+    fn accept<'a>(&self, bytes: &'a [u8]) -> Result<Frame<'a>, Silence> {
+        if bytes.len() > MAX_COMMAND {
+            return Err(Silence::Overflow);
+        }
+        if bytes.first() != Some(&Header::Command.byte()) {
+            return Err(Silence::Header);
+        }
+        let frame = Frame::parse(bytes).map_err(|e| match e.kind {
+            FrameErrorKind::BadHeader { .. } => Silence::Header,
+            FrameErrorKind::BadStation => Silence::Station,
+            FrameErrorKind::MissingCr { .. }
+            | FrameErrorKind::MissingLf { .. }
+            | FrameErrorKind::MissingLineEnd { .. } => Silence::Terminator,
+            FrameErrorKind::BadSc { .. } | FrameErrorKind::Checksum { .. } => Silence::Checksum,
+            FrameErrorKind::TooShort { .. } => Silence::TooShort,
+            FrameErrorKind::TooLong { .. } => Silence::Overflow,
+            FrameErrorKind::BadMessageId => Silence::MessageId,
+        })?;
+        if frame.station() != Station(self.cfg.station) {
+            return Err(Silence::Station);
+        }
+        Ok(frame)
+    }
+
+    /// Runs one decoded command: the reply to send (`None`: none, as after 25BH when
+    /// `reset_replies` is off), or the refusal.
+    fn dispatch(&mut self, cmd: &Command) -> Result<Option<Reply>, SimError> {
+        let reply = match *cmd {
+            Command::TestCall(data) => Reply::TestCall(data),
+            Command::Version(q) => self.msg_version(q)?,
+            Command::AxisStatus { axes } => self.msg_axis_status(axes),
+            Command::SystemStatus => self.msg_system_status(),
+            Command::ErrorDetail(q) => self.msg_error_detail(q)?,
+            Command::CoordQuery(q) => self.msg_coords(q)?,
+            Command::CoordQuery2(q) => self.msg_coords2(q)?,
+            Command::ScaraStatus(q) => self.msg_scara_status(q.axes, q.system),
+            Command::ScaraStatus2(q) => self.msg_scara_status2(q.axes, q.system_1_4),
+            Command::SoftwareReset => {
+                self.msg_reset()?;
+                return Ok(self.cfg.reset_replies.then_some(Reply::Ack(cmd.id())));
+            }
+            _ => {
+                self.act(cmd)?;
+                Reply::Ack(cmd.id())
+            }
+        };
+        Ok(Some(reply))
+    }
+
+    /// Commands answered with the plain acknowledge.
+    fn act(&mut self, cmd: &Command) -> Result<(), SimError> {
+        match cmd {
+            Command::Servo(s) => self.msg_servo(s),
+            Command::Home(h) => self.msg_home(h),
+            Command::MoveAbsolute(m) => self.msg_linear_move(m, false),
+            Command::MoveRelative(m) => self.msg_linear_move(m, true),
+            Command::Jog(j) => self.msg_jog(j),
+            Command::Stop(s) => self.msg_stop(s),
+            Command::AlarmReset => self.msg_alarm_reset(),
+            Command::SpeedChange(s) => self.msg_speed_change(s),
+            Command::ScaraMoveAbsolute(m) => self.msg_scara_move(m, false),
+            Command::ScaraMoveRelative(m) => self.msg_scara_move(m, true),
+            Command::ScaraMovePosition(m) => self.msg_scara_position(m),
             _ => Err(SimError::UnknownMessage),
         }
-    }
-
-    /// Writes the plain acknowledge `#` + station + ID + SC CR LF.
-    pub(crate) fn ack(&self, id: [u8; 3], out: &mut Vec<u8>) {
-        framing::begin_reply(out, self.cfg.station, id);
-        framing::finish(out);
     }
 
     /// Moves the world to `now`: servo switches, homing, motions, reboot.
@@ -287,22 +343,12 @@ impl Controller {
         let mut i = 0;
         while i < self.motions.len() {
             let m = &self.motions[i];
+            let v = m.values_at(now, &self.values);
             let finished = m.finished(now);
-            let (s, _) = m.state(now);
-            match m.values_at(s, &self.kin, &self.values) {
-                Some(v) => self.set_values(v),
-                None => {
-                    // The line left the workspace (cannot happen for a checked plan):
-                    // the arm halts where it is and the move is cancelled.
-                    let m = self.motions.swap_remove(i);
-                    self.end_motion(&m, true);
-                    continue;
-                }
-            }
+            self.set_values(v);
             if finished {
                 let m = self.motions.swap_remove(i);
-                let cancelled = m.cancelled;
-                self.end_motion(&m, cancelled);
+                self.end_motion(&m, m.cancelled());
             } else {
                 i += 1;
             }
@@ -338,7 +384,7 @@ impl Controller {
         }
     }
 
-    fn end_motion(&mut self, m: &Motion, cancelled: bool) {
+    pub(crate) fn end_motion(&mut self, m: &Motion, cancelled: bool) {
         for i in 0..8 {
             if m.axes & (1 << i) == 0 {
                 continue;
@@ -406,202 +452,5 @@ impl Controller {
     /// Tool tip of the selected tool, selected work frame.
     pub fn tip_work(&self) -> Pose {
         self.work().base_to_work(&self.tip_base())
-    }
-
-    // ---- control API (not on the wire) ----
-
-    /// Emergency stop: servos drop at once, moves end where they are (cancelled).
-    pub fn set_emergency_stop(&mut self, on: bool) {
-        self.estop = on;
-        if on {
-            self.halt_all();
-        }
-    }
-
-    /// Drive source cut-off: like an emergency stop for the motors.
-    pub fn set_drive_cut_off(&mut self, on: bool) {
-        self.drive_cut = on;
-        if on {
-            self.halt_all();
-        }
-    }
-
-    /// AUTO or MANUAL. Protocol commands that act are refused in MANUAL.
-    pub fn set_mode(&mut self, mode: Mode) {
-        self.mode = mode;
-    }
-
-    pub fn mode(&self) -> Mode {
-        self.mode
-    }
-
-    /// Selects the work coordinate system; `false` if the table has no such number.
-    pub fn select_work(&mut self, number: usize) -> bool {
-        let ok = number < self.coords.work.len();
-        if ok {
-            self.work_no = number;
-        }
-        ok
-    }
-
-    /// Selects the tool coordinate system; `false` if the table has no such number.
-    pub fn select_tool(&mut self, number: usize) -> bool {
-        let ok = number < self.coords.tool.len();
-        if ok {
-            self.tool_no = number;
-        }
-        ok
-    }
-
-    pub fn coords(&self) -> &CoordTables {
-        &self.coords
-    }
-
-    /// Replaces the coordinate tables (sizes as given); selections beyond them go to 0.
-    pub fn set_coords(&mut self, coords: CoordTables) {
-        self.coords = coords;
-        if self.work_no >= self.coords.work.len() {
-            self.work_no = 0;
-        }
-        if self.tool_no >= self.coords.tool.len() {
-            self.tool_no = 0;
-        }
-    }
-
-    pub fn positions_mut(&mut self) -> &mut PositionTable {
-        &mut self.positions
-    }
-
-    /// Raises an alarm: servos off, moves halted (cancelled), acting commands refused
-    /// until 252H.
-    pub fn raise_alarm(&mut self, code: u16, axis: Option<u8>, message: &str) {
-        let code = code & 0xFFF;
-        let alarm = Alarm {
-            code,
-            axis: axis.filter(|a| (1..=8).contains(a)),
-            message: message
-                .chars()
-                .filter(|c| c.is_ascii_graphic() || *c == ' ')
-                .take(255)
-                .collect(),
-        };
-        if let Some(a) = alarm.axis {
-            self.axes[usize::from(a - 1)].error = code;
-        }
-        self.latest_error = code;
-        self.history.insert(0, alarm.clone());
-        self.history.truncate(ALARM_HISTORY);
-        self.alarm = Some(alarm);
-        self.halt_all();
-    }
-
-    /// Stops everything at once (E-stop, cut-off, alarm): positions freeze, servos off.
-    fn halt_all(&mut self) {
-        let now = self.now;
-        self.advance(now);
-        for m in std::mem::take(&mut self.motions) {
-            self.end_motion(&m, true);
-        }
-        for a in self.axes.iter_mut() {
-            a.servo = false;
-            a.switching = None;
-            if let HomeState::Homing { .. } = a.home {
-                a.home = HomeState::NotDone;
-            }
-        }
-    }
-
-    /// Software reset (25BH): silent for the reboot time, then servos off, moves gone,
-    /// alarm cleared; home state and positions kept (absolute encoders) `[inferred,
-    /// PROTOCOL.md 3.13]`.
-    pub(crate) fn reboot(&mut self) {
-        self.halt_all();
-        self.alarm = None;
-        for a in self.axes.iter_mut() {
-            a.error = 0;
-            a.completed = false;
-        }
-        self.counters.resets += 1;
-        self.rebooting_until = Some(self.now + self.cfg.reboot_time);
-    }
-
-    pub fn is_rebooting(&self) -> bool {
-        self.rebooting_until.is_some()
-    }
-
-    pub(crate) fn start_servo_switch(&mut self, pattern: u8, on: bool) {
-        let until = self.now + self.cfg.servo_switch_time;
-        for i in 0..8 {
-            if pattern & (1 << i) != 0 {
-                let a = &mut self.axes[i];
-                a.completed = false;
-                if a.servo == on {
-                    a.completed = true;
-                } else {
-                    a.switching = Some(ServoSwitch { on, until });
-                }
-            }
-        }
-    }
-
-    /// The state in one picture.
-    pub fn snapshot(&self) -> Snapshot {
-        Snapshot {
-            joints: self.joints(),
-            linear: [self.values[4], self.values[5]],
-            axes: self.axes,
-            in_use: self.in_use(),
-            mode: self.mode,
-            emergency_stop: self.estop,
-            drive_cut_off: self.drive_cut,
-            alarm: self.alarm.clone(),
-            work: self.work_no,
-            tool: self.tool_no,
-            tip_base: self.tip_base(),
-            arm: self.kin.arm_system(&self.joints()),
-        }
-    }
-
-    /// Checks that the state is coherent: positions inside their ranges and finite,
-    /// status bits consistent. `Err` names the first problem.
-    pub fn check_invariants(&self) -> Result<(), String> {
-        for i in 0..self.axis_count() {
-            let (lo, hi) = self.axis_range(i);
-            let v = self.values[i];
-            if !v.is_finite() || v < lo - 1e-9 || v > hi + 1e-9 {
-                return Err(format!("axis {} at {v} outside {lo}..{hi}", i + 1));
-            }
-        }
-        let in_use = self.in_use();
-        for (i, a) in self.axes.iter().enumerate() {
-            let bit = 1u8 << i;
-            if i >= self.axis_count() && (a.servo || in_use & bit != 0) {
-                return Err(format!("absent axis {} has state", i + 1));
-            }
-            if matches!(a.home, HomeState::Homing { .. }) && in_use & bit == 0 {
-                return Err(format!("axis {} homing but not in use", i + 1));
-            }
-            if (self.estop || self.drive_cut) && (a.servo || a.switching.is_some()) {
-                return Err(format!("axis {} servo on during E-stop/cut-off", i + 1));
-            }
-        }
-        for m in &self.motions {
-            if m.axes & !self.present() != 0 {
-                return Err("motion on an absent axis".into());
-            }
-            for i in 0..8 {
-                if m.axes & (1 << i) != 0 && !self.axes[i].servo {
-                    return Err(format!("axis {} moving with servo off", i + 1));
-                }
-            }
-        }
-        let mut seen = 0u8;
-        for m in &self.motions {
-            if seen & m.axes != 0 {
-                return Err("two motions own one axis".into());
-            }
-            seen |= m.axes;
-        }
-        Ok(())
     }
 }

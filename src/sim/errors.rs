@@ -7,6 +7,8 @@
 
 use std::fmt;
 
+use crate::protocol::{MessageError, MessageErrorKind};
+
 /// Why the simulated controller refused a command it could parse.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum SimError {
@@ -135,6 +137,26 @@ impl SimError {
             .map_or("", |r| r.text)
     }
 
+    /// The table's answer to a command the protocol decoder refused: an unknown ID is A01,
+    /// data cut short or running on is A02 (wrong length, as is 200H data over 10
+    /// characters), a value the axis-pattern field does not allow is A04, and any other bad
+    /// character or value is A03.
+    pub fn from_message_error(e: &MessageError) -> SimError {
+        match &e.kind {
+            MessageErrorKind::UnknownMessage => SimError::UnknownMessage,
+            MessageErrorKind::Missing { .. } | MessageErrorKind::Trailing { .. } => {
+                SimError::WrongLength
+            }
+            MessageErrorKind::Invalid { field, .. } if field.ends_with("axis pattern") => {
+                SimError::BadAxis
+            }
+            MessageErrorKind::Invalid { field, .. } if field == "test data" => {
+                SimError::WrongLength
+            }
+            _ => SimError::BadValue,
+        }
+    }
+
     /// Looks a code up in the table.
     pub fn from_code(code: u16) -> Option<SimError> {
         CODE_TABLE.iter().find(|r| r.code == code).map(|r| r.error)
@@ -181,5 +203,24 @@ mod tests {
         }
         assert_eq!(SimError::SoftLimit.code(), 0xC74);
         assert_eq!(SimError::SpeedChange.code(), 0xCC1);
+    }
+
+    #[test]
+    fn decoder_refusals_map_to_the_a_codes() {
+        use crate::protocol::{Command, Frame};
+        let refusal = |body: &str| {
+            let sc = body.bytes().fold(0u8, |s, b| s.wrapping_add(b));
+            let bytes = format!("{body}{sc:02X}\r\n").into_bytes();
+            let frame = Frame::parse(&bytes).unwrap();
+            SimError::from_message_error(&Command::decode(&frame).unwrap_err())
+        };
+        assert_eq!(refusal("!99299"), SimError::UnknownMessage);
+        assert_eq!(refusal("!99215FF"), SimError::WrongLength);
+        assert_eq!(refusal("!992380F"), SimError::WrongLength);
+        assert_eq!(refusal("!9920001234567890A"), SimError::WrongLength);
+        assert_eq!(refusal("!99212G1"), SimError::BadValue);
+        assert_eq!(refusal("!992322"), SimError::WrongLength);
+        assert_eq!(refusal("!992320F2"), SimError::BadValue);
+        assert_eq!(refusal("!992A41F010001"), SimError::BadAxis);
     }
 }

@@ -5,6 +5,7 @@
 //! - [`runner::start_pty`] / [`runner::start_tcp`]: serving a pseudo-terminal or TCP port.
 //! - [`errors::CODE_TABLE`]: the error codes of `&` replies.
 
+mod control;
 pub mod controller;
 pub mod coords_file;
 pub mod errors;
@@ -17,6 +18,8 @@ pub mod pipe;
 pub mod runner;
 pub mod state;
 
+use crate::protocol::{Frame, Reply};
+
 pub use controller::{Controller, SimSetup, Snapshot};
 pub use errors::{CODE_TABLE, SimError};
 pub use faults::{Fault, FaultCounts, FaultSpec};
@@ -28,9 +31,11 @@ pub use state::{Counters, Mode, SimConfig};
 pub fn describe_frame(frame: &[u8]) -> String {
     let d = crate::protocol::describe(frame);
     let mut s = d.title;
-    let body = frame.strip_suffix(b"\r\n").unwrap_or(frame);
-    if body.first() == Some(&b'&') && body.len() >= 6 {
-        let code = framing::hex_value(&body[3..6]).unwrap_or(0) as u16;
+    if let Some(Reply::Error(code)) = Frame::parse(frame)
+        .ok()
+        .and_then(|f| Reply::decode(&f).ok())
+    {
+        let code = code.0;
         s.push_str(&format!(" — {:03X}: {}", code, errors::describe_code(code)));
     }
     if let Some(p) = d.problems.first() {

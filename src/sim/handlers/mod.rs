@@ -1,4 +1,5 @@
-//! Message handlers, one file per family; shared field parsing and precondition checks.
+//! Message handlers, one file per family, taking the protocol's typed commands; shared
+//! precondition checks.
 
 // Axis loops index several per-axis arrays by the axis number: clearer than zips.
 #![allow(clippy::needless_range_loop)]
@@ -11,55 +12,7 @@ mod system;
 
 use super::controller::Controller;
 use super::errors::SimError;
-use super::framing::hex_value;
 use super::state::Mode;
-
-/// Reads fixed-width hex fields from a command's data, left to right.
-pub(crate) struct Fields<'a> {
-    data: &'a [u8],
-    pos: usize,
-}
-
-impl<'a> Fields<'a> {
-    pub(crate) fn new(data: &'a [u8]) -> Self {
-        Self { data, pos: 0 }
-    }
-
-    /// An unsigned field of `width` hex digits.
-    pub(crate) fn hex(&mut self, width: usize) -> Result<u32, SimError> {
-        let end = self.pos + width;
-        let digits = self.data.get(self.pos..end).ok_or(SimError::WrongLength)?;
-        self.pos = end;
-        hex_value(digits).ok_or(SimError::BadValue)
-    }
-
-    pub(crate) fn u8(&mut self, width: usize) -> Result<u8, SimError> {
-        Ok(self.hex(width)? as u8)
-    }
-
-    pub(crate) fn u16(&mut self, width: usize) -> Result<u16, SimError> {
-        Ok(self.hex(width)? as u16)
-    }
-
-    /// A signed 32-bit value as 8 hex digits, two's complement (PROTOCOL.md 4).
-    pub(crate) fn i32(&mut self) -> Result<i32, SimError> {
-        Ok(self.hex(8)? as i32)
-    }
-}
-
-/// Checks the data length exactly.
-pub(crate) fn expect_len(data: &[u8], len: usize) -> Result<(), SimError> {
-    if data.len() == len {
-        Ok(())
-    } else {
-        Err(SimError::WrongLength)
-    }
-}
-
-/// Number of set bits of an axis pattern.
-pub(crate) fn bits(pattern: u8) -> usize {
-    pattern.count_ones() as usize
-}
 
 impl Controller {
     /// Refusals shared by every command that acts (moves, servo, home, speed change):

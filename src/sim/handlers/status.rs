@@ -1,32 +1,49 @@
 //! Status queries: 212H axis status, 2A1H and 2A3H SCARA axis status.
 
-use super::{Fields, expect_len};
-use crate::robot::ArmSystem;
-use crate::robot::Pose;
-use crate::robot::round_wire;
+use crate::protocol::{
+    self, AxisPattern, AxisStatus, CommonStatus, EncoderStatus, ErrorCode, PerAxis, PositionSystem,
+    Reply, ScaraStatus, ScaraStatus2, ScaraUnitStatus, SensorInput, Thou,
+};
+use crate::robot::{ArmSystem, round_wire};
 use crate::sim::controller::Controller;
-use crate::sim::errors::SimError;
-use crate::sim::framing::{begin_reply, finish, push_hex, push_i32};
+use crate::sim::state::HomeState;
 
 impl Controller {
     /// 212H status byte of axis index `i` (PROTOCOL.md 3.3).
-    pub(crate) fn status_byte(&self, i: usize, in_use: u8) -> u32 {
+    pub(crate) fn status_byte(&self, i: usize, in_use: u8) -> AxisStatus {
         let a = &self.axes[i];
-        u32::from(in_use & (1 << i) != 0)
-            | (u32::from(a.home.code()) << 1)
-            | (u32::from(a.servo) << 3)
-            | (u32::from(a.completed) << 4)
+        let home = match a.home {
+            HomeState::NotDone => protocol::HomeState::NotDone,
+            HomeState::Homing { .. } => protocol::HomeState::Homing,
+            HomeState::Done => protocol::HomeState::Done,
+        };
+        AxisStatus::default()
+            .with_in_use(in_use & (1 << i) != 0)
+            .with_home_state(home)
+            .with_servo_on(a.servo)
+            .with_completed_normally(a.completed)
     }
 
-    /// One 16-character axis block: status, sensors, error, encoder, position.
-    fn push_block(&self, out: &mut Vec<u8>, i: usize, in_use: u8, position: i32) {
-        push_hex(out, self.status_byte(i, in_use), 2);
-        let homed_here =
-            self.axes[i].is_homed() && (self.values[i] - self.home_value(i)).abs() < 0.001;
-        push_hex(out, u32::from(homed_here) << 2, 1);
-        push_hex(out, u32::from(self.axes[i].error), 3);
-        push_hex(out, 0, 2);
-        push_i32(out, position);
+    /// The axis blocks of `pattern`: status, sensors, error, encoder, and the position
+    /// `position(i)` gives.
+    fn axis_blocks(
+        &self,
+        pattern: AxisPattern,
+        position: impl Fn(usize) -> i32,
+    ) -> PerAxis<protocol::AxisState> {
+        let in_use = self.in_use();
+        PerAxis::from_fn(pattern, |axis| {
+            let i = axis.index();
+            let homed_here =
+                self.axes[i].is_homed() && (self.values[i] - self.home_value(i)).abs() < 0.001;
+            protocol::AxisState {
+                status: self.status_byte(i, in_use),
+                sensor: SensorInput::default().with_home(homed_here),
+                error: ErrorCode(self.axes[i].error),
+                encoder: EncoderStatus::default(),
+                position: Thou(position(i)),
+            }
+        })
     }
 
     /// Home position of axis index `i` in its each-axis unit.
@@ -43,91 +60,71 @@ impl Controller {
     }
 
     /// 212H axis status: each-axis positions.
-    pub(crate) fn msg_axis_status(
-        &mut self,
-        id: [u8; 3],
-        data: &[u8],
-        out: &mut Vec<u8>,
-    ) -> Result<(), SimError> {
-        expect_len(data, 2)?;
-        let pattern = Fields::new(data).u8(2)? & self.present();
-        let in_use = self.in_use();
-        begin_reply(out, self.cfg.station, id);
-        push_hex(out, u32::from(pattern), 2);
-        for i in 0..8 {
-            if pattern & (1 << i) != 0 {
-                self.push_block(out, i, in_use, self.axis_wire(i));
-            }
-        }
-        finish(out);
-        Ok(())
+    pub(crate) fn msg_axis_status(&mut self, axes: AxisPattern) -> Reply {
+        let pattern = AxisPattern(axes.0 & self.present());
+        Reply::AxisStatus(self.axis_blocks(pattern, |i| self.axis_wire(i)))
     }
 
-    /// SCARA positions as the coordinate-system code asks: 0 base, 1 work, 3 each-axis.
-    fn scara_positions(&self, system: u8) -> Result<[i32; 4], SimError> {
+    /// The pattern's axis blocks with SCARA positions in base, work or each-axis
+    /// coordinates (linear axes always in their own unit), and the common status.
+    fn scara_blocks(
+        &self,
+        axes: AxisPattern,
+        system: PositionSystem,
+    ) -> (CommonStatus, PerAxis<protocol::AxisState>) {
         let tip = self.tip_base();
-        let pose: Pose = match system {
-            0 => tip,
-            1 => self.work().base_to_work(&tip),
-            3 => return Ok(std::array::from_fn(|i| self.axis_wire(i))),
-            _ => return Err(SimError::BadValue),
+        let scara = match system {
+            PositionSystem::Base => tip.to_wire(),
+            PositionSystem::Work => self.work().base_to_work(&tip).to_wire(),
+            PositionSystem::Joint => std::array::from_fn(|i| self.axis_wire(i)),
         };
-        Ok(pose.to_wire())
+        let arm = match self.kin.arm_system(&self.joints()) {
+            ArmSystem::Right => protocol::ArmSystem::Right,
+            ArmSystem::Left => protocol::ArmSystem::Left,
+            ArmSystem::Undetermined => protocol::ArmSystem::Undetermined,
+        };
+        let pattern = AxisPattern(axes.0 & self.present());
+        let blocks = self.axis_blocks(
+            pattern,
+            |i| {
+                if i < 4 { scara[i] } else { self.axis_wire(i) }
+            },
+        );
+        (CommonStatus { arm, system }, blocks)
     }
 
-    /// 2A1H (`two` = false) and 2A3H (`two` = true) SCARA axis status (PROTOCOL.md 3.17,
-    /// 3.18). The arm-system code is per message (PROTOCOL.md 5, erratum 4).
-    pub(crate) fn msg_scara_status(
-        &mut self,
-        id: [u8; 3],
-        data: &[u8],
-        out: &mut Vec<u8>,
-        two: bool,
-    ) -> Result<(), SimError> {
-        expect_len(data, if two { 4 } else { 3 })?;
-        let mut f = Fields::new(data);
-        let pattern = f.u8(2)? & self.present();
-        let typ = f.u8(if two { 2 } else { 1 })?;
-        let system = typ & 0x03;
-        let positions = self.scara_positions(system)?;
-        let arm = self.kin.arm_system(&self.joints());
-        let in_use = self.in_use();
-        begin_reply(out, self.cfg.station, id);
-        let common = u32::from(system) << 2;
-        if two {
-            let arm_code = match arm {
-                ArmSystem::Undetermined => 0,
-                ArmSystem::Right => 1,
-                ArmSystem::Left => 2,
-            };
-            push_hex(out, u32::from(pattern & 0x0F), 2);
-            push_hex(out, self.work_no as u32, 2);
-            push_hex(out, self.tool_no as u32, 2);
-            push_hex(out, common | arm_code, 2);
-            // Second SCARA (axes 5-8): none on this controller [inferred layout, 3.18].
-            out.extend_from_slice(b"000000");
-        } else {
-            let arm_code = match arm {
-                ArmSystem::Right => 0,
-                ArmSystem::Left => 1,
-                ArmSystem::Undetermined => 2,
-            };
-            push_hex(out, self.work_no as u32, 2);
-            push_hex(out, self.tool_no as u32, 2);
-            push_hex(out, common | arm_code, 2);
-        }
-        push_hex(out, u32::from(pattern), 2);
-        for i in 0..8 {
-            if pattern & (1 << i) != 0 {
-                let pos = if i < 4 {
-                    positions[i]
-                } else {
-                    self.axis_wire(i)
-                };
-                self.push_block(out, i, in_use, pos);
-            }
-        }
-        finish(out);
-        Ok(())
+    /// 2A1H SCARA axis status (PROTOCOL.md 3.17); the arm code is this message's own
+    /// (PROTOCOL.md 5, erratum 4: the protocol layer encodes it per message).
+    pub(crate) fn msg_scara_status(&mut self, axes: AxisPattern, system: PositionSystem) -> Reply {
+        let (common, axes) = self.scara_blocks(axes, system);
+        Reply::ScaraStatus(ScaraStatus {
+            work: self.work_no as u8,
+            tool: self.tool_no as u8,
+            common,
+            axes,
+        })
+    }
+
+    /// 2A3H SCARA axis status 2 (PROTOCOL.md 3.18): one SCARA (axes 1-4); the second
+    /// unit's fields are zero `[inferred layout, 3.18]`.
+    pub(crate) fn msg_scara_status2(&mut self, axes: AxisPattern, system: PositionSystem) -> Reply {
+        let (common, blocks) = self.scara_blocks(axes, system);
+        Reply::ScaraStatus2(ScaraStatus2 {
+            scara_axes: AxisPattern(axes.0 & self.present() & 0x0F),
+            unit1: ScaraUnitStatus {
+                work: self.work_no as u8,
+                tool: self.tool_no as u8,
+                common,
+            },
+            unit2: ScaraUnitStatus {
+                work: 0,
+                tool: 0,
+                common: CommonStatus {
+                    arm: protocol::ArmSystem::Undetermined,
+                    system: PositionSystem::Base,
+                },
+            },
+            axes: blocks,
+        })
     }
 }
