@@ -182,7 +182,13 @@ fn main() {
         ..LinkConfig::default()
     };
     config.timing.line = line;
-    let (_link, events) = spawn(open, config, Arc::new(|| {}));
+    let (_link, events) = match spawn(open, config, Arc::new(|| {})) {
+        Ok(link) => link,
+        Err(e) => {
+            eprintln!("xsel-pendant: cannot start the link thread: {e}");
+            std::process::exit(2);
+        }
+    };
     println!("xsel-pendant {}", env!("CARGO_PKG_VERSION"));
     let run_for = if args.watch {
         Duration::MAX

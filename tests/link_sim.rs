@@ -1,20 +1,27 @@
 //! The link engine against the simulator: over the embedded pipe and a real
-//! pseudo-terminal, with faults, STOP, lost lines and table downloads.
+//! pseudo-terminal, with STOP, lost lines and table downloads.
 
 mod common;
 
 use std::time::{Duration, Instant};
 
 use common::*;
-use xsel_pendant::link::transport::SerialTransport;
 use xsel_pendant::link::{
-    LineSettings, LinkConfig, LinkEvent, Origin, Polling, Priority, TableRequest, spawn,
+    LineSettings, LinkConfig, LinkEvent, Origin, Polling, Priority, TableRequest,
 };
-use xsel_pendant::protocol::{Command, CoordKind, Reply};
+use xsel_pendant::protocol::{Command, CoordKind, ErrorCode, Reply};
 use xsel_pendant::sim::runner::{RunOptions, SimCore, start_pty};
-use xsel_pendant::sim::{Controller, Fault, FaultSpec};
+use xsel_pendant::sim::{Controller, FaultSpec};
 
-const LONG: Duration = Duration::from_secs(10);
+pub const LONG: Duration = Duration::from_secs(10);
+
+fn pty_server(setup: xsel_pendant::sim::SimSetup) -> xsel_pendant::sim::runner::PtyServer {
+    start_pty(
+        SimCore::new(Controller::new(setup), FaultSpec::none()),
+        RunOptions::default(),
+    )
+    .expect("pty")
+}
 
 #[test]
 fn polls_bring_scara_and_system_status_over_the_embedded_pipe() {
@@ -108,19 +115,30 @@ fn a_relative_step_moves_the_arm_by_exactly_the_step_in_the_work_frame() {
 }
 
 #[test]
-fn link_and_simulator_talk_over_a_real_pseudo_terminal() {
-    let setup = ready_setup(Duration::from_millis(2));
-    let server = start_pty(
-        SimCore::new(Controller::new(setup), FaultSpec::none()),
-        RunOptions::default(),
-    )
-    .expect("pty");
-    let path = server.path.clone();
-    let connector: xsel_pendant::link::Connector = Box::new(move || {
-        SerialTransport::open(&path, LineSettings::default())
-            .map(|t| Box::new(t) as Box<dyn xsel_pendant::link::Transport>)
+fn a_refused_move_is_reported_with_the_controllers_error_code() {
+    let (link, events, sim) = embedded_link(
+        ready_setup(Duration::from_millis(1)),
+        FaultSpec::none(),
+        None,
+        quiet_config(),
+    );
+    sim.set_emergency_stop(true);
+    let id = link.submit(step_x(1_000), Priority::User);
+    let mut seen = Vec::new();
+    let answer = wait_for(&events, LONG, &mut seen, |e| match e {
+        LinkEvent::Reply { id: r, .. } | LinkEvent::ErrorReply { id: r, .. } => *r == id,
+        _ => false,
     });
-    let (link, events) = spawn(connector, LinkConfig::default(), std::sync::Arc::new(|| {}));
+    let Some(LinkEvent::ErrorReply { code, .. }) = answer else {
+        panic!("expected an error reply, got {answer:?}")
+    };
+    assert_eq!(code, ErrorCode(0xB04), "B04 = emergency stop active");
+}
+
+#[test]
+fn link_and_simulator_talk_over_a_real_pseudo_terminal() {
+    let server = pty_server(ready_setup(Duration::from_millis(2)));
+    let (link, events) = serial_link(&server.path, LinkConfig::default());
     let mut seen = Vec::new();
     assert!(
         wait_for(&events, LONG, &mut seen, |e| matches!(
@@ -146,8 +164,8 @@ fn link_and_simulator_talk_over_a_real_pseudo_terminal() {
 
 #[test]
 fn stop_is_the_next_frame_after_the_reply_of_the_poll_in_flight() {
-    // 9600 baud pacing: a 2A1H reply takes about 85 ms on the wire, so the STOP is
-    // certainly submitted while that poll is in flight.
+    // 9600 baud pacing and a 150 ms reply delay: the STOP is certainly submitted while
+    // the poll is in flight.
     let byte_time = LineSettings {
         baud: 9_600,
         ..LineSettings::default()
@@ -157,7 +175,7 @@ fn stop_is_the_next_frame_after_the_reply_of_the_poll_in_flight() {
     config.timing.line.baud = 9_600;
     config.polling.interval = Some(Duration::ZERO);
     let (link, events, _sim) = embedded_link(
-        ready_setup(Duration::from_millis(2)),
+        ready_setup(Duration::from_millis(150)),
         FaultSpec::none(),
         Some(byte_time),
         config,
@@ -198,126 +216,43 @@ fn stop_is_the_next_frame_after_the_reply_of_the_poll_in_flight() {
 }
 
 #[test]
-fn a_motion_command_that_times_out_is_never_sent_again_and_status_is_read_instead() {
-    let mut config = quiet_config();
-    config.timing.margin = Duration::from_millis(30);
-    let (link, events, sim) = embedded_link(
-        ready_setup(Duration::from_millis(1)),
-        FaultSpec::none().with(Fault::Drop, 1.0),
-        None,
-        config,
-    );
-    let id = link.submit(step_x(1_000), Priority::User);
-    let mut seen = Vec::new();
-    let timeout = wait_for(
-        &events,
-        LONG,
-        &mut seen,
-        |e| matches!(e, LinkEvent::Timeout { id: t, .. } if *t == id),
-    );
-    let Some(LinkEvent::Timeout {
-        retrying, recheck, ..
-    }) = timeout
-    else {
-        panic!("no timeout for the dropped reply: {seen:?}")
+fn polls_give_way_to_user_commands() {
+    let config = LinkConfig {
+        polling: Polling {
+            interval: Some(Duration::ZERO),
+            commands: vec![Command::SystemStatus],
+        },
+        ..LinkConfig::default()
     };
-    assert!(!retrying, "motion must not be retried");
-    let recheck = recheck.expect("a status recheck is queued instead");
-    sim.set_faults(FaultSpec::none());
-    let status = wait_for(
-        &events,
-        LONG,
-        &mut seen,
-        |e| matches!(e, LinkEvent::Reply { origin: Origin::Recheck { after }, .. } if *after == id),
-    );
-    assert!(
-        status.is_some(),
-        "the recheck {recheck} was answered: {seen:?}"
-    );
-    let moves_sent = seen
-        .iter()
-        .filter(|e| matches!(e, LinkEvent::FrameSent { bytes, .. } if bytes.starts_with(b"!992D5")))
-        .count();
-    assert_eq!(moves_sent, 1);
-    assert_eq!(
-        sim.counters().motion_received,
-        1,
-        "the controller saw the move once"
-    );
-}
-
-#[test]
-fn a_simulator_killed_mid_move_gives_disconnected_and_later_commands_are_refused() {
-    let (link, events, sim) = embedded_link(
+    let (link, events, _sim) = embedded_link(
         ready_setup(Duration::from_millis(1)),
         FaultSpec::none(),
         None,
-        LinkConfig::default(),
+        config,
     );
-    let id = link.submit(step_x(-100_000), Priority::User);
     let mut seen = Vec::new();
-    assert!(
-        wait_for(
-            &events,
-            LONG,
-            &mut seen,
-            |e| matches!(e, LinkEvent::Reply { id: r, .. } if *r == id)
-        )
-        .is_some()
-    );
-    assert_ne!(sim.with(|c| c.in_use()), 0, "the arm is moving");
-    let pulled = Instant::now();
-    drop(sim);
-    let lost = wait_for(&events, LONG, &mut seen, |e| {
-        matches!(e, LinkEvent::Disconnected { .. })
+    wait_for(&events, LONG, &mut seen, |e| {
+        matches!(e, LinkEvent::FrameSent { .. })
     });
-    assert!(lost.is_some(), "no Disconnected after the simulator died");
-    eprintln!(
-        "Disconnected {:?} after the line was pulled",
-        pulled.elapsed()
-    );
-    let late = link.submit(step_x(1_000), Priority::User);
-    let refused = wait_for(
+    let submitted = Instant::now();
+    let id = link.submit(Command::AlarmReset, Priority::User);
+    let mut after = Vec::new();
+    wait_for(
         &events,
         LONG,
-        &mut seen,
-        |e| matches!(e, LinkEvent::NotSent { id, .. } if *id == late),
-    );
-    assert!(
-        refused.is_some(),
-        "a move on a dead line is refused, not queued"
-    );
-}
-
-#[test]
-fn closing_the_pseudo_terminal_gives_disconnected() {
-    let server = start_pty(
-        SimCore::new(
-            Controller::new(ready_setup(Duration::from_millis(1))),
-            FaultSpec::none(),
-        ),
-        RunOptions::default(),
+        &mut after,
+        |e| matches!(e, LinkEvent::FrameSent { id: s, .. } if *s == id),
     )
-    .expect("pty");
-    let path = server.path.clone();
-    let connector: xsel_pendant::link::Connector = Box::new(move || {
-        SerialTransport::open(&path, LineSettings::default())
-            .map(|t| Box::new(t) as Box<dyn xsel_pendant::link::Transport>)
-    });
-    let (_link, events) = spawn(connector, LinkConfig::default(), std::sync::Arc::new(|| {}));
-    let mut seen = Vec::new();
+    .expect("the user's command went out");
+    let polls_after_submit = after
+        .iter()
+        .filter(|e| matches!(e, LinkEvent::FrameSent { at, .. } if *at > submitted))
+        .count()
+        - 1;
     assert!(
-        wait_for(&events, LONG, &mut seen, |e| matches!(
-            e,
-            LinkEvent::Reply { .. }
-        ))
-        .is_some()
+        polls_after_submit == 0,
+        "{polls_after_submit} polls went out after the user's command was submitted"
     );
-    drop(server);
-    let lost = wait_for(&events, LONG, &mut seen, |e| {
-        matches!(e, LinkEvent::Disconnected { .. })
-    });
-    assert!(lost.is_some(), "no Disconnected after the pty closed");
 }
 
 #[test]
@@ -350,12 +285,73 @@ fn a_whole_tool_table_downloads_in_buffer_sized_chunks() {
         .filter(|e| matches!(e, LinkEvent::FrameSent { bytes, .. } if bytes.starts_with(b"!992A4")))
         .count();
     assert_eq!(chunks, 3, "63 + 63 + 2 records");
+    assert_tool_table_matches(&records, &sim);
+}
+
+fn assert_tool_table_matches(
+    records: &[Option<xsel_pendant::protocol::PerAxis<xsel_pendant::protocol::Thou>>],
+    sim: &xsel_pendant::sim::SimHandle,
+) {
     let expected = sim.with(|c| c.coords().tool.entries().to_vec());
+    assert_eq!(records.len(), expected.len());
     for (n, (got, want)) in records.iter().zip(&expected).enumerate() {
-        let got = got.expect("record present");
-        let got: Vec<i32> = got.iter().map(|(_, v)| v.0).collect();
+        let got: Vec<i32> = got
+            .expect("record present")
+            .iter()
+            .map(|(_, v)| v.0)
+            .collect();
         assert_eq!(got, want.to_wire(), "tool {n}");
     }
+}
+
+#[test]
+fn a_download_replaced_midway_keeps_its_records_apart() {
+    let (link, events, sim) = embedded_link(
+        ready_setup(Duration::from_millis(5)),
+        FaultSpec::none(),
+        None,
+        quiet_config(),
+    );
+    link.download_table(TableRequest {
+        kind: CoordKind::Work,
+        axes: SCARA,
+        records: 32,
+        reply_buffer: 2048,
+    });
+    link.download_table(TableRequest {
+        kind: CoordKind::Tool,
+        axes: SCARA,
+        records: 128,
+        reply_buffer: 2048,
+    });
+    let mut seen = Vec::new();
+    let first = wait_for(&events, LONG, &mut seen, |e| {
+        matches!(e, LinkEvent::TableDone { .. })
+    });
+    assert!(
+        matches!(
+            first,
+            Some(LinkEvent::TableDone {
+                kind: CoordKind::Work,
+                ..
+            })
+        ),
+        "{first:?}"
+    );
+    let done = wait_for(&events, LONG, &mut seen, |e| {
+        matches!(e, LinkEvent::TableDone { .. })
+    });
+    let Some(LinkEvent::TableDone {
+        kind: CoordKind::Tool,
+        records,
+        missing,
+        ..
+    }) = done
+    else {
+        panic!("no tool TableDone: {done:?}")
+    };
+    assert!(missing.is_empty(), "missing {missing:?}");
+    assert_tool_table_matches(&records, &sim);
 }
 
 #[test]
@@ -364,7 +360,7 @@ fn a_table_that_cannot_be_read_names_the_missing_records() {
     config.timing.margin = Duration::from_millis(20);
     let (link, events, _sim) = embedded_link(
         ready_setup(Duration::from_millis(1)),
-        FaultSpec::none().with(Fault::Drop, 1.0),
+        FaultSpec::none().with(xsel_pendant::sim::Fault::Drop, 1.0),
         None,
         config,
     );
@@ -387,43 +383,4 @@ fn a_table_that_cannot_be_read_names_the_missing_records() {
         .filter(|e| matches!(e, LinkEvent::FrameSent { bytes, .. } if bytes.starts_with(b"!992A4")))
         .count();
     assert_eq!(tries, 3, "the chunk was sent once and retried twice");
-}
-
-#[test]
-fn polling_stops_for_nothing_but_yields_to_user_commands() {
-    let config = LinkConfig {
-        polling: Polling {
-            interval: Some(Duration::ZERO),
-            commands: vec![Command::SystemStatus],
-        },
-        ..LinkConfig::default()
-    };
-    let (link, events, _sim) = embedded_link(
-        ready_setup(Duration::from_millis(1)),
-        FaultSpec::none(),
-        None,
-        config,
-    );
-    let mut seen = Vec::new();
-    wait_for(&events, LONG, &mut seen, |e| {
-        matches!(e, LinkEvent::FrameSent { .. })
-    });
-    let id = link.submit(Command::AlarmReset, Priority::User);
-    let mut after = Vec::new();
-    wait_for(
-        &events,
-        LONG,
-        &mut after,
-        |e| matches!(e, LinkEvent::FrameSent { id: s, .. } if *s == id),
-    )
-    .expect("the user's command went out");
-    let polls_before = after
-        .iter()
-        .filter(|e| matches!(e, LinkEvent::FrameSent { .. }))
-        .count()
-        - 1;
-    assert!(
-        polls_before <= 1,
-        "the user's command waited behind {polls_before} polls"
-    );
 }

@@ -2,7 +2,7 @@
 
 use std::io;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::AtomicU64;
 use std::thread::JoinHandle;
 use std::time::Duration;
 
@@ -62,7 +62,7 @@ impl Default for LinkConfig {
 
 /// Messages from the handle to the thread.
 pub(crate) enum Control {
-    Submit(Pending, Priority),
+    Submit(Pending),
     SetPolling(Polling),
     DownloadTable(TableRequest),
     CancelTable,
@@ -84,7 +84,7 @@ pub fn spawn(
     connector: Connector,
     config: LinkConfig,
     repaint: Repaint,
-) -> (LinkHandle, Receiver<LinkEvent>) {
+) -> std::io::Result<(LinkHandle, Receiver<LinkEvent>)> {
     let (control_tx, control_rx) = unbounded();
     let (event_tx, event_rx) = unbounded();
     let ids = Arc::new(AtomicU64::new(1));
@@ -98,31 +98,22 @@ pub fn spawn(
     );
     let thread = std::thread::Builder::new()
         .name("xsel-link".into())
-        .spawn(move || engine.run())
-        .ok();
+        .spawn(move || engine.run())?;
     let handle = LinkHandle {
         control: control_tx,
         ids,
-        thread,
+        thread: Some(thread),
     };
-    (handle, event_rx)
+    Ok((handle, event_rx))
 }
 
 impl LinkHandle {
-    fn next_id(&self) -> RequestId {
-        RequestId(self.ids.fetch_add(1, Ordering::Relaxed))
-    }
-
-    /// Queues a command; the events that answer it carry the returned id.
+    /// Queues a command; the events that answer it carry the returned id. 238H STOP
+    /// always goes to the head of the queue.
     pub fn submit(&self, command: Command, priority: Priority) -> RequestId {
-        let id = self.next_id();
-        let pending = Pending {
-            id,
-            command,
-            origin: Origin::User,
-            attempts: 0,
-        };
-        let _ = self.control.send(Control::Submit(pending, priority));
+        let id = RequestId::next(&self.ids);
+        let pending = Pending::new(id, command, Origin::User, priority);
+        let _ = self.control.send(Control::Submit(pending));
         id
     }
 

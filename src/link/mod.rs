@@ -8,8 +8,10 @@ pub mod line;
 pub mod ports;
 pub mod request;
 pub mod schedule;
+pub mod sync;
 pub mod table;
 pub mod timing;
+mod transaction;
 pub mod transport;
 
 pub use event::LinkEvent;

@@ -1,12 +1,20 @@
 //! What the link is asked to send: request ids, priorities and where a request came from.
 
 use std::fmt;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use crate::protocol::{Command, CoordKind};
 
 /// Identifies one submitted request in the events that answer it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct RequestId(pub u64);
+
+impl RequestId {
+    /// The next id from a counter shared by the handle and the link thread.
+    pub fn next(counter: &AtomicU64) -> RequestId {
+        RequestId(counter.fetch_add(1, Ordering::Relaxed))
+    }
+}
 
 impl fmt::Display for RequestId {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -32,14 +40,20 @@ pub enum Origin {
     User,
     /// The link's own status poll.
     Poll,
-    /// One chunk of a coordinate-table download.
+    /// One chunk of a coordinate-table download (`generation` tells downloads apart).
     Table {
         kind: CoordKind,
         first: u8,
         count: u8,
+        generation: u32,
     },
     /// A status read after a motion command timed out (motion is never re-sent).
     Recheck { after: RequestId },
+    /// A query proving no late reply is on its way, sent before a motion command.
+    Proof { before: RequestId },
+    /// Sent by the link itself to stop a jog that may still be running after the line
+    /// stalled or was lost.
+    SafetyStop,
 }
 
 /// A request waiting for, or on, the line.
@@ -48,19 +62,38 @@ pub struct Pending {
     pub id: RequestId,
     pub command: Command,
     pub origin: Origin,
+    pub priority: Priority,
     /// Times it has been sent already.
     pub attempts: u8,
+    /// Proving queries sent for it (motion only) without putting the line in step.
+    pub proofs: u8,
 }
 
 impl Pending {
+    pub fn new(id: RequestId, command: Command, origin: Origin, priority: Priority) -> Self {
+        let priority = if command.is_stop() {
+            Priority::Stop
+        } else {
+            priority
+        };
+        Self {
+            id,
+            command,
+            origin,
+            priority,
+            attempts: 0,
+            proofs: 0,
+        }
+    }
+
     /// Whether a time-out may be answered by sending it again: never motion; never a
-    /// poll (the next poll is the retry); never 25BH software reset (the controller
-    /// may be rebooting without a reply, PROTOCOL.md 3.13); queries and STOP (stopping
-    /// twice is harmless).
+    /// poll (the next poll is the retry) or a proving query (the next motion sends
+    /// another); never 25BH software reset (the controller may be rebooting without a
+    /// reply, PROTOCOL.md 3.13); queries and STOP (stopping twice is harmless).
     pub fn may_retry(&self, retries: u8) -> bool {
         !self.command.is_motion()
             && self.command != Command::SoftwareReset
-            && self.origin != Origin::Poll
+            && !matches!(self.origin, Origin::Poll | Origin::Proof { .. })
             && self.attempts <= retries
     }
 }

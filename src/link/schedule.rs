@@ -54,6 +54,7 @@ pub struct Scheduler {
     /// After a poll cycle, one background request gets its turn before the next cycle.
     background_turn: bool,
     table: Option<TableJob>,
+    table_generation: u32,
 }
 
 impl Scheduler {
@@ -68,26 +69,32 @@ impl Scheduler {
     }
 
     pub fn set_polling(&mut self, polling: Polling, now: Instant) {
-        self.next_poll_at = polling.interval.map(|_| now);
+        // An interval with nothing to send is no polling at all.
+        self.next_poll_at = polling
+            .interval
+            .filter(|_| !polling.commands.is_empty())
+            .map(|_| now);
         self.cycle_pos = 0;
         self.cycle_started = None;
         self.polling = polling;
     }
 
-    /// Queues a request; 238H STOP always goes with the stops.
-    pub fn push(&mut self, pending: Pending, priority: Priority) {
-        self.queue(pending, priority).push_back(pending);
+    /// Queues a request behind the others of its priority.
+    pub fn push(&mut self, pending: Pending) {
+        self.queue(pending.priority).push_back(pending);
     }
 
-    /// Puts a request back at the head of its queue (a retry, or a status recheck).
-    pub fn push_front(&mut self, pending: Pending, priority: Priority) {
-        self.queue(pending, priority).push_front(pending);
+    /// Puts a request at the head of its queue (a retry, a recheck, a waiting move).
+    pub fn push_front(&mut self, pending: Pending) {
+        self.queue(pending.priority).push_front(pending);
     }
 
-    fn queue(&mut self, pending: Pending, priority: Priority) -> &mut VecDeque<Pending> {
-        if pending.command.is_stop() {
-            return &mut self.stops;
-        }
+    /// Whether a STOP is already waiting.
+    pub fn stop_queued(&self) -> bool {
+        !self.stops.is_empty()
+    }
+
+    fn queue(&mut self, priority: Priority) -> &mut VecDeque<Pending> {
         match priority {
             Priority::Stop => &mut self.stops,
             Priority::User => &mut self.user,
@@ -99,11 +106,16 @@ impl Scheduler {
     pub fn start_table(&mut self, request: TableRequest) -> Option<TableJob> {
         self.background
             .retain(|p| !matches!(p.origin, Origin::Table { .. }));
-        self.table.replace(TableJob::new(request))
+        self.table_generation = self.table_generation.wrapping_add(1);
+        self.table
+            .replace(TableJob::new(request, self.table_generation))
     }
 
-    pub fn table_mut(&mut self) -> Option<&mut TableJob> {
-        self.table.as_mut()
+    /// The download a chunk of `generation` belongs to, if it is still the current one.
+    pub fn table_for(&mut self, generation: u32) -> Option<&mut TableJob> {
+        self.table
+            .as_mut()
+            .filter(|job| job.generation == generation)
     }
 
     /// The finished download, once every chunk is answered or given up.
@@ -148,7 +160,10 @@ impl Scheduler {
         if poll_due && let Some(p) = self.next_poll(now, new_id) {
             return Next::Send(p);
         }
-        Next::Wait(self.next_poll_at)
+        Next::Wait(
+            self.next_poll_at
+                .filter(|_| !self.polling.commands.is_empty()),
+        )
     }
 
     fn poll_due(&self, now: Instant) -> bool {
@@ -173,32 +188,36 @@ impl Scheduler {
             self.next_poll_at = Some((start + interval).max(now));
             self.background_turn = true;
         }
-        Some(Pending {
-            id: new_id(),
+        Some(Pending::new(
+            new_id(),
             command,
-            origin: Origin::Poll,
-            attempts: 0,
-        })
+            Origin::Poll,
+            Priority::User,
+        ))
     }
 
     fn next_background(&mut self, new_id: &mut impl FnMut() -> RequestId) -> Option<Pending> {
         if let Some(p) = self.background.pop_front() {
             return Some(p);
         }
-        let command = self.table.as_mut()?.next_query()?;
+        let job = self.table.as_mut()?;
+        let generation = job.generation;
+        let command = job.next_query()?;
         let Command::CoordQuery2(q) = command else {
             return None;
         };
-        Some(Pending {
-            id: new_id(),
+        let origin = Origin::Table {
+            kind: q.kind,
+            first: q.first,
+            count: q.count,
+            generation,
+        };
+        Some(Pending::new(
+            new_id(),
             command,
-            origin: Origin::Table {
-                kind: q.kind,
-                first: q.first,
-                count: q.count,
-            },
-            attempts: 0,
-        })
+            origin,
+            Priority::Background,
+        ))
     }
 }
 
@@ -215,13 +234,8 @@ mod tests {
         }
     }
 
-    fn user(id: u64, command: Command) -> Pending {
-        Pending {
-            id: RequestId(id),
-            command,
-            origin: Origin::User,
-            attempts: 0,
-        }
+    fn user(id: u64, command: Command, priority: Priority) -> Pending {
+        Pending::new(RequestId(id), command, Origin::User, priority)
     }
 
     fn stop() -> Command {
@@ -236,8 +250,8 @@ mod tests {
         let now = Instant::now();
         let mut s = Scheduler::new(Polling::default(), now);
         let mut new_id = ids();
-        s.push(user(1, Command::AlarmReset), Priority::User);
-        s.push(user(2, stop()), Priority::Background);
+        s.push(user(1, Command::AlarmReset, Priority::User));
+        s.push(user(2, stop(), Priority::Background));
         assert!(matches!(s.next(now, &mut new_id), Next::Send(p) if p.id == RequestId(2)));
         assert!(matches!(s.next(now, &mut new_id), Next::Send(p) if p.id == RequestId(1)));
     }
@@ -278,8 +292,21 @@ mod tests {
         let Next::Send(_poll) = s.next(t0, &mut new_id) else {
             panic!()
         };
-        s.push(user(7, Command::AlarmReset), Priority::User);
+        s.push(user(7, Command::AlarmReset, Priority::User));
         assert!(matches!(s.next(t0, &mut new_id), Next::Send(p) if p.id == RequestId(7)));
+    }
+
+    #[test]
+    fn an_interval_with_no_commands_waits_for_submissions_instead_of_spinning() {
+        let t0 = Instant::now();
+        let polling = Polling {
+            interval: Some(Duration::from_millis(10)),
+            commands: Vec::new(),
+        };
+        let mut s = Scheduler::new(polling, t0);
+        let mut new_id = ids();
+        let later = t0 + Duration::from_secs(1);
+        assert_eq!(s.next(later, &mut new_id), Next::Wait(None));
     }
 
     #[test]

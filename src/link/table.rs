@@ -35,15 +35,18 @@ impl TableRequest {
 #[derive(Debug)]
 pub struct TableJob {
     pub request: TableRequest,
+    /// Tells this download's chunks from those of one it replaced.
+    pub generation: u32,
     next_first: u16,
     pub records: Vec<Option<PerAxis<Thou>>>,
     pub answered_axes: AxisPattern,
 }
 
 impl TableJob {
-    pub fn new(request: TableRequest) -> Self {
+    pub fn new(request: TableRequest, generation: u32) -> Self {
         let total = request.records.min(256);
         Self {
+            generation,
             request: TableRequest {
                 records: total,
                 ..request
@@ -132,7 +135,7 @@ mod tests {
 
     #[test]
     fn a_tool_table_of_128_takes_three_chunks_and_reports_gaps() {
-        let mut job = TableJob::new(request(0x0F, 128, 2048));
+        let mut job = TableJob::new(request(0x0F, 128, 2048), 1);
         let mut queries = Vec::new();
         while let Some(Command::CoordQuery2(q)) = job.next_query() {
             queries.push((q.first, q.count));

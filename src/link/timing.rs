@@ -15,6 +15,9 @@ pub struct Timing {
     pub margin: Duration,
     /// Pause after a reply before the next command (the spec's minimum is 1 ms).
     pub gap: Duration,
+    /// How long after a time-out its reply may still arrive; motion waits for proof
+    /// that no such reply is on its way (see `sync.rs`).
+    pub late_reply_window: Duration,
 }
 
 impl Default for Timing {
@@ -23,6 +26,7 @@ impl Default for Timing {
             line: LineSettings::default(),
             margin: Duration::from_millis(300),
             gap: Duration::from_millis(1),
+            late_reply_window: Duration::from_secs(1),
         }
     }
 }
@@ -59,6 +63,7 @@ mod tests {
             },
             margin: Duration::from_millis(100),
             gap: Duration::from_millis(1),
+            late_reply_window: Duration::from_secs(1),
         };
         // A 2A4H command (17 bytes) whose reply may fill a 2048-byte buffer: 2065 chars
         // at 10 bits and 9600 baud is 2.151 s on the wire alone.
@@ -82,7 +87,7 @@ mod tests {
                 ..LineSettings::default()
             },
             margin: Duration::ZERO,
-            gap: Duration::from_millis(1),
+            ..Timing::default()
         };
         // 10 + 25 bytes (215H) = 350 bits = 36.458 ms, + 2 ms delay + 1 ms gap.
         let got = t.wire_transaction_time(10, 25, Duration::from_millis(2));

@@ -29,8 +29,14 @@ pub fn is_timeout(err: &io::Error) -> bool {
     )
 }
 
-/// Reads what is waiting, within a short timeout, until nothing more comes.
+/// Longest time spent dropping input before a command: a line that never falls silent
+/// (wrong baud rate, a floating receive wire) must not hold a STOP back.
+const DRAIN_LIMIT: Duration = Duration::from_millis(5);
+
+/// Reads what is waiting, within a short timeout, until nothing more comes (or the
+/// time or size limit is reached).
 fn drain(read: &mut dyn FnMut(&mut [u8]) -> io::Result<usize>) -> io::Result<Vec<u8>> {
+    let started = std::time::Instant::now();
     let mut dropped = Vec::new();
     let mut buf = [0u8; 512];
     loop {
@@ -40,7 +46,7 @@ fn drain(read: &mut dyn FnMut(&mut [u8]) -> io::Result<usize>) -> io::Result<Vec
             Err(e) if is_timeout(&e) => return Ok(dropped),
             Err(e) => return Err(e),
         }
-        if dropped.len() > 1 << 20 {
+        if dropped.len() > 1 << 16 || started.elapsed() > DRAIN_LIMIT {
             return Ok(dropped);
         }
     }

@@ -51,7 +51,8 @@ pub fn embedded_link(
         faults,
         log: None,
     });
-    let (link, events) = spawn(pipe_connector(pipe), config, std::sync::Arc::new(|| {}));
+    let (link, events) =
+        spawn(pipe_connector(pipe), config, std::sync::Arc::new(|| {})).expect("link thread");
     (link, events, sim)
 }
 
@@ -64,6 +65,19 @@ pub fn quiet_config() -> LinkConfig {
         },
         ..LinkConfig::default()
     }
+}
+
+/// Link over a serial port (or pty) path that can be reopened.
+pub fn serial_link(path: &str, config: LinkConfig) -> (LinkHandle, Receiver<LinkEvent>) {
+    let path = path.to_owned();
+    let connector: Connector = Box::new(move || {
+        xsel_pendant::link::SerialTransport::open(
+            &path,
+            xsel_pendant::link::LineSettings::default(),
+        )
+        .map(|t| Box::new(t) as Box<dyn xsel_pendant::link::Transport>)
+    });
+    spawn(connector, config, std::sync::Arc::new(|| {})).expect("link thread")
 }
 
 /// Waits for the first event matching `pred`; every event seen is kept in `seen`.
@@ -98,3 +112,20 @@ pub fn step_x(micrometres: i32) -> Command {
 }
 
 pub const SCARA: AxisPattern = AxisPattern::SCARA_1;
+
+/// The events as one line each, for failure messages.
+pub fn story(seen: &[LinkEvent]) -> String {
+    seen.iter()
+        .filter(|e| !matches!(e, LinkEvent::Health(_)))
+        .map(|e| match e {
+            LinkEvent::Reply { id, origin, .. }
+            | LinkEvent::ErrorReply { id, origin, .. }
+            | LinkEvent::Timeout { id, origin, .. } => {
+                format!("  {} [{id} {origin:?}]", e.summary())
+            }
+            LinkEvent::FrameSent { id, .. } => format!("  {} [{id}]", e.summary()),
+            _ => format!("  {}", e.summary()),
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
