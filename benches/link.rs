@@ -172,6 +172,35 @@ fn stop_latency(n: usize) -> (Vec<Duration>, Vec<Duration>) {
     (total, after_reply)
 }
 
+/// Simulator killed -> `Disconnected` reported, with polling on or off.
+fn loss_detection(polling: bool, n: usize) -> Vec<Duration> {
+    let mut samples = Vec::with_capacity(n);
+    for _ in 0..n {
+        let interval = polling.then_some(Duration::from_millis(50));
+        let (_link, events, sim) = embedded_link(
+            ready_setup(REPLY_DELAY),
+            FaultSpec::none(),
+            Some(line(115_200).byte_time()),
+            config(115_200, interval),
+        );
+        let mut seen = Vec::new();
+        wait_for(&events, Duration::from_secs(5), &mut seen, |e| {
+            matches!(e, LinkEvent::Connected { .. })
+        })
+        .expect("connected");
+        std::thread::sleep(Duration::from_millis(120));
+        let pulled = Instant::now();
+        drop(sim);
+        wait_for(&events, Duration::from_secs(5), &mut seen, |e| {
+            matches!(e, LinkEvent::Disconnected { .. })
+        })
+        .expect("loss reported");
+        samples.push(pulled.elapsed());
+    }
+    samples.sort();
+    samples
+}
+
 fn ms(d: Duration) -> String {
     format!("{:.3} ms", d.as_secs_f64() * 1e3)
 }
@@ -205,6 +234,16 @@ fn main() {
         ms(percentile(&idle, 0.99)),
         ms(*idle.last().unwrap())
     );
+    for polling in [true, false] {
+        let loss = loss_detection(polling, 20);
+        println!(
+            "line pulled -> Disconnected, polling {} ({} samples): median {}, max {}",
+            if polling { "every 50 ms" } else { "off" },
+            loss.len(),
+            ms(percentile(&loss, 0.5)),
+            ms(*loss.last().unwrap())
+        );
+    }
     let (total, after) = stop_latency(300);
     println!(
         "STOP while polling at 115200 ({} samples): submit -> written median {}, p99 {}; end of in-flight reply -> written median {}, p99 {}, max {}",
