@@ -10,19 +10,10 @@ use xsel_pendant::link::{LinkConfig, LinkEvent, Origin, Priority};
 use xsel_pendant::protocol::{
     Axis, AxisPattern, CentiG, Command, Direction, Jog, JogFrame, JogMotion, MmPerSec, Reply, Thou,
 };
-use xsel_pendant::sim::runner::{RunOptions, SimCore, start_pty, start_tcp};
+use xsel_pendant::sim::runner::{RunOptions, SimCore, start_tcp};
 use xsel_pendant::sim::{Controller, Fault, FaultSpec};
 
 const LONG: Duration = Duration::from_secs(10);
-
-fn answered(id: xsel_pendant::link::RequestId) -> impl FnMut(&LinkEvent) -> bool {
-    move |e| match e {
-        LinkEvent::Reply { id: r, .. }
-        | LinkEvent::ErrorReply { id: r, .. }
-        | LinkEvent::NotSent { id: r, .. } => *r == id,
-        _ => false,
-    }
-}
 
 #[test]
 fn a_motion_command_that_times_out_is_never_sent_again_and_status_is_read_instead() {
@@ -234,14 +225,7 @@ fn an_idle_line_without_polling_still_notices_the_loss() {
 
 #[test]
 fn closing_the_pseudo_terminal_gives_disconnected() {
-    let server = start_pty(
-        SimCore::new(
-            Controller::new(ready_setup(Duration::from_millis(1))),
-            FaultSpec::none(),
-        ),
-        RunOptions::default(),
-    )
-    .expect("pty");
+    let server = pty_server(ready_setup(Duration::from_millis(1)));
     let (_link, events) = serial_link(&server.path, LinkConfig::default());
     let mut seen = Vec::new();
     assert!(
@@ -260,14 +244,7 @@ fn closing_the_pseudo_terminal_gives_disconnected() {
 
 #[test]
 fn reconnect_on_request_reopens_the_port_and_polling_resumes() {
-    let server = start_pty(
-        SimCore::new(
-            Controller::new(ready_setup(Duration::from_millis(1))),
-            FaultSpec::none(),
-        ),
-        RunOptions::default(),
-    )
-    .expect("pty");
+    let server = pty_server(ready_setup(Duration::from_millis(1)));
     let config = LinkConfig {
         auto_reconnect: false,
         ..LinkConfig::default()

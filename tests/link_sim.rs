@@ -10,18 +10,9 @@ use xsel_pendant::link::{
     LineSettings, LinkConfig, LinkEvent, Origin, Polling, Priority, TableRequest,
 };
 use xsel_pendant::protocol::{Command, CoordKind, ErrorCode, Reply};
-use xsel_pendant::sim::runner::{RunOptions, SimCore, start_pty};
-use xsel_pendant::sim::{Controller, FaultSpec};
+use xsel_pendant::sim::FaultSpec;
 
 pub const LONG: Duration = Duration::from_secs(10);
-
-fn pty_server(setup: xsel_pendant::sim::SimSetup) -> xsel_pendant::sim::runner::PtyServer {
-    start_pty(
-        SimCore::new(Controller::new(setup), FaultSpec::none()),
-        RunOptions::default(),
-    )
-    .expect("pty")
-}
 
 #[test]
 fn polls_bring_scara_and_system_status_over_the_embedded_pipe() {
@@ -84,10 +75,7 @@ fn a_relative_step_moves_the_arm_by_exactly_the_step_in_the_work_frame() {
     let before = sim.with(|c| c.tip_work());
     let id = link.submit(step_x(-5_000), Priority::User);
     let mut seen = Vec::new();
-    let answer = wait_for(&events, LONG, &mut seen, |e| match e {
-        LinkEvent::Reply { id: r, .. } | LinkEvent::ErrorReply { id: r, .. } => *r == id,
-        _ => false,
-    });
+    let answer = wait_for(&events, LONG, &mut seen, answered(id));
     assert!(
         matches!(
             answer,
@@ -125,10 +113,7 @@ fn a_refused_move_is_reported_with_the_controllers_error_code() {
     sim.set_emergency_stop(true);
     let id = link.submit(step_x(1_000), Priority::User);
     let mut seen = Vec::new();
-    let answer = wait_for(&events, LONG, &mut seen, |e| match e {
-        LinkEvent::Reply { id: r, .. } | LinkEvent::ErrorReply { id: r, .. } => *r == id,
-        _ => false,
-    });
+    let answer = wait_for(&events, LONG, &mut seen, answered(id));
     let Some(LinkEvent::ErrorReply { code, .. }) = answer else {
         panic!("expected an error reply, got {answer:?}")
     };

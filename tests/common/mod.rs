@@ -80,6 +80,27 @@ pub fn serial_link(path: &str, config: LinkConfig) -> (LinkHandle, Receiver<Link
     spawn(connector, config, std::sync::Arc::new(|| {})).expect("link thread")
 }
 
+/// A simulator serving a pseudo-terminal (its path in `.path`).
+pub fn pty_server(setup: SimSetup) -> xsel_pendant::sim::runner::PtyServer {
+    use xsel_pendant::sim::Controller;
+    use xsel_pendant::sim::runner::{RunOptions, SimCore, start_pty};
+    start_pty(
+        SimCore::new(Controller::new(setup), FaultSpec::none()),
+        RunOptions::default(),
+    )
+    .expect("pty")
+}
+
+/// Matches the event that settles request `id`: its reply, error reply or refusal.
+pub fn answered(id: xsel_pendant::link::RequestId) -> impl FnMut(&LinkEvent) -> bool {
+    move |e| match e {
+        LinkEvent::Reply { id: r, .. }
+        | LinkEvent::ErrorReply { id: r, .. }
+        | LinkEvent::NotSent { id: r, .. } => *r == id,
+        _ => false,
+    }
+}
+
 /// Waits for the first event matching `pred`; every event seen is kept in `seen`.
 pub fn wait_for(
     events: &Receiver<LinkEvent>,
