@@ -500,3 +500,27 @@ fn negative_coordinates_encode_and_decode_exactly() {
     };
     assert_eq!(m.targets.get(Axis::A2), Some(t(-5000)));
 }
+
+#[test]
+fn reserved_codes_in_status_replies_do_not_cost_the_status_poll() {
+    // 2A3H with the [inferred] second-unit common status set to 0B (arm code 3 and
+    // coordinate system 2, both reserved): the reply still decodes.
+    let body =
+        "#992A30F01000100000B0F1C000000000493E01C000000FFFDB6101C00000000004E201C0000000000AFC8";
+    let Reply::ScaraStatus2(s) = reply(&format!("{body}{:02X}", checksum(body.as_bytes()))) else {
+        panic!("2A3H reply expected")
+    };
+    assert_eq!(s.unit1.common.arm, ArmSystem::Right);
+    assert_eq!(s.unit2.common.arm, ArmSystem::Undetermined);
+    assert_eq!(s.unit2.common.system, PositionSystem::Base);
+    // 2A1H with the reserved arm code 3: undetermined, positions intact.
+    let body = "#992A10100030F1C000000000493E01C000000FFFDB6101C00000000004E201C0000000000AFC8";
+    let Reply::ScaraStatus(s) = reply(&format!("{body}{:02X}", checksum(body.as_bytes()))) else {
+        panic!("2A1H reply expected")
+    };
+    assert_eq!(s.common.arm, ArmSystem::Undetermined);
+    assert_eq!(
+        s.axes.get(Axis::A1).map(|a| a.position),
+        Some(Thou(300_000))
+    );
+}

@@ -26,6 +26,15 @@ pub enum ProfileError {
     NotPositive { what: &'static str, value: f64 },
     #[error("the distance must be a finite number, got {0}")]
     BadDistance(f64),
+    #[error(
+        "the move would never end (distance {distance}, speed {speed}, acceleration {accel}, deceleration {decel})"
+    )]
+    Endless {
+        distance: f64,
+        speed: f64,
+        accel: f64,
+        decel: f64,
+    },
 }
 
 /// A 1-D trapezoidal profile from rest to rest over `distance` (>= 0): accelerate at
@@ -87,14 +96,16 @@ impl Trapezoid {
                 0.0,
             )
         };
-        Ok(Self::from_parts(
-            distance,
-            accel,
-            decel,
-            v_peak,
-            v_peak / accel,
-            cruise,
-        ))
+        let profile = Self::from_parts(distance, accel, decel, v_peak, v_peak / accel, cruise);
+        if !profile.duration().is_finite() {
+            return Err(ProfileError::Endless {
+                distance,
+                speed,
+                accel,
+                decel,
+            });
+        }
+        Ok(profile)
     }
 
     fn from_parts(

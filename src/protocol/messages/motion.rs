@@ -225,11 +225,15 @@ impl Jog {
                 u32::from(r.speed("speed")?.0),
             )
         };
-        let unit = if joint && axes.iter().next().is_some_and(Axis::is_scara_rotary_joint) {
-            AxisUnit::Deg
+        // Rotary joints in the each-axis system, and R in the Cartesian ones, turn in
+        // 0.001 deg ([inferred] PROTOCOL.md section 5, erratum 12).
+        let first = axes.iter().next();
+        let rotary = if joint {
+            first.is_some_and(Axis::is_scara_rotary_joint)
         } else {
-            AxisUnit::Mm
+            first.is_some_and(Axis::is_scara_r)
         };
+        let unit = if rotary { AxisUnit::Deg } else { AxisUnit::Mm };
         let dist = r.hex(
             Name::new("inching distance (0 = jog)"),
             8,

@@ -121,9 +121,8 @@ fn read_head(r: &mut Reader<'_, '_>) -> Result<(AxisPattern, ScaraMotion), Messa
     }
     let arm = (op >> 3) & 3;
     let motion = if op & 1 == 1 {
-        if arm != 0 {
-            return Err(r.invalid("bits 3-4 = 0 for a CP move (CP keeps the current arm)"));
-        }
+        // CP keeps the current arm; bits 3-4 are then ignored rather than refused, as a
+        // controller would most likely do ([inferred] PROTOCOL.md 3.20).
         ScaraMotion::Cp {
             acc: CentiG(a),
             dec: CentiG(d),

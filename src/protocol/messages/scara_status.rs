@@ -115,10 +115,16 @@ enum ArmTable {
     A3,
 }
 
+/// Reads a common status byte of a reply. A reserved arm code (3) reads as
+/// undetermined rather than failing the whole status reply. A reserved coordinate-system
+/// code (2) fails it, since the positions could not be read, unless `inferred_field`
+/// (2A3H's second-unit fields, whose place is [inferred] PROTOCOL.md 3.18): those must
+/// never cost the pendant its status poll, and read as base.
 fn read_common(
     r: &mut Reader<'_, '_>,
     name: &'static str,
     t: ArmTable,
+    inferred_field: bool,
 ) -> Result<CommonStatus, MessageError> {
     let bits = match t {
         ArmTable::A1 => COMMON_2A1,
@@ -130,14 +136,12 @@ fn read_common(
         ArmTable::A1 => ArmSystem::from_2a1(v & 3),
         ArmTable::A3 => ArmSystem::from_2a3(v & 3),
     }
-    .ok_or_else(|| {
-        r.invalid(match t {
-            ArmTable::A1 => "arm code (bits 0-1) 0 right, 1 left or 2 undetermined; 3 is reserved",
-            ArmTable::A3 => "arm code (bits 0-1) 0 undetermined, 1 right or 2 left; 3 is reserved",
-        })
-    })?;
-    let system = PositionSystem::from_code((v >> 2) & 3)
-        .ok_or_else(|| r.invalid("coordinate system (bits 2-3) 0, 1 or 3; 2 is reserved"))?;
+    .unwrap_or(ArmSystem::Undetermined);
+    let system = match PositionSystem::from_code((v >> 2) & 3) {
+        Some(system) => system,
+        None if inferred_field => PositionSystem::Base,
+        None => return Err(r.invalid("coordinate system (bits 2-3) 0, 1 or 3; 2 is reserved")),
+    };
     Ok(CommonStatus { arm, system })
 }
 
@@ -200,7 +204,7 @@ impl ScaraStatus {
             2,
             Show::Number,
         )?;
-        let common = read_common(r, "common axis status", ArmTable::A1)?;
+        let common = read_common(r, "common axis status", ArmTable::A1, false)?;
         let pattern = r.pattern("axis pattern")?;
         // [inferred] PROTOCOL.md 3.17: per-axis block as in 212H (page cut).
         let axes = read_axis_blocks(r, pattern, |a| common.system.unit_of(a))?;
@@ -312,7 +316,7 @@ impl ScaraStatus2 {
             2,
             Show::Number,
         )?;
-        let common1 = read_common(r, "common status (axes 1-4)", ArmTable::A3)?;
+        let common1 = read_common(r, "common status (axes 1-4)", ArmTable::A3, false)?;
         let work2 = r.u8(
             Name::new("work coordinate system (axes 5-8)"),
             2,
@@ -323,7 +327,7 @@ impl ScaraStatus2 {
             2,
             Show::Number,
         )?;
-        let common2 = read_common(r, "common status (axes 5-8)", ArmTable::A3)?;
+        let common2 = read_common(r, "common status (axes 5-8)", ArmTable::A3, true)?;
         let pattern = r.pattern("axis pattern")?;
         // [inferred] PROTOCOL.md 3.18: per-axis block as in 212H.
         let axes = read_axis_blocks(r, pattern, |a| {
