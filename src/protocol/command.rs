@@ -119,7 +119,9 @@ impl Command {
     pub fn max_reply_len(&self) -> usize {
         let n = |p: AxisPattern| p.count();
         let len = match self {
-            Command::TestCall(d) => 10 + d.as_bytes().len(),
+            // [inferred] PROTOCOL.md 3.1: the echo of up to 10 characters is a guess, so
+            // allow the longest echo whatever was sent.
+            Command::TestCall(d) => 10 + d.as_bytes().len().max(10),
             Command::Version(_) => 35,
             Command::AxisStatus { axes } => 12 + 16 * n(*axes),
             Command::SystemStatus => 25,
