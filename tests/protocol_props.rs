@@ -457,6 +457,9 @@ proptest! {
             let full = Reply::AxisStatus(PerAxis::from_fn(axes, |_| AxisState::default()));
             prop_assert_eq!(full.to_bytes(Station::DEFAULT).unwrap().len(), max);
         }
+        if let Some(full) = longest_reply(&c) {
+            prop_assert_eq!(full.to_bytes(Station::DEFAULT).unwrap().len(), max, "{:?}", c);
+        }
     }
 
     #[test]
@@ -552,4 +555,34 @@ proptest! {
         let d = describe(&bytes);
         let _ = d.to_string();
     }
+}
+
+/// The longest reply each fixed-size query can get (2A4H and 212H are built above).
+fn longest_reply(c: &Command) -> Option<Reply> {
+    let blocks = |axes: AxisPattern| PerAxis::from_fn(axes, |_| AxisState::default());
+    Some(match *c {
+        Command::TestCall(_) => Reply::TestCall(TestData::new(b"0123456789").unwrap()),
+        Command::Version(_) => Reply::Version(VersionInfo::default()),
+        Command::SystemStatus => Reply::SystemStatus(SystemStatus::default()),
+        Command::ErrorDetail(_) => Reply::ErrorDetail(ErrorDetail {
+            message: vec![b'M'; 255],
+            ..ErrorDetail::default()
+        }),
+        Command::CoordQuery(q) => Reply::CoordTable(CoordTable {
+            kind: q.kind,
+            first: q.first,
+            records: vec![XyzR::default(); usize::from(q.count)],
+        }),
+        Command::ScaraStatus(q) => Reply::ScaraStatus(ScaraStatus {
+            axes: blocks(q.axes),
+            ..ScaraStatus::default()
+        }),
+        Command::ScaraStatus2(q) => Reply::ScaraStatus2(ScaraStatus2 {
+            scara_axes: q.axes,
+            unit1: ScaraUnitStatus::default(),
+            unit2: ScaraUnitStatus::default(),
+            axes: blocks(q.axes),
+        }),
+        _ => return None,
+    })
 }
