@@ -52,7 +52,7 @@ impl Controller {
         } else if self.mode == Mode::Manual {
             return Err(SimError::ManualMode);
         }
-        if self.in_use() & pattern != 0 {
+        if self.busy_axes() & pattern != 0 {
             return Err(SimError::AxisBusy);
         }
         self.counters.servo_commands += 1;
@@ -65,7 +65,7 @@ impl Controller {
         let pattern = h.axes.0;
         self.check_pattern(pattern)?;
         self.check_can_act()?;
-        let in_use = self.in_use();
+        let in_use = self.busy_axes();
         for i in 0..8 {
             if pattern & (1 << i) != 0 {
                 if in_use & (1 << i) != 0 {

@@ -54,18 +54,18 @@ fn op_type(m: &ScaraMotion) -> (Option<ArmPolicy>, [u16; 3]) {
 }
 
 impl Controller {
-    /// Starts a PTP move of the joints of `axes` to `target` at `speed`/`accel`/`decel` %
-    /// of each joint's maxima (0 = the model's defaults).
+    /// Starts a PTP move of the joints to `target` at `speed`/`accel`/`decel` % of each
+    /// joint's maxima (0 = the model's defaults). Like every SCARA motion it owns axes 1-4:
+    /// the arm's motion writes all four joints, and completion is read on all of them.
     fn start_ptp(
         &mut self,
         target: Joints,
-        axes: u8,
         [speed, accel, decel]: [u16; 3],
         kind: MotionKind,
     ) -> Result<(), SimError> {
         let params = PtpParams::from_command(&self.model, accel, decel, speed);
         let m = PtpMove::joints(&self.kin, self.joints(), target, &params).map_err(move_error)?;
-        self.start_motion(kind, axes, Plan::Arm(m.into()), false);
+        self.start_motion(kind, SCARA, Plan::Arm(m.into()), false);
         Ok(())
     }
 
@@ -219,7 +219,7 @@ impl Controller {
             if !(lo..=hi).contains(&j[i]) || (distance == 0 && j[i] == self.values[i]) {
                 return Err(SimError::SoftLimit);
             }
-            return self.start_ptp(Joints::from_array(j), 1 << i, rates, kind);
+            return self.start_ptp(Joints::from_array(j), rates, kind);
         }
         let frame = match system {
             0 => JogFrame::Base,
