@@ -137,3 +137,21 @@ fn home_or_servo_of_a_scara_axis_waits_for_the_others() {
     s.wait(300);
     assert_eq!(s.cmd("!9923302000000"), "#992332D");
 }
+
+#[test]
+fn speed_change_refuses_scara_axes() {
+    let mut s = Sim::new(1);
+    s.ready(0x1F);
+    for pattern in ["01", "0F", "11"] {
+        assert_eq!(
+            s.cmd(&format!("!99262{pattern}0064")),
+            err("A04"),
+            "{pattern}"
+        );
+    }
+    assert_eq!(s.cmd("!99262100064"), err("CC1"), "axis 5 idle");
+    // Axis 5 to 300 mm: its speed can change.
+    assert_eq!(s.cmd("!9923410000000000064000493E0"), "#992342E");
+    s.wait(50);
+    assert_eq!(s.cmd("!99262100032"), "#992622F");
+}

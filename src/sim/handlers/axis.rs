@@ -234,11 +234,15 @@ impl Controller {
         Ok(())
     }
 
-    /// 262H speed change (PROTOCOL.md 3.14): new top speed (mm/s) for the CP or linear
-    /// move in progress on these axes; CC1 when there is none, or it is a PTP move in %.
+    /// 262H speed change (PROTOCOL.md 3.14): new top speed (mm/s) for the linear-axis
+    /// move in progress on these axes; CC1 when there is none. SCARA axes must not be
+    /// selected on a SCARA controller (A04).
     pub(crate) fn msg_speed_change(&mut self, c: &SpeedChange) -> Result<(), SimError> {
         let (pattern, speed) = (c.axes.0, c.speed.0);
         self.check_pattern(pattern)?;
+        if pattern & SCARA != 0 {
+            return Err(SimError::BadAxis);
+        }
         self.check_can_act()?;
         if speed == 0 {
             return Err(SimError::BadValue);
@@ -254,12 +258,10 @@ impl Controller {
             return Err(SimError::SpeedChange);
         }
         let now = self.now;
-        let cp_max = self.model.cp_max_speed_mm_s;
-        let lin_max = self.cfg.linear_max_speed;
+        let max = self.cfg.linear_max_speed;
         for k in affected {
-            let m = &mut self.motions[k];
-            let max = if m.axes & SCARA != 0 { cp_max } else { lin_max };
-            m.change_speed(now, f64::from(speed).min(max))
+            self.motions[k]
+                .change_speed(now, f64::from(speed).min(max))
                 .map_err(|_| SimError::BadValue)?;
         }
         Ok(())
