@@ -16,6 +16,8 @@ use xsel_pendant::sim::{Controller, FaultSpec, SimSetup, coords_file};
 const AFTER_HELP: &str = "\
 Every frame in and out is logged to stderr with the time since start, e.g.
   [  1.234567] rx !992120189\\r\\n  command 212H axis status
+A frame that gets no reply (also a run without '!' header, logged at its LF) says why:
+  [  1.240000] rx !99215FF\\r\\n  ...  [silent: wrong checksum]
 
 Replies: '#' normal, '&' + 3-hex-digit error code. The simulator's error codes
 (also in the README, section \"Simulator\"; `--codes` prints them):

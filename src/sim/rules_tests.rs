@@ -155,3 +155,21 @@ fn speed_change_refuses_scara_axes() {
     s.wait(50);
     assert_eq!(s.cmd("!99262100032"), "#992622F");
 }
+
+#[test]
+fn a_reset_without_reply_is_not_counted_as_a_reply() {
+    let mut setup = SimSetup::default();
+    setup.config.reset_replies = false;
+    let mut s = Sim {
+        c: Controller::new(setup),
+        t: Duration::ZERO,
+    };
+    assert_eq!(s.cmd("!99215"), "#9921510000000000060004");
+    assert_eq!(s.cmd("!99999"), err("A01"));
+    assert_eq!(s.cmd("!9925B"), "", "no reply before the reboot");
+    assert_eq!(s.cmd("!99215"), "", "rebooting");
+    let n = *s.c.counters();
+    assert_eq!((n.frames, n.replies, n.errors), (4, 1, 1), "{n:?}");
+    assert_eq!((n.resets, n.silent_reset, n.silent_rebooting), (1, 1, 1));
+    assert_eq!(n.frames, n.replies + n.errors + n.silent(), "{n:?}");
+}
