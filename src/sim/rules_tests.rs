@@ -173,3 +173,37 @@ fn a_reset_without_reply_is_not_counted_as_a_reply() {
     assert_eq!((n.resets, n.silent_reset, n.silent_rebooting), (1, 1, 1));
     assert_eq!(n.frames, n.replies + n.errors + n.silent(), "{n:?}");
 }
+
+#[test]
+fn a_jog_into_the_limit_it_sits_at_is_refused() {
+    let mut s = Sim::new(1);
+    s.ready(0x1F);
+    // Axis 5 homes to 0 mm, its lower limit.
+    assert_eq!(s.cmd(&jog(0x10, 10, 0, 0)), err("C74"), "axis 5 negative");
+    assert_eq!(s.c.in_use(), 0);
+    assert_eq!(s.cmd(&jog(0x10, 10, 0, 1)), "#9923630", "axis 5 positive");
+    assert_eq!(s.cmd("!992381000"), "#9923832");
+    s.wait(1000);
+    // J1 jogged to its upper limit, then again.
+    assert_eq!(s.cmd(&jog(0x01, 100, 0, 7)), "#9923630");
+    s.wait(20_000);
+    assert_eq!(s.c.in_use(), 0);
+    assert_eq!(s.cmd(&jog(0x01, 100, 0, 7)), err("C74"), "J1 at its limit");
+}
+
+#[test]
+fn a_scara_jog_waits_for_the_linear_axes() {
+    let mut s = Sim::new(1);
+    s.ready(0x1F);
+    // Axis 5 to 300 mm at 100 mm/s.
+    assert_eq!(s.cmd("!9923410000000000064000493E0"), "#992342E");
+    s.wait(50);
+    assert_eq!(s.cmd(&jog(0x01, 10, 1_000, 7)), err("B03"), "joint inching");
+    assert_eq!(
+        s.cmd(&jog(0x01, 10, 1_000, 1)),
+        err("B03"),
+        "base X inching"
+    );
+    s.wait(5000);
+    assert_eq!(s.cmd(&jog(0x01, 10, 1_000, 7)), "#9923630");
+}

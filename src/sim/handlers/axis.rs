@@ -16,6 +16,10 @@ pub(crate) const LINEAR: u8 = 0x30;
 /// Axes 1-4: the SCARA.
 pub(crate) const SCARA: u8 = 0x0F;
 
+/// Closer than this to a limit (mm or deg, far below the 0.001 wire unit) is at it: a
+/// continuous jog towards it is refused (C74).
+pub(crate) const AT_LIMIT: f64 = 1e-6;
+
 /// Parameter values for a 0 in a linear move's fields.
 const LINEAR_DEFAULT_SPEED: f64 = 100.0;
 const LINEAR_DEFAULT_ACCEL_CG: f64 = 30.0;
@@ -206,7 +210,12 @@ impl Controller {
             let mut to = self.values;
             let sign = if positive { 1.0 } else { -1.0 };
             let (target, kind) = if distance == 0 {
-                (if positive { hi } else { lo }, MotionKind::Jog)
+                let limit = if positive { hi } else { lo };
+                // Already at the limit it would jog to: refused like a SCARA joint jog.
+                if (to[i] - limit).abs() < AT_LIMIT {
+                    return Err(SimError::SoftLimit);
+                }
+                (limit, MotionKind::Jog)
             } else {
                 (
                     to[i] + sign * f64::from(distance) / 1000.0,
