@@ -64,7 +64,8 @@ struct Args {
     /// Start with servos on and axes homed.
     #[arg(long)]
     ready: bool,
-    /// Reply buffer size: 2048, or 1024 for a J/K/TT model setting.
+    /// Reply buffer size: 2048, or 1024 for a J/K/TT model setting (the longest command
+    /// received is then 2051 or 1023 bytes).
     #[arg(long, default_value_t = 2048)]
     reply_buffer: usize,
     /// Do not log frames to stderr.

@@ -5,7 +5,7 @@ use std::time::Duration;
 
 use super::coords_file::{self, PositionTable};
 use super::errors::SimError;
-use super::framing::{MAX_COMMAND, Silence};
+use super::framing::{Silence, max_command};
 use super::motion::{Motion, MotionKind};
 use super::state::{Alarm, AxisKind, AxisState, Counters, HomeState, Mode, SimConfig};
 use crate::protocol::{
@@ -281,9 +281,10 @@ impl Controller {
     }
 
     /// The silence rules (PROTOCOL.md 1.6): a command frame for this station, whole, with a
-    /// right SC or `@@`, no longer than the receive buffer; anything else gets no reply.
+    /// right SC or `@@`, no longer than the receive buffer (PROTOCOL.md 1.7: 1023 or 2051
+    /// bytes by the reply-buffer setting); anything else gets no reply.
     fn accept<'a>(&self, bytes: &'a [u8]) -> Result<Frame<'a>, Silence> {
-        if bytes.len() > MAX_COMMAND {
+        if bytes.len() > max_command(self.cfg.reply_buffer) {
             return Err(Silence::Overflow);
         }
         if bytes.first() != Some(&Header::Command.byte()) {

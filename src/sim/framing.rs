@@ -2,8 +2,8 @@
 //! candidate frames, and the reasons for silence. Frames themselves are read by
 //! [`crate::protocol::Frame::parse`].
 
-/// Longest command a controller can receive (PROTOCOL.md 1.7: 2051 bytes on the larger
-/// controllers); a longer run without LF is dropped.
+/// Longest command the larger controllers can receive (PROTOCOL.md 1.7: 2051 bytes);
+/// see [`max_command`] for the 1024-byte reply-buffer setting.
 pub const MAX_COMMAND: usize = 2051;
 
 /// Why a frame gets no reply at all (PROTOCOL.md 1.6). Logged, never sent.

@@ -207,3 +207,20 @@ fn a_scara_jog_waits_for_the_linear_axes() {
     s.wait(5000);
     assert_eq!(s.cmd(&jog(0x01, 10, 1_000, 7)), "#9923630");
 }
+
+#[test]
+fn the_receive_limit_follows_the_reply_buffer() {
+    // A 200H frame of `len` bytes with CR LF.
+    let long = |len: usize| format!("!99200{}", "0".repeat(len - 10));
+    for (buffer, limit) in [(1024, 1023), (2048, 2051)] {
+        let mut setup = SimSetup::default();
+        setup.config.reply_buffer = buffer;
+        let mut s = Sim {
+            c: Controller::new(setup),
+            t: Duration::ZERO,
+        };
+        assert_ne!(s.cmd(&long(limit)), "", "{limit} bytes fit {buffer}");
+        assert_eq!(s.cmd(&long(limit + 1)), "", "{} bytes overflow", limit + 1);
+        assert_eq!(s.c.counters().silent_other, 1);
+    }
+}
