@@ -489,7 +489,7 @@ fn error_replies_name_the_reason() {
     assert_eq!(c.cmd(&mv), err("B02"));
     assert_eq!(c.cmd("!992330F000000"), "#992332D");
     c.wait_idle();
-    assert_eq!(c.cmd("!992620F0064"), err("CC1"), "no move to change");
+    assert_eq!(c.cmd("!992620F0064"), err("A04"), "262H: no SCARA axes");
     assert_eq!(
         c.cmd("!992D60F000000000000020063"),
         err("B0A"),

@@ -4,8 +4,11 @@
 use std::io::{Read, Write};
 use std::time::{Duration, Instant};
 
+use std::sync::{Arc, Mutex};
 use xsel_pendant::sim::pipe::PipeEnd;
-use xsel_pendant::sim::runner::Dir;
+
+use xsel_pendant::sim::framing::Silence;
+use xsel_pendant::sim::runner::{Dir, format_entry};
 use xsel_pendant::sim::{EmbeddedOptions, Fault, FaultSpec, Mode, start_embedded};
 
 fn frame(body: &str) -> Vec<u8> {
@@ -68,4 +71,62 @@ fn embedded_simulator_answers_and_reports() {
         "the thread ends when the pendant's end is dropped"
     );
     sim.join();
+}
+
+#[test]
+fn every_frame_in_is_logged_with_the_reason_of_a_silence() {
+    let lines = Arc::new(Mutex::new(Vec::<String>::new()));
+    let sink = lines.clone();
+    let opts = EmbeddedOptions {
+        read_timeout: Duration::from_millis(10),
+        log: Some(Box::new(move |e| {
+            sink.lock().unwrap().push(format_entry(e))
+        })),
+        ..EmbeddedOptions::default()
+    };
+    let (mut pipe, sim) = start_embedded(opts);
+    pipe.write_all(b"#992152D\r\nhello\r\n!99215FF\r\nzz!99215")
+        .unwrap();
+    let r = ask(&mut pipe, "!99215", Duration::from_secs(1));
+    assert_eq!(r.as_deref(), Some("#9921510000000000060004\r\n"));
+    let ins: Vec<(Vec<u8>, Option<Silence>)> = sim
+        .traffic()
+        .into_iter()
+        .filter(|t| t.dir == Dir::In)
+        .map(|t| (t.bytes, t.silence))
+        .collect();
+    let want: Vec<(&[u8], Option<Silence>)> = vec![
+        (b"#992152D\r\n", Some(Silence::Header)),
+        (b"hello\r\n", Some(Silence::Header)),
+        (b"!99215FF\r\n", Some(Silence::Checksum)),
+        (b"zz", Some(Silence::Header)),
+        (b"!99215", Some(Silence::Terminator)),
+        (b"!992152B\r\n", None),
+    ];
+    let want: Vec<(Vec<u8>, Option<Silence>)> =
+        want.into_iter().map(|(b, s)| (b.to_vec(), s)).collect();
+    assert_eq!(ins, want);
+    let n = sim.counters();
+    assert_eq!(n.frames, 6);
+    assert_eq!(
+        (n.silent_header, n.silent_checksum, n.silent_terminator),
+        (3, 1, 1)
+    );
+    assert_eq!(n.frames, n.replies + n.errors + n.silent(), "{n:?}");
+    // The reply is logged once written: it may reach us first.
+    let deadline = Instant::now() + Duration::from_secs(1);
+    while lines.lock().unwrap().len() < 7 && Instant::now() < deadline {
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    let lines = lines.lock().unwrap();
+    assert_eq!(lines.len(), 7, "six in, one out: {lines:#?}");
+    assert!(
+        lines[0].contains(" rx #992152D\\r\\n") && lines[0].contains("[silent: no '!' header]")
+    );
+    assert!(
+        lines[2].contains("[silent: wrong checksum]"),
+        "{}",
+        lines[2]
+    );
+    assert!(!lines[5].contains("silent") && lines[6].contains(" tx "));
 }

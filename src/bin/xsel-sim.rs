@@ -16,6 +16,8 @@ use xsel_pendant::sim::{Controller, FaultSpec, SimSetup, coords_file};
 const AFTER_HELP: &str = "\
 Every frame in and out is logged to stderr with the time since start, e.g.
   [  1.234567] rx !992120189\\r\\n  command 212H axis status
+A frame that gets no reply (also a run without '!' header, logged at its LF) says why:
+  [  1.240000] rx !99215FF\\r\\n  ...  [silent: wrong checksum]
 
 Replies: '#' normal, '&' + 3-hex-digit error code. The simulator's error codes
 (also in the README, section \"Simulator\"; `--codes` prints them):
@@ -46,8 +48,9 @@ struct Args {
     /// assets/coords/example.toml). Default: that example.
     #[arg(long, value_name = "FILE")]
     coords: Option<String>,
-    /// Pace reply bytes at this baud rate (10 bits a character). Default: no pacing.
-    #[arg(long)]
+    /// Pace reply bytes at this baud rate (10 bits a character), 1200 to 230400.
+    /// Default: no pacing.
+    #[arg(long, value_parser = parse_baud)]
     baud: Option<u32>,
     /// Fault injection, e.g. `drop=0.05,corrupt=0.02,seed=7`. Keys: drop, corrupt,
     /// garbage, delay, truncate, stall (probability per reply), seed, delay-ms, stall-ms.
@@ -62,7 +65,8 @@ struct Args {
     /// Start with servos on and axes homed.
     #[arg(long)]
     ready: bool,
-    /// Reply buffer size: 2048, or 1024 for a J/K/TT model setting.
+    /// Reply buffer size: 2048, or 1024 for a J/K/TT model setting (the longest command
+    /// received is then 2051 or 1023 bytes).
     #[arg(long, default_value_t = 2048)]
     reply_buffer: usize,
     /// Do not log frames to stderr.
@@ -73,8 +77,32 @@ struct Args {
     codes: bool,
 }
 
+/// Exactly 2 hex digits (PROTOCOL.md 1.3).
 fn parse_station(s: &str) -> Result<u8, String> {
-    u8::from_str_radix(s, 16).map_err(|_| format!("`{s}` is not a 2-digit hex station number"))
+    let bad = || format!("`{s}` is not a station number: give exactly 2 hex digits, e.g. 99");
+    if s.len() != 2 || !s.bytes().all(|b| b.is_ascii_hexdigit()) {
+        return Err(bad());
+    }
+    u8::from_str_radix(s, 16).map_err(|_| bad())
+}
+
+/// A serial line rate the pacing can honour.
+const BAUD_RANGE: std::ops::RangeInclusive<u32> = 1200..=230_400;
+
+fn parse_baud(s: &str) -> Result<u32, String> {
+    let bad = || {
+        format!(
+            "`{s}` is not a baud rate from {} to {}",
+            BAUD_RANGE.start(),
+            BAUD_RANGE.end()
+        )
+    };
+    let baud: u32 = s.parse().map_err(|_| bad())?;
+    if BAUD_RANGE.contains(&baud) {
+        Ok(baud)
+    } else {
+        Err(bad())
+    }
 }
 
 fn main() {
@@ -168,4 +196,37 @@ fn run(args: Args) -> Result<(), String> {
         faults.total()
     );
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parses(args: &[&str]) -> Result<Args, String> {
+        Args::try_parse_from(std::iter::once("xsel-sim").chain(args.iter().copied()))
+            .map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn baud_is_a_real_line_rate() {
+        for bad in ["0", "1199", "230401", "-5", "fast"] {
+            let e = parses(&[&format!("--baud={bad}")])
+                .err()
+                .unwrap_or_default();
+            assert!(e.contains("1200 to 230400"), "--baud {bad}: {e}");
+        }
+        for good in ["1200", "9600", "115200", "230400"] {
+            assert!(parses(&["--baud", good]).is_ok(), "--baud {good}");
+        }
+    }
+
+    #[test]
+    fn station_is_exactly_two_hex_digits() {
+        for bad in ["9", "+9", "099", "", "9G", " 9"] {
+            let e = parses(&["--station", bad]).err().unwrap_or_default();
+            assert!(e.contains("exactly 2 hex digits"), "--station {bad:?}: {e}");
+        }
+        assert_eq!(parses(&["--station", "0a"]).unwrap().station, 0x0A);
+        assert_eq!(parses(&[]).unwrap().station, 0x99);
+    }
 }

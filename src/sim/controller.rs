@@ -5,7 +5,7 @@ use std::time::Duration;
 
 use super::coords_file::{self, PositionTable};
 use super::errors::SimError;
-use super::framing::{MAX_COMMAND, Silence};
+use super::framing::{Silence, max_command};
 use super::motion::{Motion, MotionKind};
 use super::state::{Alarm, AxisKind, AxisState, Counters, HomeState, Mode, SimConfig};
 use crate::protocol::{
@@ -192,27 +192,57 @@ impl Controller {
     /// As [`Controller::handle`], writing the reply into `out` (cleared first); `true` when
     /// there is a reply to send.
     pub fn handle_into(&mut self, frame: &[u8], now: Duration, out: &mut Vec<u8>) -> bool {
+        self.answer(frame, now, out).is_ok()
+    }
+
+    /// As [`Controller::handle_into`]; `Err` says why the controller stays silent.
+    /// Every frame counts once: a reply (`#`), an error (`&`) or a silence by reason.
+    pub fn answer(
+        &mut self,
+        frame: &[u8],
+        now: Duration,
+        out: &mut Vec<u8>,
+    ) -> Result<(), Silence> {
         out.clear();
         self.advance(now);
         self.counters.frames += 1;
-        if self.rebooting_until.is_some() {
-            self.counters.silent_rebooting += 1;
-            return false;
+        let result = self.answer_counted(frame, out);
+        if let Err(silence) = result {
+            self.count_silence(silence);
         }
-        let frame = match self.accept(frame) {
-            Ok(f) => f,
-            Err(silence) => {
-                let c = &mut self.counters;
-                match silence {
-                    Silence::Header => c.silent_header += 1,
-                    Silence::Station => c.silent_station += 1,
-                    Silence::Checksum => c.silent_checksum += 1,
-                    Silence::Terminator => c.silent_terminator += 1,
-                    _ => c.silent_other += 1,
-                }
-                return false;
+        result
+    }
+
+    /// A run the line assembler dropped before it could be a frame (no `!` header, cut by
+    /// a new `!`, too long): counted like a frame that got no reply.
+    pub fn note_dropped(&mut self, reason: Silence, now: Duration) {
+        self.advance(now);
+        self.counters.frames += 1;
+        self.count_silence(reason);
+    }
+
+    fn count_silence(&mut self, silence: Silence) {
+        let c = &mut self.counters;
+        match silence {
+            Silence::Header => c.silent_header += 1,
+            Silence::Station => c.silent_station += 1,
+            Silence::Checksum => c.silent_checksum += 1,
+            Silence::Terminator => c.silent_terminator += 1,
+            Silence::Rebooting => c.silent_rebooting += 1,
+            Silence::Reset => c.silent_reset += 1,
+            Silence::TooShort | Silence::MessageId | Silence::Overflow | Silence::Unencodable => {
+                c.silent_other += 1
             }
-        };
+        }
+    }
+
+    /// The body of [`Controller::answer`]: counts replies and errors actually produced;
+    /// the caller counts silences.
+    fn answer_counted(&mut self, frame: &[u8], out: &mut Vec<u8>) -> Result<(), Silence> {
+        if self.rebooting_until.is_some() {
+            return Err(Silence::Rebooting);
+        }
+        let frame = self.accept(frame)?;
         if frame.sc() == Sc::AtAt {
             self.counters.at_at += 1;
         }
@@ -226,32 +256,35 @@ impl Controller {
         let station = Station(self.cfg.station);
         match result {
             Ok(reply) => {
-                self.counters.replies += 1;
                 if motion {
                     self.counters.motion_started += 1;
                 }
-                match reply {
-                    // Typed replies are built within their fields' ranges.
-                    Some(r) => r.encode_into(station, out).is_ok(),
-                    None => false,
-                }
+                // 25BH without a reply carries out the reset but answers nothing.
+                let reply = reply.ok_or(Silence::Reset)?;
+                // Typed replies are built within their fields' ranges.
+                reply
+                    .encode_into(station, out)
+                    .map_err(|_| Silence::Unencodable)?;
+                self.counters.replies += 1;
             }
             Err(e) => {
-                self.counters.errors += 1;
                 if motion {
                     self.counters.motion_refused += 1;
                 }
                 Reply::Error(ErrorCode(e.code()))
                     .encode_into(station, out)
-                    .is_ok()
+                    .map_err(|_| Silence::Unencodable)?;
+                self.counters.errors += 1;
             }
         }
+        Ok(())
     }
 
     /// The silence rules (PROTOCOL.md 1.6): a command frame for this station, whole, with a
-    /// right SC or `@@`, no longer than the receive buffer; anything else gets no reply.
+    /// right SC or `@@`, no longer than the receive buffer (PROTOCOL.md 1.7: 1023 or 2051
+    /// bytes by the reply-buffer setting); anything else gets no reply.
     fn accept<'a>(&self, bytes: &'a [u8]) -> Result<Frame<'a>, Silence> {
-        if bytes.len() > MAX_COMMAND {
+        if bytes.len() > max_command(self.cfg.reply_buffer) {
             return Err(Silence::Overflow);
         }
         if bytes.first() != Some(&Header::Command.byte()) {

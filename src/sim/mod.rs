@@ -18,6 +18,9 @@ pub mod pipe;
 pub mod runner;
 pub mod state;
 
+#[cfg(test)]
+mod rules_tests;
+
 use crate::protocol::{Frame, Reply};
 
 pub use controller::{Controller, SimSetup, Snapshot};

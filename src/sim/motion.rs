@@ -1,7 +1,7 @@
 //! Motions the simulator runs, on the robot layer's motion generator: SCARA moves are
 //! robot [`Move`]s (PTP or checked CP lines); homing and the linear axes 5-6 interpolate
 //! axis values along a robot [`Trapezoid`]. Stop (238H) and speed change (262H) re-plan
-//! the profile mid-move.
+//! the profile mid-move (262H reaches only the linear axes 5-6).
 
 use std::time::Duration;
 

@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 
 use super::controller::Controller;
 use super::faults::{FaultCounts, FaultInjector, FaultSpec};
-use super::framing::Assembler;
+use super::framing::{Assembler, Received, Silence, max_command};
 use super::line::{SimLine, is_timeout, sleep_until, write_paced};
 use super::pipe::{PipeConfig, PipeEnd, duplex};
 use super::state::{Counters, Mode};
@@ -33,6 +33,8 @@ pub struct TrafficEntry {
     pub bytes: Vec<u8>,
     /// The injected fault, if any (`Out` only).
     pub fault: Option<&'static str>,
+    /// Why the controller stayed silent (`In` only; `None` when it answered).
+    pub silence: Option<Silence>,
 }
 
 /// How many traffic entries the core keeps (oldest dropped first).
@@ -117,7 +119,8 @@ pub fn serve(
     stop: &AtomicBool,
     opts: &mut RunOptions,
 ) -> ServeEnd {
-    let mut assembler = Assembler::new();
+    let limit = max_command(lock(shared).controller.config().reply_buffer);
+    let mut assembler = Assembler::with_limit(limit);
     let mut buf = [0u8; 512];
     let mut reply = Vec::with_capacity(2048);
     loop {
@@ -132,11 +135,16 @@ pub fn serve(
         };
         let arrived = Instant::now();
         for &byte in &buf[..n] {
-            let Some(frame) = assembler.push(byte) else {
-                continue;
-            };
-            if let Err(e) = answer(line, shared, frame, arrived, &mut reply, opts) {
-                return ServeEnd::Failed(e);
+            match assembler.push(byte) {
+                None => {}
+                Some(Received::Frame(frame)) => {
+                    if let Err(e) = answer(line, shared, frame, arrived, &mut reply, opts) {
+                        return ServeEnd::Failed(e);
+                    }
+                }
+                Some(Received::Dropped { bytes, reason }) => {
+                    dropped(shared, bytes, reason, arrived, opts);
+                }
             }
         }
         if n == 0 {
@@ -145,6 +153,30 @@ pub fn serve(
             core.controller.advance(now);
         }
     }
+}
+
+/// Logs and counts a run the assembler dropped: it never reaches the controller's parser.
+fn dropped(
+    shared: &Mutex<SimCore>,
+    bytes: &[u8],
+    reason: Silence,
+    arrived: Instant,
+    opts: &mut RunOptions,
+) {
+    let mut core = lock(shared);
+    let at = arrived.saturating_duration_since(core.started);
+    core.controller.note_dropped(reason, at);
+    let entry = TrafficEntry {
+        at,
+        dir: Dir::In,
+        bytes: bytes.to_vec(),
+        fault: None,
+        silence: Some(reason),
+    };
+    if let Some(log) = opts.log.as_mut() {
+        log(&entry);
+    }
+    core.record(entry);
 }
 
 /// Handles one frame: controller, delay, faults, pacing, logging.
@@ -159,17 +191,19 @@ fn answer(
     let (delivery, delay, started) = {
         let mut core = lock(shared);
         let at = arrived.saturating_duration_since(core.started);
+        let silence = core.controller.answer(frame, at, reply).err();
         let entry = TrafficEntry {
             at,
             dir: Dir::In,
             bytes: frame.to_vec(),
             fault: None,
+            silence,
         };
         if let Some(log) = opts.log.as_mut() {
             log(&entry);
         }
         core.record(entry);
-        if !core.controller.handle_into(frame, at, reply) {
+        if silence.is_some() {
             return Ok(());
         }
         let delivery = core.faults.plan(reply);
@@ -196,6 +230,7 @@ fn answer(
             .flat_map(|p| p.bytes.iter().copied())
             .collect(),
         fault: delivery.fault.map(|f| f.key()),
+        silence: None,
     };
     if let Some(log) = opts.log.as_mut() {
         log(&entry);
@@ -224,8 +259,12 @@ pub fn format_entry(entry: &TrafficEntry) -> String {
         .fault
         .map(|f| format!("  [fault: {f}]"))
         .unwrap_or_default();
+    let silence = entry
+        .silence
+        .map(|s| format!("  [silent: {}]", s.text()))
+        .unwrap_or_default();
     format!(
-        "[{:>10.6}] {arrow} {text}  {}{fault}",
+        "[{:>10.6}] {arrow} {text}  {}{fault}{silence}",
         entry.at.as_secs_f64(),
         describe_frame(&entry.bytes)
     )

@@ -92,7 +92,8 @@ pub struct Alarm {
 /// control API (never sent on the wire).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Counters {
-    /// Frames handed to the controller (after line splitting), valid or not.
+    /// Frames handed to the controller (after line splitting), valid or not, and runs the
+    /// line splitter dropped (no `!` header, cut by a new `!`, too long).
     pub frames: u64,
     /// Frames ignored under the silence rules, by reason.
     pub silent_header: u64,
@@ -102,9 +103,12 @@ pub struct Counters {
     pub silent_other: u64,
     /// Frames ignored because the controller was rebooting after 25BH.
     pub silent_rebooting: u64,
+    /// 25BH carried out without a reply (`reset_replies` off).
+    pub silent_reset: u64,
     /// Frames that passed the silence rules and carried `@@` as SC.
     pub at_at: u64,
-    /// Normal (`#`) and error (`&`) replies produced.
+    /// Normal (`#`) and error (`&`) replies produced (sent). Every frame is a reply, an
+    /// error or a silence: `frames == replies + errors + silent()`.
     pub replies: u64,
     pub errors: u64,
     /// Motion commands (233H, 234H, 235H, 236H, 2D4H, 2D5H, 2D6H) received, started
@@ -131,6 +135,7 @@ impl Counters {
             + self.silent_terminator
             + self.silent_other
             + self.silent_rebooting
+            + self.silent_reset
     }
 }
 

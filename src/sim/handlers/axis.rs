@@ -16,6 +16,10 @@ pub(crate) const LINEAR: u8 = 0x30;
 /// Axes 1-4: the SCARA.
 pub(crate) const SCARA: u8 = 0x0F;
 
+/// Closer than this to a limit (mm or deg, far below the 0.001 wire unit) is at it: a
+/// continuous jog towards it is refused (C74).
+pub(crate) const AT_LIMIT: f64 = 1e-6;
+
 /// Parameter values for a 0 in a linear move's fields.
 const LINEAR_DEFAULT_SPEED: f64 = 100.0;
 const LINEAR_DEFAULT_ACCEL_CG: f64 = 30.0;
@@ -52,7 +56,7 @@ impl Controller {
         } else if self.mode == Mode::Manual {
             return Err(SimError::ManualMode);
         }
-        if self.in_use() & pattern != 0 {
+        if self.busy_axes() & pattern != 0 {
             return Err(SimError::AxisBusy);
         }
         self.counters.servo_commands += 1;
@@ -65,7 +69,7 @@ impl Controller {
         let pattern = h.axes.0;
         self.check_pattern(pattern)?;
         self.check_can_act()?;
-        let in_use = self.in_use();
+        let in_use = self.busy_axes();
         for i in 0..8 {
             if pattern & (1 << i) != 0 {
                 if in_use & (1 << i) != 0 {
@@ -206,7 +210,12 @@ impl Controller {
             let mut to = self.values;
             let sign = if positive { 1.0 } else { -1.0 };
             let (target, kind) = if distance == 0 {
-                (if positive { hi } else { lo }, MotionKind::Jog)
+                let limit = if positive { hi } else { lo };
+                // Already at the limit it would jog to: refused like a SCARA joint jog.
+                if (to[i] - limit).abs() < AT_LIMIT {
+                    return Err(SimError::SoftLimit);
+                }
+                (limit, MotionKind::Jog)
             } else {
                 (
                     to[i] + sign * f64::from(distance) / 1000.0,
@@ -234,11 +243,15 @@ impl Controller {
         Ok(())
     }
 
-    /// 262H speed change (PROTOCOL.md 3.14): new top speed (mm/s) for the CP or linear
-    /// move in progress on these axes; CC1 when there is none, or it is a PTP move in %.
+    /// 262H speed change (PROTOCOL.md 3.14): new top speed (mm/s) for the linear-axis
+    /// move in progress on these axes; CC1 when there is none. SCARA axes must not be
+    /// selected on a SCARA controller (A04).
     pub(crate) fn msg_speed_change(&mut self, c: &SpeedChange) -> Result<(), SimError> {
         let (pattern, speed) = (c.axes.0, c.speed.0);
         self.check_pattern(pattern)?;
+        if pattern & SCARA != 0 {
+            return Err(SimError::BadAxis);
+        }
         self.check_can_act()?;
         if speed == 0 {
             return Err(SimError::BadValue);
@@ -254,12 +267,10 @@ impl Controller {
             return Err(SimError::SpeedChange);
         }
         let now = self.now;
-        let cp_max = self.model.cp_max_speed_mm_s;
-        let lin_max = self.cfg.linear_max_speed;
+        let max = self.cfg.linear_max_speed;
         for k in affected {
-            let m = &mut self.motions[k];
-            let max = if m.axes & SCARA != 0 { cp_max } else { lin_max };
-            m.change_speed(now, f64::from(speed).min(max))
+            self.motions[k]
+                .change_speed(now, f64::from(speed).min(max))
                 .map_err(|_| SimError::BadValue)?;
         }
         Ok(())

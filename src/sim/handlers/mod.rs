@@ -13,6 +13,7 @@ mod system;
 use super::controller::Controller;
 use super::errors::SimError;
 use super::state::Mode;
+use axis::SCARA;
 
 impl Controller {
     /// Refusals shared by every command that acts (moves, servo, home, speed change):
@@ -41,10 +42,22 @@ impl Controller {
         Ok(())
     }
 
-    /// Axes about to move: servo on, homed, not in use.
+    /// Axes a new command may not take: those in use, and the whole SCARA (axes 1-4) while
+    /// any of its axes is in use (moving, homing, switching servo). The arm's joints move
+    /// together, so one SCARA axis is never commanded while another one works.
+    pub(crate) fn busy_axes(&self) -> u8 {
+        let in_use = self.in_use();
+        if in_use & SCARA != 0 {
+            in_use | SCARA
+        } else {
+            in_use
+        }
+    }
+
+    /// Axes about to move: servo on, homed, not busy.
     pub(crate) fn check_ready_to_move(&self, pattern: u8) -> Result<(), SimError> {
         self.check_can_act()?;
-        let in_use = self.in_use();
+        let in_use = self.busy_axes();
         for i in 0..8 {
             if pattern & (1 << i) == 0 {
                 continue;

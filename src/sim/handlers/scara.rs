@@ -2,7 +2,7 @@
 //! SCARA side of 236H jog/inching (base, work, tool or each-axis system), planned and
 //! checked by the robot layer's motion generator.
 
-use super::axis::{LINEAR, SCARA};
+use super::axis::{AT_LIMIT, LINEAR, SCARA};
 use crate::protocol::{ScaraMotion, ScaraMove, ScaraPositionMove};
 use crate::robot::{
     ArmPolicy, CpMove, CpParams, DEFAULT_CHECK_SPACING_MM, IkError, JogFrame, Joints, MoveError,
@@ -54,18 +54,18 @@ fn op_type(m: &ScaraMotion) -> (Option<ArmPolicy>, [u16; 3]) {
 }
 
 impl Controller {
-    /// Starts a PTP move of the joints of `axes` to `target` at `speed`/`accel`/`decel` %
-    /// of each joint's maxima (0 = the model's defaults).
+    /// Starts a PTP move of the joints to `target` at `speed`/`accel`/`decel` % of each
+    /// joint's maxima (0 = the model's defaults). Like every SCARA motion it owns axes 1-4:
+    /// the arm's motion writes all four joints, and completion is read on all of them.
     fn start_ptp(
         &mut self,
         target: Joints,
-        axes: u8,
         [speed, accel, decel]: [u16; 3],
         kind: MotionKind,
     ) -> Result<(), SimError> {
         let params = PtpParams::from_command(&self.model, accel, decel, speed);
         let m = PtpMove::joints(&self.kin, self.joints(), target, &params).map_err(move_error)?;
-        self.start_motion(kind, axes, Plan::Arm(m.into()), false);
+        self.start_motion(kind, SCARA, Plan::Arm(m.into()), false);
         Ok(())
     }
 
@@ -200,6 +200,10 @@ impl Controller {
         system: u8,
     ) -> Result<(), SimError> {
         self.check_ready_to_move(SCARA)?;
+        // "Only while no servo axis is operating" (PROTOCOL.md 3.10): the linear axes too.
+        if self.in_use() & LINEAR != 0 {
+            return Err(SimError::AxisBusy);
+        }
         let i = pattern.trailing_zeros() as usize;
         let sign = if positive { 1.0 } else { -1.0 };
         let step = sign * f64::from(distance) / 1000.0;
@@ -216,10 +220,12 @@ impl Controller {
                 0 => lo,
                 _ => j[i] + step,
             };
-            if !(lo..=hi).contains(&j[i]) || (distance == 0 && j[i] == self.values[i]) {
+            if !(lo..=hi).contains(&j[i])
+                || (distance == 0 && (j[i] - self.values[i]).abs() < AT_LIMIT)
+            {
                 return Err(SimError::SoftLimit);
             }
-            return self.start_ptp(Joints::from_array(j), 1 << i, rates, kind);
+            return self.start_ptp(Joints::from_array(j), rates, kind);
         }
         let frame = match system {
             0 => JogFrame::Base,
