@@ -30,6 +30,23 @@ fn read_kind(r: &mut Reader<'_, '_>) -> Result<CoordKind, MessageError> {
     }
 }
 
+/// The record count of a table reply: two hex digits hold at most 255.
+fn record_count(w: &Writer<'_>, n: usize) -> Result<u32, EncodeError> {
+    u32::try_from(n).ok().filter(|&n| n <= 255).ok_or_else(|| {
+        w.error(
+            "number of records",
+            format!("= {n}: at most 255 records fit"),
+        )
+    })
+}
+
+/// Type, first definition number and record count: the head 2A0H and 2A4H replies share.
+fn write_table_head(w: &mut Writer<'_>, kind: CoordKind, first: u8, count: u32) {
+    w.hex_fit(kind_code(kind), 1);
+    w.hex_fit(u32::from(first), 2);
+    w.hex_fit(count, 2);
+}
+
 fn kind_code(k: CoordKind) -> u32 {
     match k {
         CoordKind::Work => 0,
@@ -110,16 +127,8 @@ impl CoordTable {
     }
 
     pub(crate) fn write(&self, w: &mut Writer<'_>) -> Result<(), EncodeError> {
-        let n = self.records.len();
-        if n > 255 {
-            return Err(w.error(
-                "number of records",
-                format!("= {n}: at most 255 records fit"),
-            ));
-        }
-        w.hex_fit(kind_code(self.kind), 1);
-        w.hex_fit(u32::from(self.first), 2);
-        w.hex_fit(n as u32, 2);
+        let n = record_count(w, self.records.len())?;
+        write_table_head(w, self.kind, self.first, n);
         for rec in &self.records {
             w.coord(rec.x);
             w.coord(rec.y);
@@ -287,17 +296,9 @@ impl CoordTable2 {
     }
 
     pub(crate) fn write(&self, w: &mut Writer<'_>) -> Result<(), EncodeError> {
-        let n = self.records.len();
-        if n > 255 {
-            return Err(w.error(
-                "number of records",
-                format!("= {n}: at most 255 records fit"),
-            ));
-        }
+        let n = record_count(w, self.records.len())?;
         w.hex_fit(u32::from(self.axes.0), 2);
-        w.hex_fit(kind_code(self.kind), 1);
-        w.hex_fit(u32::from(self.first), 2);
-        w.hex_fit(n as u32, 2);
+        write_table_head(w, self.kind, self.first, n);
         for (i, rec) in self.records.iter().enumerate() {
             if rec.pattern() != self.axes {
                 return Err(w.error(
