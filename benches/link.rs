@@ -95,6 +95,24 @@ fn line_efficiency(baud: u32, run: Duration) -> (f64, f64) {
     (achieved, 1.0 / per.as_secs_f64())
 }
 
+/// When the frame of request `id` was written (the events seen meanwhile kept in `seen`).
+fn written_at(
+    events: &crossbeam_channel::Receiver<LinkEvent>,
+    seen: &mut Vec<LinkEvent>,
+    id: xsel_pendant::link::RequestId,
+) -> Instant {
+    let sent = wait_for(
+        events,
+        Duration::from_secs(2),
+        seen,
+        |e| matches!(e, LinkEvent::FrameSent { id: s, .. } if *s == id),
+    );
+    match sent {
+        Some(LinkEvent::FrameSent { at, .. }) => at,
+        _ => panic!("request {id} was never written"),
+    }
+}
+
 /// Submit on an idle line -> the frame written; `n` samples.
 fn idle_latency(n: usize) -> Vec<Duration> {
     let (link, events, _sim) = embedded_link(
@@ -109,15 +127,7 @@ fn idle_latency(n: usize) -> Vec<Duration> {
         std::thread::sleep(Duration::from_millis(3));
         let submitted = Instant::now();
         let id = link.submit(Command::SystemStatus, Priority::User);
-        let sent = wait_for(
-            &events,
-            Duration::from_secs(2),
-            &mut seen,
-            |e| matches!(e, LinkEvent::FrameSent { id: s, .. } if *s == id),
-        );
-        let Some(LinkEvent::FrameSent { at, .. }) = sent else {
-            panic!("not sent")
-        };
+        let at = written_at(&events, &mut seen, id);
         samples.push(at.saturating_duration_since(submitted));
         wait_for(
             &events,
@@ -149,15 +159,7 @@ fn stop_latency(n: usize) -> (Vec<Duration>, Vec<Duration>) {
         let submitted = Instant::now();
         let id = link.stop_all();
         seen.clear();
-        let sent = wait_for(
-            &events,
-            Duration::from_secs(2),
-            &mut seen,
-            |e| matches!(e, LinkEvent::FrameSent { id: s, .. } if *s == id),
-        );
-        let Some(LinkEvent::FrameSent { at, .. }) = sent else {
-            panic!("STOP not sent")
-        };
+        let at = written_at(&events, &mut seen, id);
         total.push(at.saturating_duration_since(submitted));
         let last_reply = seen.iter().rev().find_map(|e| match e {
             LinkEvent::FrameReceived { last_byte, .. } => Some(*last_byte),
