@@ -5,6 +5,9 @@
 //! the project.
 
 pub mod link;
+pub mod pendant;
 pub mod protocol;
 pub mod robot;
+pub mod session;
+pub mod ui;
 pub mod sim;

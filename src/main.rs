@@ -5,11 +5,13 @@
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use clap::Parser;
+use clap::{CommandFactory, FromArgMatches, Parser};
 use xsel_pendant::link::transport::{SerialTransport, StreamTransport, TcpTransport};
 use xsel_pendant::link::{
     Connector, LineSettings, LinkConfig, LinkEvent, Parity, Transport, spawn,
 };
+use xsel_pendant::pendant::{ConnectionSettings, LineKind, ParityChoice};
+use xsel_pendant::ui::{StartOptions, run_window};
 use xsel_pendant::protocol::{AxisUnit, HomeState, Reply, ScaraStatus, Station, SystemStatus};
 use xsel_pendant::robot::RobotModel;
 use xsel_pendant::sim::pipe::PipeEnd;
@@ -44,9 +46,33 @@ struct Args {
     /// Robot model for the built-in simulator: a TOML file or scara-500 / scara-250.
     #[arg(long, default_value = "scara-500")]
     robot: String,
-    /// Keep printing the status every half second until Ctrl-C.
+    /// Keep printing the status every half second until Ctrl-C (text mode).
     #[arg(long)]
     watch: bool,
+    /// Text mode: no window; print the controller's state (with --watch, keep polling).
+    #[arg(long)]
+    headless: bool,
+}
+
+/// The connection the command line names, for the window.
+fn window_connection(args: &Args) -> ConnectionSettings {
+    let mut c = ConnectionSettings {
+        baud: args.baud,
+        data_bits: args.data_bits,
+        parity: ParityChoice::from_link(args.parity),
+        stop_bits: args.stop_bits,
+        station: args.station.0,
+        robot: args.robot.clone(),
+        ..ConnectionSettings::default()
+    };
+    if let Some(port) = &args.port {
+        c.kind = LineKind::Serial;
+        c.port = port.clone();
+    } else if let Some(addr) = &args.tcp {
+        c.kind = LineKind::Tcp;
+        c.tcp = addr.clone();
+    }
+    c
 }
 
 fn parse_parity(s: &str) -> Result<Parity, String> {
@@ -162,7 +188,26 @@ fn scara_line(s: &ScaraStatus) -> String {
 }
 
 fn main() {
-    let args = Args::parse();
+    let matches = Args::command().get_matches();
+    let args = Args::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
+    if !args.headless && !args.watch {
+        // Line flags on the command line replace the saved connection; without them the
+        // window opens on the built-in simulator with the saved line settings kept.
+        let named = [
+            "port", "tcp", "baud", "data_bits", "parity", "stop_bits", "station", "robot",
+        ]
+        .iter()
+        .any(|id| matches.value_source(id) == Some(clap::parser::ValueSource::CommandLine));
+        let options = StartOptions {
+            connection: named.then(|| window_connection(&args)),
+            fresh: false,
+        };
+        if let Err(e) = run_window(options) {
+            eprintln!("xsel-pendant: {e}");
+            std::process::exit(2);
+        }
+        return;
+    }
     let line = LineSettings {
         baud: args.baud,
         data_bits: args.data_bits,

@@ -1,0 +1,156 @@
+//! The connection the operator chose (persisted) and the state of the line (live).
+
+use std::fmt;
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+
+use crate::link::{LineSettings, Parity};
+use crate::protocol::Station;
+
+/// Where the controller is.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum LineKind {
+    /// The built-in simulated controller.
+    #[default]
+    Simulator,
+    /// A serial port (RS-232C or USB adapter).
+    Serial,
+    /// A serial-to-Ethernet bridge, or `xsel-sim --tcp`.
+    Tcp,
+}
+
+impl LineKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            LineKind::Simulator => "Built-in simulator",
+            LineKind::Serial => "Serial port",
+            LineKind::Tcp => "TCP bridge",
+        }
+    }
+}
+
+/// Parity as persisted.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ParityChoice {
+    #[default]
+    None,
+    Odd,
+    Even,
+}
+
+impl ParityChoice {
+    pub const ALL: [ParityChoice; 3] = [ParityChoice::None, ParityChoice::Odd, ParityChoice::Even];
+    pub fn to_link(self) -> Parity {
+        match self {
+            ParityChoice::None => Parity::None,
+            ParityChoice::Odd => Parity::Odd,
+            ParityChoice::Even => Parity::Even,
+        }
+    }
+    pub fn from_link(p: Parity) -> Self {
+        match p {
+            Parity::None => ParityChoice::None,
+            Parity::Odd => ParityChoice::Odd,
+            Parity::Even => ParityChoice::Even,
+        }
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            ParityChoice::None => "none",
+            ParityChoice::Odd => "odd",
+            ParityChoice::Even => "even",
+        }
+    }
+}
+
+/// The line the operator chose, persisted between runs.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct ConnectionSettings {
+    pub kind: LineKind,
+    /// Serial port name, e.g. `/dev/ttyUSB0` or `COM3`.
+    pub port: String,
+    /// `HOST:PORT` of a TCP bridge.
+    pub tcp: String,
+    pub baud: u32,
+    pub data_bits: u8,
+    pub parity: ParityChoice,
+    pub stop_bits: u8,
+    /// Station number (2 hex digits on the wire).
+    pub station: u8,
+    /// Robot model for checks and the simulator: a built-in name or a TOML file.
+    pub robot: String,
+}
+
+impl Default for ConnectionSettings {
+    fn default() -> Self {
+        let line = LineSettings::default();
+        Self {
+            kind: LineKind::Simulator,
+            port: String::new(),
+            tcp: "127.0.0.1:5099".into(),
+            baud: line.baud,
+            data_bits: line.data_bits,
+            parity: ParityChoice::from_link(line.parity),
+            stop_bits: line.stop_bits,
+            station: Station::DEFAULT.0,
+            robot: "scara-500".into(),
+        }
+    }
+}
+
+impl ConnectionSettings {
+    pub fn line(&self) -> LineSettings {
+        LineSettings {
+            baud: self.baud,
+            data_bits: self.data_bits,
+            parity: self.parity.to_link(),
+            stop_bits: self.stop_bits,
+        }
+    }
+
+    pub fn station(&self) -> Station {
+        Station(self.station)
+    }
+
+    /// What the settings name, for the top bar: "built-in simulator", "/dev/ttyUSB0"...
+    pub fn target(&self) -> String {
+        match self.kind {
+            LineKind::Simulator => "built-in simulator".into(),
+            LineKind::Serial => self.port.clone(),
+            LineKind::Tcp => self.tcp.clone(),
+        }
+    }
+}
+
+/// The state of the line, as the link reported it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum LineState {
+    /// Not connected, and not trying.
+    #[default]
+    Closed,
+    /// Opening the line.
+    Opening,
+    /// Open.
+    Up { line: String, since: Instant },
+    /// Lost or could not be opened; the link may be retrying.
+    Down { reason: String, since: Instant },
+}
+
+impl LineState {
+    pub fn is_up(&self) -> bool {
+        matches!(self, LineState::Up { .. })
+    }
+}
+
+impl fmt::Display for LineState {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            LineState::Closed => f.write_str("disconnected"),
+            LineState::Opening => f.write_str("connecting..."),
+            LineState::Up { line, .. } => write!(f, "connected: {line}"),
+            LineState::Down { reason, .. } => write!(f, "line down: {reason}"),
+        }
+    }
+}

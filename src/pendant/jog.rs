@@ -1,0 +1,507 @@
+//! The jog planner: turns a jog button (axis, direction) and the jog settings into one
+//! checked protocol command, or a refusal with its reason. Nothing refused reaches the line.
+
+use serde::{Deserialize, Serialize};
+
+use crate::protocol::{
+    ArmPolicy as WirePolicy, Axis, AxisPattern, CentiG, Command, Direction, Jog,
+    JogFrame as WireFrame, JogMotion, MmPerSec, PerAxis, Percent, ScaraMotion, ScaraMove, Thou,
+};
+use crate::robot::{
+    ArmPolicy, ArmSystem, CoordSystem, CpMove, CpParams, DEFAULT_CHECK_SPACING_MM, JogFrame,
+    Joints, Move, MoveError, Pose, PtpMove, PtpParams, RelativeTo, RobotModel, Scara,
+    jog_delta_to_work, tip_in_work,
+};
+
+/// The step ladder, mm (or deg for R and the rotary joints).
+pub const STEP_LADDER: [f64; 5] = [0.01, 0.1, 1.0, 10.0, 50.0];
+
+/// The largest step the pendant sends, mm or deg.
+pub const MAX_STEP: f64 = 1000.0;
+
+/// A jog button: a Cartesian axis of the chosen frame, or a joint.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum JogAxis {
+    X,
+    Y,
+    Z,
+    R,
+    J1,
+    J2,
+    J3,
+    J4,
+}
+
+impl JogAxis {
+    pub const CARTESIAN: [JogAxis; 4] = [JogAxis::X, JogAxis::Y, JogAxis::Z, JogAxis::R];
+    pub const JOINTS: [JogAxis; 4] = [JogAxis::J1, JogAxis::J2, JogAxis::J3, JogAxis::J4];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            JogAxis::X => "X",
+            JogAxis::Y => "Y",
+            JogAxis::Z => "Z",
+            JogAxis::R => "R",
+            JogAxis::J1 => "J1",
+            JogAxis::J2 => "J2",
+            JogAxis::J3 => "J3",
+            JogAxis::J4 => "J4",
+        }
+    }
+
+    /// Index 0-3 in `[x|j1, y|j2, z|j3, r|j4]`.
+    pub fn index(self) -> usize {
+        match self {
+            JogAxis::X | JogAxis::J1 => 0,
+            JogAxis::Y | JogAxis::J2 => 1,
+            JogAxis::Z | JogAxis::J3 => 2,
+            JogAxis::R | JogAxis::J4 => 3,
+        }
+    }
+
+    pub fn is_joint(self) -> bool {
+        matches!(self, JogAxis::J1 | JogAxis::J2 | JogAxis::J3 | JogAxis::J4)
+    }
+
+    /// "mm" or "deg".
+    pub fn unit(self) -> &'static str {
+        match self {
+            JogAxis::Z | JogAxis::X | JogAxis::Y | JogAxis::J3 => "mm",
+            _ => "deg",
+        }
+    }
+
+    fn wire_axis(self) -> Axis {
+        Axis::from_index(self.index() as u8).unwrap_or(Axis::A1)
+    }
+}
+
+/// Step by step, or continuous while held.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum JogMode {
+    #[default]
+    Step,
+    Continuous,
+}
+
+/// PTP (joint-interpolated) or CP (straight line).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Interpolation {
+    #[default]
+    Ptp,
+    Cp,
+}
+
+/// The frame a Cartesian step is given in.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum StepFrame {
+    #[default]
+    Work,
+    Base,
+    Tool,
+}
+
+impl StepFrame {
+    pub fn name(self) -> &'static str {
+        match self {
+            StepFrame::Work => "work",
+            StepFrame::Base => "base",
+            StepFrame::Tool => "tool",
+        }
+    }
+    fn robot(self) -> JogFrame {
+        match self {
+            StepFrame::Work => JogFrame::Work,
+            StepFrame::Base => JogFrame::Base,
+            StepFrame::Tool => JogFrame::Tool,
+        }
+    }
+    fn wire(self) -> WireFrame {
+        match self {
+            StepFrame::Work => WireFrame::Work,
+            StepFrame::Base => WireFrame::Base,
+            StepFrame::Tool => WireFrame::Tool,
+        }
+    }
+}
+
+/// Which position a step is added to (DESIGN.md, "relative to").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum StepBase {
+    /// Where the last move ends: chained steps never drift.
+    #[default]
+    Command,
+    /// The polled position.
+    Actual,
+    /// Where the profile is now.
+    Target,
+}
+
+impl StepBase {
+    pub fn name(self) -> &'static str {
+        match self {
+            StepBase::Command => "command",
+            StepBase::Actual => "actual",
+            StepBase::Target => "target",
+        }
+    }
+    fn robot(self) -> RelativeTo {
+        match self {
+            StepBase::Command => RelativeTo::Command,
+            StepBase::Actual => RelativeTo::Actual,
+            StepBase::Target => RelativeTo::Target,
+        }
+    }
+}
+
+/// The four PTP arm policies of 2D5H (operation type bits 3-4).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ArmChoice {
+    #[default]
+    KeepNoSwitch,
+    KeepMaySwitch,
+    Right,
+    Left,
+}
+
+impl ArmChoice {
+    pub const ALL: [ArmChoice; 4] = [
+        ArmChoice::KeepNoSwitch,
+        ArmChoice::KeepMaySwitch,
+        ArmChoice::Right,
+        ArmChoice::Left,
+    ];
+    pub fn name(self) -> &'static str {
+        match self {
+            ArmChoice::KeepNoSwitch => "current arm, no switching",
+            ArmChoice::KeepMaySwitch => "current arm, may switch",
+            ArmChoice::Right => "right arm",
+            ArmChoice::Left => "left arm",
+        }
+    }
+    fn wire(self) -> WirePolicy {
+        match self {
+            ArmChoice::KeepNoSwitch => WirePolicy::KeepNoSwitch,
+            ArmChoice::KeepMaySwitch => WirePolicy::KeepMaySwitch,
+            ArmChoice::Right => WirePolicy::Right,
+            ArmChoice::Left => WirePolicy::Left,
+        }
+    }
+    fn robot(self) -> ArmPolicy {
+        match self {
+            ArmChoice::KeepNoSwitch => ArmPolicy::CurrentNoSwitch,
+            ArmChoice::KeepMaySwitch => ArmPolicy::CurrentMaySwitch,
+            ArmChoice::Right => ArmPolicy::Right,
+            ArmChoice::Left => ArmPolicy::Left,
+        }
+    }
+}
+
+/// The jog panel's choices, persisted between runs.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct JogSettings {
+    pub mode: JogMode,
+    /// Step size, mm or deg.
+    pub step: f64,
+    pub interpolation: Interpolation,
+    pub arm: ArmChoice,
+    pub frame: StepFrame,
+    pub relative_to: StepBase,
+    /// PTP and joint moves: speed, acceleration and deceleration in % (0 = parameter).
+    pub ptp_speed_pct: u16,
+    pub ptp_accel_pct: u16,
+    pub ptp_decel_pct: u16,
+    /// CP moves and Cartesian jogs: speed in mm/s, accelerations in 0.01 G.
+    pub cp_speed_mm_s: u16,
+    pub cp_accel_cg: u16,
+    pub cp_decel_cg: u16,
+}
+
+impl Default for JogSettings {
+    fn default() -> Self {
+        Self {
+            mode: JogMode::Step,
+            step: 1.0,
+            interpolation: Interpolation::Ptp,
+            arm: ArmChoice::KeepNoSwitch,
+            frame: StepFrame::Work,
+            relative_to: StepBase::Command,
+            ptp_speed_pct: 20,
+            ptp_accel_pct: 30,
+            ptp_decel_pct: 30,
+            cp_speed_mm_s: 50,
+            cp_accel_cg: 30,
+            cp_decel_cg: 30,
+        }
+    }
+}
+
+impl JogSettings {
+    /// The next rung of the step ladder up (`larger`) or down.
+    pub fn step_ladder(&mut self, larger: bool) {
+        let next = if larger {
+            STEP_LADDER.iter().find(|&&s| s > self.step + 1e-9)
+        } else {
+            STEP_LADDER.iter().rev().find(|&&s| s < self.step - 1e-9)
+        };
+        if let Some(&s) = next {
+            self.step = s;
+        }
+    }
+}
+
+/// Why a step was not sent.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum Refusal {
+    #[error("the step must be between 0.001 and {MAX_STEP} (got {0})")]
+    BadStep(f64),
+    #[error("the position is not known yet")]
+    NoPosition,
+    #[error("the {0} coordinate table has not been read yet")]
+    NoTable(&'static str),
+    #[error("{0}")]
+    Move(#[from] MoveError),
+    #[error("{joint} would leave its limit: {value:.3} {unit} is outside {min:.3} to {max:.3}")]
+    JointLimit {
+        joint: &'static str,
+        value: f64,
+        unit: &'static str,
+        min: f64,
+        max: f64,
+    },
+}
+
+/// What the planner needs to know of the arm now.
+#[derive(Clone, Copy, Debug)]
+pub struct ArmNow {
+    /// Polled joints.
+    pub joints: Joints,
+    /// Where the last accepted move ends (joints), if one is known.
+    pub command: Option<Joints>,
+    /// Where the profile is now (joints), if a move is being followed.
+    pub target: Option<Joints>,
+    pub work: CoordSystem,
+    pub tool: CoordSystem,
+}
+
+/// A checked step: the command to send and what it will do.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlannedStep {
+    pub command: Command,
+    /// The joints at the end of the step.
+    pub end: Joints,
+    /// The tool tip at the end, in the work frame (mm, deg).
+    pub end_work: Pose,
+    /// For CP steps, the straight line's ends in the base frame.
+    pub line: Option<(Pose, Pose)>,
+    /// A PTP step whose end is in the other arm system.
+    pub flips_arm: bool,
+    /// The same move as the robot layer plans it, followed to show the motion phase.
+    /// [inferred] The controller reports no phase; the pendant replays the profile.
+    pub profile: Move,
+}
+
+fn check_step(step: f64) -> Result<f64, Refusal> {
+    if step.is_finite() && (0.001..=MAX_STEP).contains(&step) {
+        Ok(step)
+    } else {
+        Err(Refusal::BadStep(step))
+    }
+}
+
+fn sign(dir: Direction) -> f64 {
+    match dir {
+        Direction::Positive => 1.0,
+        Direction::Negative => -1.0,
+    }
+}
+
+/// Plans one step of `axis` in `dir` with `settings`: 2D5H for Cartesian axes (PTP or CP,
+/// in the selected work frame), 236H inching in the each-axis system for joints.
+pub fn plan_step(
+    model: &RobotModel,
+    kin: &Scara,
+    settings: &JogSettings,
+    axis: JogAxis,
+    dir: Direction,
+    now: &ArmNow,
+) -> Result<PlannedStep, Refusal> {
+    let step = check_step(settings.step)? * sign(dir);
+    if axis.is_joint() {
+        return plan_joint_step(model, kin, settings, axis, step, dir, now);
+    }
+    let at = |j: &Joints| tip_in_work(kin, j, &now.work, &now.tool);
+    let actual = at(&now.joints);
+    let positions = crate::robot::Positions {
+        command: now.command.map_or(actual, |j| at(&j)),
+        actual,
+        target: now.target.map_or(actual, |j| at(&j)),
+    };
+    let mut delta = [0.0; 4];
+    delta[axis.index()] = step;
+    let delta = Pose::from_array(delta);
+    let flange_r = kin.forward(&now.joints).r;
+    let delta_work = jog_delta_to_work(
+        &delta,
+        settings.frame.robot(),
+        &now.work,
+        &now.tool,
+        flange_r,
+    );
+    let (_, end_work) =
+        crate::robot::relative_move(settings.relative_to.robot(), &positions, delta_work);
+    // [inferred] The controller adds a 2D5H distance to its own current position, which
+    // the polled actual position stands for; PROTOCOL.md 3.20 does not say which of its
+    // positions it uses. The distance sent is therefore the chosen end minus actual.
+    let wire = |v: f64| crate::robot::round_wire(v * 1000.0);
+    let distance = [
+        wire(end_work.x - actual.x),
+        wire(end_work.y - actual.y),
+        wire(end_work.z - actual.z),
+        wire(end_work.r - actual.r),
+    ];
+    let mut targets = PerAxis::new();
+    for (i, d) in distance.iter().enumerate() {
+        if *d != 0 || i == axis.index() {
+            targets.set(Axis::from_index(i as u8).unwrap_or(Axis::A1), Thou(*d));
+        }
+    }
+    let end_work = Pose::new(
+        actual.x + f64::from(distance[0]) / 1000.0,
+        actual.y + f64::from(distance[1]) / 1000.0,
+        actual.z + f64::from(distance[2]) / 1000.0,
+        actual.r + f64::from(distance[3]) / 1000.0,
+    );
+    let end_tip = now.work.work_to_base(&end_work);
+    let (motion, profile, line, flips_arm) = match settings.interpolation {
+        Interpolation::Ptp => {
+            let params = PtpParams::from_command(
+                model,
+                settings.ptp_accel_pct,
+                settings.ptp_decel_pct,
+                settings.ptp_speed_pct,
+            );
+            let flange = now.tool.tip_to_flange(&end_tip);
+            let m = PtpMove::to_pose(kin, now.joints, &flange, settings.arm.robot(), &params)?;
+            let flips = arm_of(kin, &m.end()) != arm_of(kin, &now.joints)
+                && arm_of(kin, &now.joints) != ArmSystem::Undetermined;
+            let motion = ScaraMotion::Ptp {
+                acc: Percent(settings.ptp_accel_pct),
+                dec: Percent(settings.ptp_decel_pct),
+                speed: Percent(settings.ptp_speed_pct),
+                arm: settings.arm.wire(),
+            };
+            (motion, Move::Ptp(m), None, flips)
+        }
+        Interpolation::Cp => {
+            let params = CpParams::from_command(
+                model,
+                settings.cp_accel_cg,
+                settings.cp_decel_cg,
+                settings.cp_speed_mm_s,
+            );
+            let m = CpMove::plan(
+                kin,
+                now.joints,
+                &end_tip,
+                &now.tool,
+                &params,
+                DEFAULT_CHECK_SPACING_MM,
+            )?;
+            let motion = ScaraMotion::Cp {
+                acc: CentiG(settings.cp_accel_cg),
+                dec: CentiG(settings.cp_decel_cg),
+                speed: MmPerSec(settings.cp_speed_mm_s),
+            };
+            let line = Some(m.tip_line());
+            (motion, Move::Cp(Box::new(m)), line, false)
+        }
+    };
+    Ok(PlannedStep {
+        command: Command::ScaraMoveRelative(ScaraMove { motion, targets }),
+        end: profile.end(),
+        end_work,
+        line,
+        flips_arm,
+    })
+}
+
+fn arm_of(kin: &Scara, j: &Joints) -> ArmSystem {
+    kin.arm_system(j)
+}
+
+fn plan_joint_step(
+    model: &RobotModel,
+    kin: &Scara,
+    settings: &JogSettings,
+    axis: JogAxis,
+    step: f64,
+    dir: Direction,
+    now: &ArmNow,
+) -> Result<PlannedStep, Refusal> {
+    let mut end = now.joints.to_array();
+    end[axis.index()] += step;
+    let end = Joints::from_array(end);
+    let spec = [kin.j1, kin.j2, kin.z, kin.r][axis.index()];
+    let value = end.to_array()[axis.index()];
+    if !spec.contains(value) {
+        return Err(Refusal::JointLimit {
+            joint: axis.name(),
+            value,
+            unit: axis.unit(),
+            min: spec.min,
+            max: spec.max,
+        });
+    }
+    let params = PtpParams::from_command(
+        model,
+        settings.ptp_accel_pct,
+        settings.ptp_decel_pct,
+        settings.ptp_speed_pct,
+    );
+    let distance = crate::robot::round_wire(step.abs() * 1000.0);
+    let command = Command::Jog(Jog {
+        axes: AxisPattern::single(axis.wire_axis()),
+        direction: dir,
+        distance: Thou(distance),
+        motion: JogMotion::Joint {
+            acc: Percent(settings.ptp_accel_pct),
+            dec: Percent(settings.ptp_decel_pct),
+            speed: Percent(settings.ptp_speed_pct),
+        },
+    });
+    Ok(PlannedStep {
+        command,
+        end,
+        end_work: tip_in_work(kin, &end, &now.work, &now.tool),
+        line: None,
+        flips_arm: false,
+        profile: Move::Ptp(PtpMove::joints(kin, now.joints, end, &params)?),
+    })
+}
+
+/// The 236H of a continuous jog (distance 0: runs until 238H, the workspace edge or the
+/// joint limit): Cartesian axes in the chosen frame at the CP rates, joints at the % rates.
+pub fn continuous_jog(settings: &JogSettings, axis: JogAxis, dir: Direction) -> Command {
+    let motion = if axis.is_joint() {
+        JogMotion::Joint {
+            acc: Percent(settings.ptp_accel_pct),
+            dec: Percent(settings.ptp_decel_pct),
+            speed: Percent(settings.ptp_speed_pct),
+        }
+    } else {
+        JogMotion::Cartesian {
+            frame: settings.frame.wire(),
+            acc: CentiG(settings.cp_accel_cg),
+            dec: CentiG(settings.cp_decel_cg),
+            speed: MmPerSec(settings.cp_speed_mm_s),
+        }
+    };
+    Command::Jog(Jog {
+        axes: AxisPattern::single(axis.wire_axis()),
+        direction: dir,
+        distance: Thou(0),
+        motion,
+    })
+}

@@ -1,0 +1,588 @@
+//! The application model: connection, controller state, readiness, jog planning and the
+//! operator's messages. No egui, no threads, no clock: time comes in as an argument, link
+//! events come in through [`Pendant::handle_event`], and what must go to the link comes
+//! out of [`Pendant::take_requests`].
+
+pub mod connection;
+pub mod jog;
+pub mod readiness;
+pub mod state;
+
+use std::collections::VecDeque;
+use std::time::{Duration, Instant};
+
+use serde::{Deserialize, Serialize};
+
+use crate::link::LinkEvent;
+use crate::link::health::LinkHealth;
+use crate::protocol::{
+    AxisPattern, Command, CoordKind, Direction, Home, MmPerSec, Reply, Servo,
+};
+use crate::robot::{Joints, Move, RobotModel, Scara, in_position};
+pub use connection::{ConnectionSettings, LineKind, LineState, ParityChoice};
+pub use jog::{
+    ArmChoice, Interpolation, JogAxis, JogMode, JogSettings, PlannedStep, Refusal, StepBase,
+    StepFrame,
+};
+pub use readiness::NotReady;
+pub use state::ControllerState;
+
+/// How long a "press again to confirm" for an arm flip stays armed.
+const CONFIRM_FOR: Duration = Duration::from_secs(5);
+/// Messages kept for the operator.
+const KEEP_MESSAGES: usize = 200;
+
+/// Everything persisted between runs (eframe storage).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Settings {
+    pub connection: ConnectionSettings,
+    pub jog: JogSettings,
+    /// Light theme (the default is dark).
+    pub light_theme: bool,
+}
+
+/// What the pendant asks of the link. The window runs these after drawing a frame;
+/// [`Request::Stop`] it runs at once.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Request {
+    /// A command at the user's priority.
+    Submit(Command),
+    /// 238H for all axes, at the head of the queue.
+    Stop,
+    /// Keep the continuous jog alive (the link stops it when renewals stop).
+    RenewJogLease,
+    /// Read a whole coordinate table with 2A4H.
+    ReadTable(CoordKind),
+    /// Close the line (if open) and open the one in the settings.
+    Connect,
+    /// Close the line.
+    Disconnect,
+}
+
+/// How a message to the operator is shown.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Level {
+    Info,
+    Warning,
+    Error,
+}
+
+/// One line for the operator: what happened, where they are looking.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Message {
+    pub level: Level,
+    pub text: String,
+    pub at: Instant,
+}
+
+/// The motion phase the lamps show.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MotionPhase {
+    Idle,
+    Accelerating,
+    Constant,
+    Decelerating,
+    Done,
+    Jogging,
+    Stopped,
+}
+
+/// What holds a continuous jog: a button under the pointer, or a key.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HoldSource {
+    Pointer,
+    Key,
+}
+
+/// A continuous jog in progress.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HeldJog {
+    pub axis: JogAxis,
+    pub direction: Direction,
+    pub source: HoldSource,
+    pub since: Instant,
+}
+
+/// A move the pendant sent and follows.
+#[derive(Clone, Debug)]
+struct Followed {
+    plan: PlannedStep,
+    /// When the controller accepted it; `None` while the reply is awaited.
+    accepted: Option<Instant>,
+    stopped: bool,
+}
+
+/// The pendant's model of the world.
+pub struct Pendant {
+    pub settings: Settings,
+    pub model: RobotModel,
+    kin: Scara,
+    pub line: LineState,
+    pub controller: ControllerState,
+    pub health: Option<LinkHealth>,
+    pub messages: VecDeque<Message>,
+    /// The last word on a jog button: the refusal or the controller's answer.
+    pub jog_feedback: Option<Message>,
+    held: Option<HeldJog>,
+    followed: Option<Followed>,
+    /// End of the last accepted move (joints): the "command position".
+    command_position: Option<Joints>,
+    confirm: Option<(JogAxis, Direction, Instant)>,
+    requests: Vec<Request>,
+}
+
+impl Pendant {
+    pub fn new(settings: Settings, model: RobotModel) -> Self {
+        Self {
+            kin: Scara::new(&model),
+            model,
+            settings,
+            line: LineState::Closed,
+            controller: ControllerState::default(),
+            health: None,
+            messages: VecDeque::new(),
+            jog_feedback: None,
+            held: None,
+            followed: None,
+            command_position: None,
+            confirm: None,
+            requests: Vec::new(),
+        }
+    }
+
+    /// Another robot model for the checks (a new connection may name one).
+    pub fn set_model(&mut self, model: RobotModel) {
+        self.kin = Scara::new(&model);
+        self.model = model;
+    }
+
+    pub fn kinematics(&self) -> &Scara {
+        &self.kin
+    }
+
+    /// The requests collected since the last call, in order.
+    pub fn take_requests(&mut self) -> Vec<Request> {
+        std::mem::take(&mut self.requests)
+    }
+
+    fn say(&mut self, level: Level, text: impl Into<String>, now: Instant) {
+        if self.messages.len() >= KEEP_MESSAGES {
+            self.messages.pop_front();
+        }
+        self.messages.push_back(Message {
+            level,
+            text: text.into(),
+            at: now,
+        });
+    }
+
+    fn jog_says(&mut self, level: Level, text: impl Into<String>, now: Instant) {
+        let text = text.into();
+        self.jog_feedback = Some(Message {
+            level,
+            text: text.clone(),
+            at: now,
+        });
+        self.say(level, text, now);
+    }
+
+    // ---- the line ----
+
+    /// Opens the line in the settings (closing the current one).
+    pub fn connect(&mut self, now: Instant) {
+        self.line = LineState::Opening;
+        self.line_gone(now);
+        self.requests.push(Request::Connect);
+    }
+
+    /// Closes the line; a jog or move still running is stopped on the way out.
+    pub fn disconnect(&mut self, now: Instant) {
+        self.requests.push(Request::Disconnect);
+        self.line = LineState::Closed;
+        self.line_gone(now);
+    }
+
+    /// The link could not be started at all (the port could not be opened, a bad file).
+    pub fn connect_failed(&mut self, reason: String, now: Instant) {
+        self.say(Level::Error, format!("cannot connect: {reason}"), now);
+        self.line = LineState::Down {
+            reason,
+            since: now,
+        };
+    }
+
+    fn line_gone(&mut self, _now: Instant) {
+        self.controller.line_lost();
+        self.held = None;
+        self.followed = None;
+        self.command_position = None;
+    }
+
+    // ---- events ----
+
+    /// Applies one event from the link.
+    pub fn handle_event(&mut self, now: Instant, event: LinkEvent) {
+        match event {
+            LinkEvent::Connected { line } | LinkEvent::Reconnected { line } => {
+                self.say(Level::Info, format!("connected: {line}"), now);
+                self.line = LineState::Up { line, since: now };
+                self.requests
+                    .push(Request::Submit(state::version_query()));
+                self.requests.push(Request::ReadTable(CoordKind::Work));
+            }
+            LinkEvent::Disconnected { reason } => {
+                let reason = reason.to_string();
+                self.say(Level::Error, format!("line down: {reason}"), now);
+                self.line = LineState::Down {
+                    reason,
+                    since: now,
+                };
+                self.line_gone(now);
+            }
+            LinkEvent::Reply { command, reply, .. } => self.reply(now, command, reply),
+            LinkEvent::ErrorReply { command, code, .. } => {
+                let text = format!("{} ({}) refused: error {code}", command.id(), name(&command));
+                if is_move(&command) {
+                    self.followed = None;
+                    self.held = None;
+                    self.jog_says(Level::Error, text, now);
+                } else {
+                    self.say(Level::Error, text, now);
+                }
+            }
+            LinkEvent::Timeout {
+                command, origin, ..
+            } if origin == crate::link::Origin::User => {
+                let text = format!("no reply to {} ({})", command.id(), name(&command));
+                if is_move(&command) {
+                    self.followed = None;
+                    self.jog_says(Level::Error, text, now);
+                } else {
+                    self.say(Level::Warning, text, now);
+                }
+            }
+            LinkEvent::NotSent {
+                command, reason, ..
+            } => {
+                let text = format!("{} ({}) not sent: {reason}", command.id(), name(&command));
+                if is_move(&command) {
+                    self.followed = None;
+                    self.held = None;
+                    self.jog_says(Level::Error, text, now);
+                } else {
+                    self.say(Level::Warning, text, now);
+                }
+            }
+            LinkEvent::TableDone {
+                kind,
+                records,
+                missing,
+                ..
+            } => {
+                self.controller.table(kind, &records, now);
+                if !missing.is_empty() {
+                    self.say(
+                        Level::Warning,
+                        format!("{kind:?} table: records {missing:?} could not be read"),
+                        now,
+                    );
+                }
+                if kind == CoordKind::Work && self.controller.tool_table.is_none() {
+                    self.requests.push(Request::ReadTable(CoordKind::Tool));
+                }
+            }
+            LinkEvent::Health(h) => self.health = Some(h),
+            _ => {}
+        }
+    }
+
+    fn reply(&mut self, now: Instant, command: Command, reply: Reply) {
+        match reply {
+            Reply::SystemStatus(s) => {
+                self.controller.system = Some(state::Stamped { value: s, at: now });
+            }
+            Reply::ScaraStatus(s) => self.controller.scara_status(s, now),
+            Reply::Version(v) => self.controller.version = Some(v),
+            Reply::Ack(_) => match command {
+                Command::ScaraMoveRelative(_) | Command::ScaraMoveAbsolute(_) => {
+                    if let Some(f) = self.followed.as_mut().filter(|f| f.plan.command == command)
+                    {
+                        f.accepted = Some(now);
+                        self.command_position = Some(f.plan.end);
+                    }
+                }
+                Command::Jog(j) if j.distance.0 != 0 => {
+                    if let Some(f) = self.followed.as_mut().filter(|f| f.plan.command == command)
+                    {
+                        f.accepted = Some(now);
+                        self.command_position = Some(f.plan.end);
+                    }
+                }
+                Command::Stop(_) => {
+                    if let Some(f) = self.followed.as_mut() {
+                        f.stopped = true;
+                    }
+                    // The arm stopped short: the command position is where it is.
+                    self.command_position = None;
+                }
+                _ => {}
+            },
+            _ => {}
+        }
+    }
+
+    // ---- readiness ----
+
+    /// Whether the controller may be asked to move now.
+    pub fn motion_ready(&self, now: Instant) -> Result<(), NotReady> {
+        readiness::motion_gate(
+            self.line.is_up(),
+            self.controller.system.as_ref().map(|s| &s.value),
+            self.controller.work.as_ref().map(|s| &s.value),
+            self.controller.is_stale(now),
+        )
+    }
+
+    /// Whether servo and homing commands may be sent (no servo or homing condition).
+    pub fn controller_ready(&self, now: Instant) -> Result<(), NotReady> {
+        readiness::controller_gate(
+            self.line.is_up(),
+            self.controller.system.as_ref().map(|s| &s.value),
+            self.controller.is_stale(now),
+        )
+    }
+
+    // ---- servo, home, alarm ----
+
+    pub fn servo(&mut self, on: bool, now: Instant) {
+        if let Err(why) = self.controller_ready(now) {
+            return self.say(Level::Warning, format!("servo not switched: {why}"), now);
+        }
+        self.requests.push(Request::Submit(Command::Servo(Servo {
+            axes: AxisPattern::SCARA_1,
+            on,
+        })));
+    }
+
+    pub fn home(&mut self, now: Instant) {
+        if let Err(why) = self.controller_ready(now) {
+            return self.say(Level::Warning, format!("not homed: {why}"), now);
+        }
+        // 0 = the controller's parameter speeds for the search and creep.
+        self.requests.push(Request::Submit(Command::Home(Home {
+            axes: AxisPattern::SCARA_1,
+            search: MmPerSec(0),
+            creep: MmPerSec(0),
+        })));
+    }
+
+    pub fn reset_alarm(&mut self, now: Instant) {
+        if !self.line.is_up() {
+            return self.say(Level::Warning, "alarm not reset: the line is down", now);
+        }
+        self.requests.push(Request::Submit(Command::AlarmReset));
+    }
+
+    // ---- STOP ----
+
+    /// STOP: 238H at the head of the queue. Always allowed, whatever the state.
+    pub fn stop(&mut self, now: Instant) {
+        self.requests.push(Request::Stop);
+        self.held = None;
+        self.confirm = None;
+        if let Some(f) = self.followed.as_mut() {
+            f.stopped = true;
+        }
+        self.jog_says(Level::Info, "STOP sent", now);
+    }
+
+    // ---- jog ----
+
+    /// What a step of `axis` in `dir` would do now, without sending it.
+    pub fn preview_step(
+        &self,
+        axis: JogAxis,
+        dir: Direction,
+        now: Instant,
+    ) -> Result<PlannedStep, Refusal> {
+        let _ = now;
+        let joints = self
+            .controller
+            .joint_position()
+            .ok_or(Refusal::NoPosition)?;
+        let work = self
+            .controller
+            .work_frame()
+            .ok_or(Refusal::NoTable("work"))?;
+        let tool = self
+            .controller
+            .tool_frame()
+            .ok_or(Refusal::NoTable("tool"))?;
+        let target = self.followed.as_ref().and_then(|f| {
+            let t = now.saturating_duration_since(f.accepted?).as_secs_f64();
+            Some(f.plan.profile.sample(t).joints)
+        });
+        let arm = jog::ArmNow {
+            joints,
+            command: self.command_position,
+            target,
+            work,
+            tool,
+        };
+        jog::plan_step(
+            &self.model,
+            &self.kin,
+            &self.settings.jog,
+            axis,
+            dir,
+            &arm,
+        )
+    }
+
+    /// A click on a jog button in step mode: plan, check, send (or refuse, or ask to
+    /// confirm an arm flip).
+    pub fn jog_step(&mut self, axis: JogAxis, dir: Direction, now: Instant) {
+        if let Err(why) = self.motion_ready(now) {
+            return self.jog_says(Level::Warning, format!("not sent: {why}"), now);
+        }
+        if self.followed.as_ref().is_some_and(|f| f.accepted.is_none()) {
+            return self.jog_says(
+                Level::Warning,
+                "not sent: the previous step is still waiting for its reply",
+                now,
+            );
+        }
+        let plan = match self.preview_step(axis, dir, now) {
+            Ok(plan) => plan,
+            Err(why) => return self.jog_says(Level::Warning, format!("refused: {why}"), now),
+        };
+        let confirmed = self
+            .confirm
+            .take()
+            .is_some_and(|(a, d, at)| a == axis && d == dir && now.duration_since(at) < CONFIRM_FOR);
+        if plan.flips_arm && !confirmed {
+            self.confirm = Some((axis, dir, now));
+            return self.jog_says(
+                Level::Warning,
+                format!(
+                    "{}{} flips the arm system: press again within {} s to confirm",
+                    axis.name(),
+                    if dir == Direction::Positive { "+" } else { "-" },
+                    CONFIRM_FOR.as_secs()
+                ),
+                now,
+            );
+        }
+        self.requests.push(Request::Submit(plan.command));
+        self.jog_says(
+            Level::Info,
+            format!(
+                "{}{} {} {}: sent",
+                axis.name(),
+                if dir == Direction::Positive { "+" } else { "-" },
+                self.settings.jog.step,
+                axis.unit()
+            ),
+            now,
+        );
+        self.followed = Some(Followed {
+            plan,
+            accepted: None,
+            stopped: false,
+        });
+    }
+
+    /// A jog button pressed in continuous mode: 236H until released.
+    pub fn jog_press(&mut self, axis: JogAxis, dir: Direction, source: HoldSource, now: Instant) {
+        if let Err(why) = self.motion_ready(now) {
+            return self.jog_says(Level::Warning, format!("not sent: {why}"), now);
+        }
+        self.requests
+            .push(Request::Submit(jog::continuous_jog(&self.settings.jog, axis, dir)));
+        self.held = Some(HeldJog {
+            axis,
+            direction: dir,
+            source,
+            since: now,
+        });
+        self.followed = None;
+        self.command_position = None;
+        self.jog_says(Level::Info, format!("jogging {}", axis.name()), now);
+    }
+
+    /// Called every frame while the button or key is still held: renews the lease.
+    pub fn jog_held(&mut self) {
+        if self.held.is_some() {
+            self.requests.push(Request::RenewJogLease);
+        }
+    }
+
+    /// The button or key was released, or the window lost focus: 238H.
+    pub fn jog_release(&mut self, now: Instant) {
+        if self.held.take().is_some() {
+            self.requests.push(Request::Stop);
+            self.jog_says(Level::Info, "jog released: STOP sent", now);
+        }
+    }
+
+    pub fn held_jog(&self) -> Option<HeldJog> {
+        self.held
+    }
+
+    /// The motion phase of the move being followed.
+    pub fn motion_phase(&self, now: Instant) -> MotionPhase {
+        if self.held.is_some() {
+            return MotionPhase::Jogging;
+        }
+        let Some(f) = &self.followed else {
+            return MotionPhase::Idle;
+        };
+        if f.stopped {
+            return MotionPhase::Stopped;
+        }
+        let Some(at) = f.accepted else {
+            return MotionPhase::Idle;
+        };
+        let t = now.saturating_duration_since(at).as_secs_f64();
+        match f.plan.profile.sample(t).phase {
+            crate::robot::Phase::Accel => MotionPhase::Accelerating,
+            crate::robot::Phase::ConstantVelocity => MotionPhase::Constant,
+            crate::robot::Phase::Decel => MotionPhase::Decelerating,
+            crate::robot::Phase::Complete => MotionPhase::Done,
+        }
+    }
+
+    /// The polled joints within the model's positioning band of the command position.
+    pub fn in_position(&self) -> Option<bool> {
+        let actual = self.controller.joint_position()?;
+        let command = self.command_position.unwrap_or(actual);
+        Some(in_position(&actual, &command, &self.model.in_position))
+    }
+
+    /// The planned move being followed, for the arm view's ghost.
+    pub fn followed_move(&self) -> Option<&Move> {
+        self.followed.as_ref().map(|f| &f.plan.profile)
+    }
+}
+
+/// A command that moves the arm (not servo or homing).
+fn is_move(command: &Command) -> bool {
+    matches!(
+        command,
+        Command::Jog(_)
+            | Command::MoveAbsolute(_)
+            | Command::MoveRelative(_)
+            | Command::ScaraMoveAbsolute(_)
+            | Command::ScaraMoveRelative(_)
+            | Command::ScaraMovePosition(_)
+    )
+}
+
+/// The message's name for the operator: "SCARA relative move".
+fn name(command: &Command) -> &'static str {
+    command.id().name().unwrap_or("command")
+}
+
+#[cfg(test)]
+mod tests;

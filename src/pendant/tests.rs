@@ -1,0 +1,385 @@
+//! The pendant driven by scripted link events: no threads, no clock, no line.
+
+use std::time::{Duration, Instant};
+
+use super::*;
+use crate::link::{LinkEvent, Origin, RequestId};
+use crate::protocol::{
+    ArmPolicy as WirePolicy, ArmSystem, Axis, AxisState, AxisStatus, CommonStatus, CoordKind,
+    Direction, HomeState, JogMotion, PerAxis, PositionSystem, ScaraMotion, ScaraStatus,
+    SystemMode, SystemStatus, SystemStatus1, SystemStatus3, Thou,
+};
+use crate::robot::{Joints, Pose, RobotModel, Scara};
+
+fn t0() -> Instant {
+    Instant::now()
+}
+
+fn pendant() -> Pendant {
+    Pendant::new(Settings::default(), RobotModel::default_model())
+}
+
+fn ready_system() -> SystemStatus {
+    SystemStatus {
+        mode: SystemMode::AUTO,
+        status3: SystemStatus3::default().with_ready(true),
+        ..SystemStatus::default()
+    }
+}
+
+fn scara(system: PositionSystem, values: [f64; 4], servo: bool, homed: bool) -> ScaraStatus {
+    let status = AxisStatus::default()
+        .with_servo_on(servo)
+        .with_home_state(if homed { HomeState::Done } else { HomeState::NotDone });
+    let axes = PerAxis::from_fn(crate::protocol::AxisPattern::SCARA_1, |a: Axis| AxisState {
+        status,
+        position: Thou((values[a.index()] * 1000.0).round() as i32),
+        ..AxisState::default()
+    });
+    ScaraStatus {
+        work: 0,
+        tool: 0,
+        common: CommonStatus {
+            arm: ArmSystem::Right,
+            system,
+        },
+        axes,
+    }
+}
+
+fn reply(command: Command, reply: Reply) -> LinkEvent {
+    LinkEvent::Reply {
+        id: RequestId(1),
+        origin: Origin::Poll,
+        command,
+        reply,
+        round_trip: Duration::from_millis(3),
+    }
+}
+
+/// A pendant connected to a ready, homed controller whose arm is at `joints` (work 0 and
+/// tool 0 all zeros, so work = base = the flange).
+fn ready_at(joints: Joints, now: Instant) -> Pendant {
+    let mut p = pendant();
+    feed_ready(&mut p, joints, now);
+    p
+}
+
+fn feed_ready(p: &mut Pendant, joints: Joints, now: Instant) {
+    p.handle_event(now, LinkEvent::Connected { line: "test".into() });
+    let kin = Scara::new(&p.model);
+    let tip = kin.forward(&joints).to_array();
+    let polls = state::poll_commands();
+    p.handle_event(now, reply(polls[1], Reply::SystemStatus(ready_system())));
+    for (cmd, system, values) in [
+        (polls[0], PositionSystem::Work, tip),
+        (polls[2], PositionSystem::Joint, joints.to_array()),
+        (polls[3], PositionSystem::Base, tip),
+    ] {
+        p.handle_event(now, reply(cmd, Reply::ScaraStatus(scara(system, values, true, true))));
+    }
+    for kind in [CoordKind::Work, CoordKind::Tool] {
+        p.handle_event(
+            now,
+            LinkEvent::TableDone {
+                kind,
+                axes: crate::protocol::AxisPattern::SCARA_1,
+                records: vec![Some(PerAxis::new()); 4],
+                missing: vec![],
+            },
+        );
+    }
+    p.take_requests();
+}
+
+fn start() -> Joints {
+    Joints::new(30.0, 60.0, 50.0, 0.0)
+}
+
+fn submitted(p: &mut Pendant) -> Vec<Command> {
+    p.take_requests()
+        .into_iter()
+        .filter_map(|r| match r {
+            Request::Submit(c) => Some(c),
+            _ => None,
+        })
+        .collect()
+}
+
+#[test]
+fn connecting_asks_for_the_version_and_both_tables_in_turn() {
+    let now = t0();
+    let mut p = pendant();
+    p.handle_event(now, LinkEvent::Connected { line: "pipe".into() });
+    let r = p.take_requests();
+    assert_eq!(
+        r,
+        vec![
+            Request::Submit(state::version_query()),
+            Request::ReadTable(CoordKind::Work)
+        ]
+    );
+    assert!(p.line.is_up());
+    p.handle_event(
+        now,
+        LinkEvent::TableDone {
+            kind: CoordKind::Work,
+            axes: crate::protocol::AxisPattern::SCARA_1,
+            records: vec![None, Some(PerAxis::new())],
+            missing: vec![0..1],
+        },
+    );
+    assert_eq!(p.take_requests(), vec![Request::ReadTable(CoordKind::Tool)]);
+    // A record that could not be read stays unknown, never zero.
+    let table = p.controller.work_table.as_ref().unwrap();
+    assert_eq!(table.records[0], None);
+    assert!(p.messages.iter().any(|m| m.level == Level::Warning));
+}
+
+#[test]
+fn a_work_step_is_one_2d5h_with_the_step_on_its_axis() {
+    let now = t0();
+    let mut p = ready_at(start(), now);
+    p.settings.jog.step = 10.0;
+    p.jog_step(JogAxis::X, Direction::Positive, now);
+    let sent = submitted(&mut p);
+    assert_eq!(sent.len(), 1, "{sent:?}");
+    let Command::ScaraMoveRelative(m) = sent[0] else {
+        panic!("not a 2D5H: {:?}", sent[0]);
+    };
+    assert_eq!(m.targets.get(Axis::A1), Some(Thou(10_000)));
+    assert_eq!(m.targets.pattern(), crate::protocol::AxisPattern(0x01));
+    assert_eq!(
+        m.motion,
+        ScaraMotion::Ptp {
+            acc: crate::protocol::Percent(30),
+            dec: crate::protocol::Percent(30),
+            speed: crate::protocol::Percent(20),
+            arm: WirePolicy::KeepNoSwitch,
+        }
+    );
+}
+
+#[test]
+fn each_arm_policy_and_cp_reach_the_command() {
+    let now = t0();
+    for (choice, wire) in [
+        (ArmChoice::KeepNoSwitch, WirePolicy::KeepNoSwitch),
+        (ArmChoice::KeepMaySwitch, WirePolicy::KeepMaySwitch),
+        (ArmChoice::Right, WirePolicy::Right),
+    ] {
+        let mut p = ready_at(start(), now);
+        p.settings.jog.arm = choice;
+        p.jog_step(JogAxis::Y, Direction::Negative, now);
+        let sent = submitted(&mut p);
+        let Some(Command::ScaraMoveRelative(m)) = sent.first() else {
+            panic!("{choice:?}: nothing sent: {:?}", p.jog_feedback);
+        };
+        assert!(matches!(m.motion, ScaraMotion::Ptp { arm, .. } if arm == wire));
+        assert_eq!(m.targets.get(Axis::A2), Some(Thou(-1000)));
+    }
+    let mut p = ready_at(start(), now);
+    p.settings.jog.interpolation = Interpolation::Cp;
+    p.settings.jog.cp_speed_mm_s = 80;
+    p.jog_step(JogAxis::Z, Direction::Positive, now);
+    let sent = submitted(&mut p);
+    let Some(Command::ScaraMoveRelative(m)) = sent.first() else {
+        panic!("CP step not sent: {:?}", p.jog_feedback);
+    };
+    assert_eq!(m.motion.operation_type() & 1, 1, "CP bit");
+    assert!(matches!(m.motion, ScaraMotion::Cp { speed, .. } if speed.0 == 80));
+}
+
+#[test]
+fn a_step_beyond_reach_is_refused_and_nothing_is_sent() {
+    let now = t0();
+    // Arm stretched out along X: a further X+ step leaves the outer reach.
+    let mut p = ready_at(Joints::new(0.0, 1.0, 50.0, 0.0), now);
+    p.settings.jog.step = 50.0;
+    p.jog_step(JogAxis::X, Direction::Positive, now);
+    assert!(submitted(&mut p).is_empty());
+    let feedback = p.jog_feedback.clone().unwrap();
+    assert_eq!(feedback.level, Level::Warning);
+    assert!(feedback.text.starts_with("refused"), "{}", feedback.text);
+}
+
+#[test]
+fn a_joint_step_beyond_its_limit_is_refused() {
+    let now = t0();
+    let model = RobotModel::default_model();
+    let mut p = ready_at(Joints::new(model.j1.max - 0.5, 60.0, 50.0, 0.0), now);
+    p.settings.jog.step = 1.0;
+    p.jog_step(JogAxis::J1, Direction::Positive, now);
+    assert!(submitted(&mut p).is_empty());
+    assert!(p.jog_feedback.unwrap().text.contains("J1"));
+}
+
+#[test]
+fn a_joint_step_is_236h_inching_in_the_each_axis_system() {
+    let now = t0();
+    let mut p = ready_at(start(), now);
+    p.settings.jog.step = 0.1;
+    p.jog_step(JogAxis::J2, Direction::Negative, now);
+    let sent = submitted(&mut p);
+    let Some(Command::Jog(j)) = sent.first() else {
+        panic!("no 236H: {:?}", p.jog_feedback);
+    };
+    assert_eq!(j.distance, Thou(100));
+    assert_eq!(j.direction, Direction::Negative);
+    assert_eq!(j.axes, crate::protocol::AxisPattern(0x02));
+    assert!(matches!(j.motion, JogMotion::Joint { .. }));
+}
+
+#[test]
+fn motion_waits_for_servo_homing_and_auto_and_says_why() {
+    let now = t0();
+    let mut p = pendant();
+    p.jog_step(JogAxis::X, Direction::Positive, now);
+    assert_eq!(p.motion_ready(now), Err(NotReady::LineDown));
+    assert!(submitted(&mut p).is_empty());
+    p.handle_event(now, LinkEvent::Connected { line: "t".into() });
+    p.take_requests();
+    assert_eq!(p.motion_ready(now), Err(NotReady::NoStatus));
+    let polls = state::poll_commands();
+    let manual = SystemStatus {
+        mode: SystemMode::MANUAL,
+        ..ready_system()
+    };
+    p.handle_event(now, reply(polls[1], Reply::SystemStatus(manual)));
+    for (i, sys) in [(0, PositionSystem::Work), (2, PositionSystem::Joint)] {
+        let s = scara(sys, [0.0; 4], false, false);
+        p.handle_event(now, reply(polls[i], Reply::ScaraStatus(s)));
+    }
+    assert_eq!(p.motion_ready(now), Err(NotReady::Manual));
+    p.handle_event(now, reply(polls[1], Reply::SystemStatus(ready_system())));
+    assert_eq!(p.motion_ready(now), Err(NotReady::ServoOff));
+    let estop = SystemStatus {
+        status1: SystemStatus1::default().with_emergency_stop(true),
+        ..ready_system()
+    };
+    p.handle_event(now, reply(polls[1], Reply::SystemStatus(estop)));
+    assert_eq!(p.motion_ready(now), Err(NotReady::EmergencyStop));
+    p.jog_step(JogAxis::X, Direction::Positive, now);
+    assert!(submitted(&mut p).is_empty());
+    assert!(p.jog_feedback.unwrap().text.contains("emergency stop"));
+}
+
+#[test]
+fn an_old_status_blocks_motion() {
+    let now = t0();
+    let mut p = ready_at(start(), now);
+    let later = now + state::STALE_AFTER + Duration::from_millis(1);
+    assert_eq!(p.motion_ready(later), Err(NotReady::StatusStale));
+    p.jog_step(JogAxis::X, Direction::Positive, later);
+    assert!(submitted(&mut p).is_empty());
+}
+
+#[test]
+fn a_continuous_jog_lives_on_renewals_and_stops_on_release() {
+    let now = t0();
+    let mut p = ready_at(start(), now);
+    p.settings.jog.mode = JogMode::Continuous;
+    p.jog_press(JogAxis::X, Direction::Positive, HoldSource::Pointer, now);
+    let r = p.take_requests();
+    assert!(matches!(r.as_slice(), [Request::Submit(Command::Jog(j))] if j.distance == Thou(0)));
+    p.jog_held();
+    assert_eq!(p.take_requests(), vec![Request::RenewJogLease]);
+    p.jog_release(now);
+    assert_eq!(p.take_requests(), vec![Request::Stop]);
+    // Releasing twice sends nothing more; renewing with nothing held sends nothing.
+    p.jog_release(now);
+    p.jog_held();
+    assert!(p.take_requests().is_empty());
+}
+
+#[test]
+fn stop_is_always_sent_even_with_the_line_down() {
+    let now = t0();
+    let mut p = pendant();
+    p.stop(now);
+    assert_eq!(p.take_requests(), vec![Request::Stop]);
+}
+
+#[test]
+fn a_lost_line_forgets_the_status_and_refuses_motion() {
+    let now = t0();
+    let mut p = ready_at(start(), now);
+    assert_eq!(p.motion_ready(now), Ok(()));
+    p.handle_event(
+        now,
+        LinkEvent::Disconnected {
+            reason: "the line was closed".into(),
+        },
+    );
+    assert_eq!(p.motion_ready(now), Err(NotReady::LineDown));
+    assert!(p.controller.work_position().is_none());
+}
+
+#[test]
+fn a_base_frame_step_turns_with_the_work_frame() {
+    let now = t0();
+    let mut p = ready_at(start(), now);
+    // Work No. 0 turned by 90 deg (as if work No. 1 were selected): a base X+ step is a
+    // work-frame Y- step.
+    let mut rec = PerAxis::new();
+    rec.set(Axis::A4, Thou(90_000));
+    p.handle_event(
+        now,
+        LinkEvent::TableDone {
+            kind: CoordKind::Work,
+            axes: crate::protocol::AxisPattern::SCARA_1,
+            records: vec![Some(rec)],
+            missing: vec![],
+        },
+    );
+    p.settings.jog.frame = StepFrame::Base;
+    p.settings.jog.relative_to = StepBase::Actual;
+    p.settings.jog.step = 5.0;
+    let plan = p.preview_step(JogAxis::X, Direction::Positive, now).unwrap();
+    let Command::ScaraMoveRelative(m) = plan.command else {
+        panic!()
+    };
+    assert_eq!(m.targets.get(Axis::A1).map(|t| t.0.abs()).unwrap_or(0), 0);
+    assert_eq!(m.targets.get(Axis::A2), Some(Thou(-5000)));
+}
+
+#[test]
+fn a_ptp_step_that_flips_the_arm_asks_for_a_second_press() {
+    let now = t0();
+    // Right arm, elbow nearly straight: a step to the left arm with policy "left arm".
+    let mut p = ready_at(start(), now);
+    p.settings.jog.arm = ArmChoice::Left;
+    p.settings.jog.step = 0.01;
+    p.jog_step(JogAxis::X, Direction::Positive, now);
+    assert!(submitted(&mut p).is_empty(), "sent without confirmation");
+    assert!(p.jog_feedback.as_ref().unwrap().text.contains("flips"));
+    p.jog_step(JogAxis::X, Direction::Positive, now + Duration::from_secs(1));
+    assert_eq!(submitted(&mut p).len(), 1);
+}
+
+#[test]
+fn steps_relative_to_command_chain_without_drift() {
+    let now = t0();
+    let mut p = ready_at(start(), now);
+    p.settings.jog.step = 1.0;
+    p.jog_step(JogAxis::X, Direction::Positive, now);
+    let first = submitted(&mut p)[0];
+    p.handle_event(
+        now,
+        LinkEvent::Reply {
+            id: RequestId(9),
+            origin: Origin::User,
+            command: first,
+            reply: Reply::Ack(first.id()),
+            round_trip: Duration::from_millis(2),
+        },
+    );
+    // The arm has not moved yet (polls still say the start): the next step relative to
+    // the command position asks for 2 mm from where the arm is.
+    p.jog_step(JogAxis::X, Direction::Positive, now);
+    let Command::ScaraMoveRelative(m) = submitted(&mut p)[0] else {
+        panic!()
+    };
+    assert_eq!(m.targets.get(Axis::A1), Some(Thou(2000)));
+    let _ = Pose::new(0.0, 0.0, 0.0, 0.0);
+}

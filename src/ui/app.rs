@@ -1,0 +1,246 @@
+//! The eframe application: owns the pendant model and the live session, drains link
+//! events at the start of a frame within a budget, lays out the panels, and runs the
+//! pendant's requests at the end of the frame (STOP at once).
+
+use std::time::{Duration, Instant};
+
+use egui::{Panel, Theme};
+
+use super::connection::ConnectionPanel;
+use super::{jog, keys, messages, readout, status, top_bar};
+use crate::link::{Priority, TableRequest};
+use crate::pendant::{ConnectionSettings, Pendant, Request, Settings};
+use crate::protocol::{AxisPattern, CoordKind};
+use crate::robot::RobotModel;
+use crate::session::{Session, load_model};
+use crate::sim::SimHandle;
+
+/// The storage key and window title.
+pub const APP_ID: &str = "xsel-pendant";
+const SETTINGS_KEY: &str = "settings";
+/// Most time spent applying link events in one frame.
+const EVENT_BUDGET: Duration = Duration::from_millis(4);
+/// The window repaints at least this often while connected (polls arrive at 10 Hz).
+const REFRESH: Duration = Duration::from_millis(100);
+/// The controller's reply buffer assumed for table reads (PROTOCOL.md 1.7).
+const REPLY_BUFFER: usize = 2048;
+
+/// How the window starts.
+#[derive(Clone, Debug, Default)]
+pub struct StartOptions {
+    /// A connection given on the command line replaces the saved one.
+    pub connection: Option<ConnectionSettings>,
+    /// Ignore saved settings (tests, a clean start).
+    pub fresh: bool,
+}
+
+pub struct PendantApp {
+    pendant: Pendant,
+    session: Option<Session>,
+    connection: ConnectionPanel,
+    started: Instant,
+    help_open: bool,
+    applied_theme: Option<bool>,
+}
+
+impl PendantApp {
+    pub fn new(cc: &eframe::CreationContext<'_>, options: StartOptions) -> Self {
+        let saved: Option<Settings> = if options.fresh {
+            None
+        } else {
+            cc.storage
+                .and_then(|s| eframe::get_value(s, SETTINGS_KEY))
+        };
+        let mut settings = saved.unwrap_or_default();
+        match options.connection {
+            Some(c) => settings.connection = c,
+            // No line named: the built-in simulator, the saved line settings kept.
+            None => settings.connection.kind = crate::pendant::LineKind::Simulator,
+        }
+        let now = Instant::now();
+        let (model, problem) = match load_model(&settings.connection.robot) {
+            Ok(m) => (m, None),
+            Err(e) => (RobotModel::default_model(), Some(e)),
+        };
+        let mut pendant = Pendant::new(settings, model);
+        if let Some(e) = problem {
+            pendant.connect_failed(e, now);
+        } else {
+            pendant.connect(now);
+        }
+        let mut app = Self {
+            pendant,
+            session: None,
+            connection: ConnectionPanel::default(),
+            started: now,
+            help_open: false,
+            applied_theme: None,
+        };
+        app.run_requests(&cc.egui_ctx, now);
+        app
+    }
+
+    /// The pendant model (tests and benches read it).
+    pub fn pendant(&self) -> &Pendant {
+        &self.pendant
+    }
+
+    /// The embedded simulator, when the line is the built-in one.
+    pub fn sim(&self) -> Option<&SimHandle> {
+        self.session.as_ref().and_then(|s| s.sim.as_ref())
+    }
+
+    /// Closes the session as the window does on exit: the link stops any jog or move.
+    pub fn close(&mut self) {
+        self.session = None;
+    }
+
+    fn drain_events(&mut self, now: Instant) {
+        let Some(session) = &self.session else { return };
+        let deadline = now + EVENT_BUDGET;
+        while let Ok(event) = session.events.try_recv() {
+            self.pendant.handle_event(Instant::now(), event);
+            if Instant::now() >= deadline {
+                break;
+            }
+        }
+    }
+
+    fn run_requests(&mut self, ctx: &egui::Context, now: Instant) {
+        let requests = self.pendant.take_requests();
+        // STOP first, whatever else was asked this frame.
+        if requests.contains(&Request::Stop)
+            && let Some(s) = &self.session
+        {
+            s.link.stop_all();
+        }
+        for request in requests {
+            match request {
+                Request::Stop => {}
+                Request::Submit(command) => {
+                    if let Some(s) = &self.session {
+                        s.link.submit(command, Priority::User);
+                    }
+                }
+                Request::RenewJogLease => {
+                    // LINK-LEASE: wired to the link's jog lease when it lands.
+                }
+                Request::ReadTable(kind) => {
+                    if let Some(s) = &self.session {
+                        let records = match kind {
+                            CoordKind::Work => self.pendant.model.work_table_size,
+                            CoordKind::Tool => self.pendant.model.tool_table_size,
+                        };
+                        s.link.download_table(TableRequest {
+                            kind,
+                            axes: AxisPattern::SCARA_1,
+                            records: records.min(256) as u16,
+                            reply_buffer: REPLY_BUFFER,
+                        });
+                    }
+                }
+                Request::Connect => self.open_session(ctx, now),
+                Request::Disconnect => self.session = None,
+            }
+        }
+    }
+
+    fn open_session(&mut self, ctx: &egui::Context, now: Instant) {
+        // The old link shuts down first (stopping any motion), then the new one opens.
+        self.session = None;
+        let settings = self.pendant.settings.connection.clone();
+        let model = match load_model(&settings.robot) {
+            Ok(m) => m,
+            Err(e) => return self.pendant.connect_failed(e, now),
+        };
+        self.pendant.set_model(model.clone());
+        let repaint_ctx = ctx.clone();
+        let repaint = std::sync::Arc::new(move || repaint_ctx.request_repaint());
+        match Session::open(&settings, &model, repaint) {
+            Ok(session) => self.session = Some(session),
+            Err(e) => self.pendant.connect_failed(e, now),
+        }
+    }
+
+    fn apply_theme(&mut self, ctx: &egui::Context) {
+        let light = self.pendant.settings.light_theme;
+        if self.applied_theme != Some(light) {
+            ctx.set_theme(if light { Theme::Light } else { Theme::Dark });
+            self.applied_theme = Some(light);
+        }
+    }
+}
+
+impl eframe::App for PendantApp {
+    fn logic(&mut self, ctx: &egui::Context, _frame: &mut eframe::Frame) {
+        let now = Instant::now();
+        self.drain_events(now);
+        // A window that lost focus cannot see a key or button come up: stop the jog.
+        if ctx.input(|i| i.viewport().focused) == Some(false) {
+            self.pendant.jog_release(now);
+        }
+        self.run_requests(ctx, now);
+        if self.session.is_some() {
+            ctx.request_repaint_after(REFRESH);
+        }
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+        let ctx = ui.ctx().clone();
+        self.apply_theme(&ctx);
+        let now = Instant::now();
+        let keys = keys::handle(&ctx, &mut self.pendant, now);
+        let mut stop = keys.stop;
+        if keys.toggle_help {
+            self.help_open = !self.help_open;
+        }
+        Panel::top("top-bar").show(ui, |ui| {
+            stop |= top_bar::show(ui, &mut self.pendant, now).stop;
+        });
+        if stop {
+            // STOP goes to the link now, ahead of everything drawn below.
+            self.pendant.stop(now);
+            self.run_requests(&ctx, now);
+        }
+        Panel::left("left")
+            .resizable(true)
+            .default_size(370.0)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| {
+                    egui::CollapsingHeader::new("Connection")
+                        .default_open(true)
+                        .show(ui, |ui| self.connection.show(ui, &mut self.pendant, now));
+                    egui::CollapsingHeader::new("Jog")
+                        .default_open(true)
+                        .show(ui, |ui| jog::show(ui, &mut self.pendant, now));
+                    if ui.button("Keyboard (F1)").clicked() {
+                        self.help_open = !self.help_open;
+                    }
+                });
+            });
+        Panel::right("status")
+            .resizable(true)
+            .default_size(360.0)
+            .show(ui, |ui| {
+                ui.heading("Status");
+                status::show(ui, &mut self.pendant, now);
+            });
+        Panel::bottom("messages")
+            .resizable(true)
+            .default_size(140.0)
+            .show(ui, |ui| messages::show(ui, &self.pendant, self.started));
+        egui::CentralPanel::default().show(ui, |ui| readout::show(ui, &self.pendant, now));
+        keys::help(&ctx, &mut self.help_open);
+        self.run_requests(&ctx, now);
+    }
+
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        eframe::set_value(storage, SETTINGS_KEY, &self.pendant.settings);
+    }
+
+    fn on_exit(&mut self) {
+        // Dropping the session shuts the link down: queued STOPs, and a STOP of its own
+        // when a jog or move may still run, go out before the line closes.
+        self.close();
+    }
+}

@@ -1,0 +1,195 @@
+//! The connection panel: simulator, serial port or TCP bridge; line settings; station;
+//! robot model; connect and disconnect; live link health.
+
+use std::time::Instant;
+
+use egui::{ComboBox, RichText, Ui};
+
+use super::ports::PortList;
+use super::widgets::{AMBER, RED};
+use crate::link::line::STANDARD_BAUDS;
+use crate::pendant::{LineKind, ParityChoice, Pendant};
+use crate::robot::BUILTIN_MODELS;
+
+/// The panel's own state (the text being typed in the station field, the port list).
+#[derive(Default)]
+pub struct ConnectionPanel {
+    pub ports: PortList,
+    station_text: Option<String>,
+}
+
+impl ConnectionPanel {
+    pub fn show(&mut self, ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
+        self.ports.poll();
+        if !self.ports.listed_once && !self.ports.is_listing() {
+            let ctx = ui.ctx().clone();
+            self.ports.refresh(move || ctx.request_repaint());
+        }
+        let s = &mut pendant.settings.connection;
+        ui.horizontal(|ui| {
+            for kind in [LineKind::Simulator, LineKind::Serial, LineKind::Tcp] {
+                ui.selectable_value(&mut s.kind, kind, kind.name());
+            }
+        });
+        egui::Grid::new("connection-grid")
+            .num_columns(2)
+            .spacing([8.0, 4.0])
+            .show(ui, |ui| {
+                match s.kind {
+                    LineKind::Serial => {
+                        ui.label("Port");
+                        ui.horizontal(|ui| {
+                            ComboBox::from_id_salt("port")
+                                .selected_text(if s.port.is_empty() {
+                                    "choose a port"
+                                } else {
+                                    s.port.as_str()
+                                })
+                                .width(170.0)
+                                .show_ui(ui, |ui| {
+                                    for p in &self.ports.ports {
+                                        ui.selectable_value(&mut s.port, p.path.clone(), p.to_string());
+                                    }
+                                    if self.ports.ports.is_empty() {
+                                        ui.label("no serial ports found");
+                                    }
+                                });
+                            let label = if self.ports.is_listing() { "listing..." } else { "Refresh" };
+                            if ui.button(label).on_hover_text("List the serial ports again").clicked() {
+                                let ctx = ui.ctx().clone();
+                                self.ports.refresh(move || ctx.request_repaint());
+                            }
+                        });
+                        ui.end_row();
+                        if let Some(p) = self.ports.ports.iter().find(|p| p.path == s.port)
+                            && !p.detail.is_empty()
+                        {
+                            ui.label("");
+                            ui.label(RichText::new(&p.detail).small());
+                            ui.end_row();
+                        }
+                        if let Some(e) = &self.ports.error {
+                            ui.label("");
+                            ui.label(RichText::new(e).color(RED));
+                            ui.end_row();
+                        }
+                    }
+                    LineKind::Tcp => {
+                        ui.label("Address");
+                        ui.text_edit_singleline(&mut s.tcp)
+                            .on_hover_text("HOST:PORT of a serial-to-Ethernet bridge or xsel-sim --tcp");
+                        ui.end_row();
+                    }
+                    LineKind::Simulator => {}
+                }
+                ui.label("Baud");
+                ComboBox::from_id_salt("baud")
+                    .selected_text(s.baud.to_string())
+                    .show_ui(ui, |ui| {
+                        for b in STANDARD_BAUDS {
+                            ui.selectable_value(&mut s.baud, b, b.to_string());
+                        }
+                    });
+                ui.end_row();
+                ui.label("Data bits");
+                ui.horizontal(|ui| {
+                    ui.selectable_value(&mut s.data_bits, 8, "8");
+                    ui.selectable_value(&mut s.data_bits, 7, "7");
+                });
+                ui.end_row();
+                ui.label("Parity");
+                ui.horizontal(|ui| {
+                    for p in ParityChoice::ALL {
+                        ui.selectable_value(&mut s.parity, p, p.name());
+                    }
+                });
+                ui.end_row();
+                ui.label("Stop bits");
+                ui.horizontal(|ui| {
+                    ui.selectable_value(&mut s.stop_bits, 1, "1");
+                    ui.selectable_value(&mut s.stop_bits, 2, "2");
+                });
+                ui.end_row();
+                ui.label("Station");
+                let text = self
+                    .station_text
+                    .get_or_insert_with(|| format!("{:02X}", s.station));
+                let edit = ui.add(egui::TextEdit::singleline(text).desired_width(40.0));
+                match parse_station(text) {
+                    Ok(v) => s.station = v,
+                    Err(e) => {
+                        ui.end_row();
+                        ui.label("");
+                        ui.label(RichText::new(e).color(RED));
+                    }
+                }
+                if edit.lost_focus() && parse_station(text).is_ok() {
+                    *text = format!("{:02X}", s.station);
+                }
+                ui.end_row();
+                ui.label("Robot");
+                ComboBox::from_id_salt("robot")
+                    .selected_text(s.robot.as_str())
+                    .show_ui(ui, |ui| {
+                        for (name, _) in BUILTIN_MODELS {
+                            ui.selectable_value(&mut s.robot, name.to_owned(), name);
+                        }
+                    });
+                ui.end_row();
+            });
+        if let Err(e) = s.line().validate() {
+            ui.label(RichText::new(e.to_string()).color(RED));
+        }
+        ui.horizontal(|ui| {
+            let up = !matches!(pendant.line, crate::pendant::LineState::Closed);
+            if ui.button(if up { "Reconnect" } else { "Connect" }).clicked() {
+                pendant.connect(now);
+            }
+            if ui.add_enabled(up, egui::Button::new("Disconnect")).clicked() {
+                pendant.disconnect(now);
+            }
+        });
+        health(ui, pendant);
+    }
+}
+
+/// Exactly two hex digits, as the wire carries them.
+fn parse_station(text: &str) -> Result<u8, String> {
+    let t = text.trim();
+    if t.len() == 2
+        && let Ok(v) = u8::from_str_radix(t, 16)
+    {
+        return Ok(v);
+    }
+    Err(format!("station `{t}`: 2 hex digits, 00 to FF"))
+}
+
+fn health(ui: &mut Ui, pendant: &Pendant) {
+    let Some(h) = &pendant.health else {
+        return;
+    };
+    if !pendant.line.is_up() {
+        return;
+    }
+    ui.separator();
+    let rt = h
+        .median_round_trip
+        .map_or("-".into(), |d| format!("{:.1} ms", d.as_secs_f64() * 1e3));
+    ui.label(format!(
+        "round trip {rt}, {:.0} polls/s, line busy {:.0} %",
+        h.polls_per_second,
+        h.line_busy * 100.0
+    ));
+    let color = if h.timeouts + h.bad_frames + h.error_replies > 0 {
+        AMBER
+    } else {
+        ui.visuals().text_color()
+    };
+    ui.label(
+        RichText::new(format!(
+            "{} transactions, {} timeouts, {} bad frames, {} refusals",
+            h.transactions, h.timeouts, h.bad_frames, h.error_replies
+        ))
+        .color(color),
+    );
+}

@@ -1,0 +1,168 @@
+//! The jog panel: step or continuous, the step ladder, PTP or CP, the arm system, speeds,
+//! the frame and "relative to", and the +/- buttons of X, Y, Z, R and the joints.
+
+use std::time::Instant;
+
+use egui::{Button, ComboBox, DragValue, RichText, Ui, vec2};
+
+use super::widgets::{message, reason};
+use crate::pendant::jog::{MAX_STEP, STEP_LADDER};
+use crate::pendant::{
+    ArmChoice, HoldSource, Interpolation, JogAxis, JogMode, Pendant, StepBase, StepFrame,
+};
+use crate::protocol::Direction;
+
+pub fn show(ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
+    settings(ui, pendant);
+    ui.separator();
+    let ready = pendant.motion_ready(now);
+    if let Err(why) = &ready {
+        reason(ui, format!("Jog disabled: {why}"));
+    }
+    let enabled = ready.is_ok();
+    ui.label(RichText::new(format!("Cartesian ({} frame)", pendant.settings.jog.frame.name())).strong());
+    buttons(ui, pendant, &JogAxis::CARTESIAN, enabled, now);
+    ui.label(RichText::new("Joints").strong());
+    buttons(ui, pendant, &JogAxis::JOINTS, enabled, now);
+    if let Some(m) = &pendant.jog_feedback {
+        message(ui, m.level, &m.text);
+    }
+}
+
+fn settings(ui: &mut Ui, pendant: &mut Pendant) {
+    let current_arm = pendant.controller.work.map(|s| s.value.common.arm);
+    let cp_max = pendant.model.cp_max_speed_mm_s.min(f64::from(u16::MAX)) as u16;
+    let j = &mut pendant.settings.jog;
+    ui.horizontal(|ui| {
+        ui.label("Mode");
+        ui.selectable_value(&mut j.mode, JogMode::Step, "Step");
+        ui.selectable_value(&mut j.mode, JogMode::Continuous, "Continuous")
+            .on_hover_text("236H while the button or key is held; 238H on release");
+    });
+    if j.mode == JogMode::Step {
+        ui.horizontal_wrapped(|ui| {
+            ui.label("Step");
+            for s in STEP_LADDER {
+                let selected = (j.step - s).abs() < 1e-9;
+                if ui.selectable_label(selected, format!("{s}")).clicked() {
+                    j.step = s;
+                }
+            }
+            ui.add(
+                DragValue::new(&mut j.step)
+                    .range(0.001..=MAX_STEP)
+                    .speed(0.1)
+                    .max_decimals(3)
+                    .suffix(" mm|deg"),
+            )
+            .on_hover_text("A custom step: 0.001 to 1000 mm (deg for R and the rotary joints)");
+            if ui.small_button("−").on_hover_text("Smaller step (-)").clicked() {
+                j.step_ladder(false);
+            }
+            if ui.small_button("+").on_hover_text("Larger step (+)").clicked() {
+                j.step_ladder(true);
+            }
+        });
+    }
+    ui.horizontal(|ui| {
+        ui.label("Motion");
+        ui.selectable_value(&mut j.interpolation, Interpolation::Ptp, "PTP");
+        ui.selectable_value(&mut j.interpolation, Interpolation::Cp, "CP")
+            .on_hover_text("A straight line of the tool tip, checked along its whole length");
+    });
+    if j.interpolation == Interpolation::Ptp {
+        ui.horizontal(|ui| {
+            ui.label("Arm");
+            ComboBox::from_id_salt("arm-policy")
+                .selected_text(j.arm.name())
+                .show_ui(ui, |ui| {
+                    for a in ArmChoice::ALL {
+                        ui.selectable_value(&mut j.arm, a, a.name());
+                    }
+                });
+            if let Some(arm) = current_arm {
+                ui.label(format!("now: {arm}"));
+            }
+        });
+    }
+    egui::Grid::new("jog-speeds").num_columns(4).show(ui, |ui| {
+        match j.interpolation {
+            Interpolation::Ptp => {
+                ui.label("Speed");
+                ui.add(DragValue::new(&mut j.ptp_speed_pct).range(0..=100).suffix(" %"));
+                ui.label("Acc/Dec");
+                ui.horizontal(|ui| {
+                    ui.add(DragValue::new(&mut j.ptp_accel_pct).range(0..=100).suffix(" %"));
+                    ui.add(DragValue::new(&mut j.ptp_decel_pct).range(0..=100).suffix(" %"));
+                });
+            }
+            Interpolation::Cp => {
+                ui.label("Speed");
+                ui.add(DragValue::new(&mut j.cp_speed_mm_s).range(0..=cp_max).suffix(" mm/s"));
+                ui.label("Acc/Dec");
+                ui.horizontal(|ui| {
+                    ui.add(DragValue::new(&mut j.cp_accel_cg).range(0..=999).suffix(" ×0.01 G"));
+                    ui.add(DragValue::new(&mut j.cp_decel_cg).range(0..=999).suffix(" ×0.01 G"));
+                });
+            }
+        }
+        ui.end_row();
+    })
+    .response
+    .on_hover_text("0 = the controller's parameter value. Joint steps and jogs use the % rates.");
+    ui.horizontal(|ui| {
+        ui.label("Frame");
+        for f in [StepFrame::Work, StepFrame::Base, StepFrame::Tool] {
+            ui.selectable_value(&mut j.frame, f, f.name());
+        }
+    });
+    if j.mode == JogMode::Step {
+        ui.horizontal(|ui| {
+            ui.label("Relative to");
+            for b in [StepBase::Command, StepBase::Actual, StepBase::Target] {
+                ui.selectable_value(&mut j.relative_to, b, b.name());
+            }
+        })
+        .response
+        .on_hover_text(
+            "command: where the last move ends (chained steps never drift); actual: the \
+             polled position; target: where the profile is now",
+        );
+    }
+}
+
+fn buttons(ui: &mut Ui, pendant: &mut Pendant, axes: &[JogAxis], enabled: bool, now: Instant) {
+    ui.horizontal_wrapped(|ui| {
+        for &axis in axes {
+            for dir in [Direction::Negative, Direction::Positive] {
+                let sign = if dir == Direction::Positive { "+" } else { "-" };
+                let label = format!("{}{sign}", axis.name());
+                let held = pendant.held_jog();
+                let held_here = held.is_some_and(|h| h.axis == axis && h.direction == dir);
+                let by_pointer = held.is_some_and(|h| h.source == HoldSource::Pointer);
+                let button = Button::new(RichText::new(&label).size(16.0))
+                    .min_size(vec2(44.0, 30.0))
+                    .selected(held_here);
+                let resp = ui.add_enabled(enabled || held_here, button);
+                match pendant.settings.jog.mode {
+                    JogMode::Step => {
+                        if resp.clicked() {
+                            pendant.jog_step(axis, dir, now);
+                        }
+                    }
+                    JogMode::Continuous => {
+                        let down = resp.is_pointer_button_down_on();
+                        if down && held.is_none() {
+                            pendant.jog_press(axis, dir, HoldSource::Pointer, now);
+                        } else if down && held_here {
+                            pendant.jog_held();
+                        } else if !down && held_here && by_pointer {
+                            pendant.jog_release(now);
+                        }
+                    }
+                }
+            }
+            ui.add_space(6.0);
+        }
+    });
+}

@@ -1,0 +1,18 @@
+//! The egui window: one file per panel. Panels draw [`crate::pendant::Pendant`] state and
+//! turn clicks into its calls; they never see the link. [`app::PendantApp`] owns the live
+//! session, feeds link events to the pendant and runs its requests after each frame.
+
+pub mod app;
+mod connection;
+mod jog;
+mod keys;
+mod messages;
+mod ports;
+mod readout;
+mod run;
+mod status;
+mod top_bar;
+mod widgets;
+
+pub use app::{APP_ID, PendantApp, StartOptions};
+pub use run::run_window;

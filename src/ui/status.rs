@@ -1,0 +1,110 @@
+//! The status panel: per-axis servo, home, in use, completed and error; the arm system,
+//! work and tool numbers; in-position and motion-phase lamps; Servo ON/OFF and Home.
+
+use std::time::Instant;
+
+use egui::{Button, RichText, Ui};
+
+use super::widgets::{AMBER, GREEN, RED, lamp, reason};
+use crate::pendant::{MotionPhase, Pendant};
+use crate::protocol::HomeState;
+
+const AXIS_NAMES: [&str; 4] = ["1 (J1 / X)", "2 (J2 / Y)", "3 (Z)", "4 (R)"];
+
+pub fn show(ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
+    let ready = pendant.controller_ready(now);
+    ui.horizontal(|ui| {
+        let on = ui.add_enabled(ready.is_ok(), Button::new("Servo ON"));
+        if on.on_hover_text("232H servo on, SCARA axes").clicked() {
+            pendant.servo(true, now);
+        }
+        let off = ui.add_enabled(ready.is_ok(), Button::new("Servo OFF"));
+        if off.on_hover_text("232H servo off, SCARA axes").clicked() {
+            pendant.servo(false, now);
+        }
+        let home = ui.add_enabled(ready.is_ok(), Button::new("Home"));
+        if home.on_hover_text("233H home return, SCARA axes").clicked() {
+            pendant.home(now);
+        }
+    });
+    if let Err(why) = &ready {
+        reason(ui, why);
+    }
+    if let Some(s) = pendant.controller.system.map(|s| s.value) {
+        ui.horizontal_wrapped(|ui| {
+            lamp(ui, !s.status3.drive_cut_off(), GREEN, "Drive source");
+            lamp(ui, s.status1.manual_switch(), AMBER, "MANUAL switch");
+            lamp(ui, s.status2.program_running(), AMBER, "Program running");
+        });
+    }
+    if let Some(w) = pendant.controller.work.map(|s| s.value) {
+        ui.label(format!(
+            "{}, work No. {}, tool No. {}",
+            w.common.arm, w.work, w.tool
+        ));
+    }
+    axis_grid(ui, pendant);
+    ui.horizontal_wrapped(|ui| {
+        let phase = pendant.motion_phase(now);
+        let inpos = pendant.in_position().unwrap_or(false);
+        lamp(ui, inpos, GREEN, "In position");
+        for (p, label) in [
+            (MotionPhase::Accelerating, "Accel"),
+            (MotionPhase::Constant, "Constant"),
+            (MotionPhase::Decelerating, "Decel"),
+            (MotionPhase::Done, "Done"),
+            (MotionPhase::Jogging, "Jogging"),
+            (MotionPhase::Stopped, "Stopped"),
+        ] {
+            lamp(ui, phase == p, if p == MotionPhase::Stopped { RED } else { GREEN }, label);
+        }
+    })
+    .response
+    .on_hover_text(
+        "The controller reports no motion phase: the pendant follows the profile of the \
+         move it sent (inferred), and compares the polled joints with the move's end.",
+    );
+}
+
+fn axis_grid(ui: &mut Ui, pendant: &Pendant) {
+    let Some(axes) = pendant.controller.axes() else {
+        ui.label("no axis status yet");
+        return;
+    };
+    egui::Grid::new("axis-status")
+        .striped(true)
+        .num_columns(6)
+        .show(ui, |ui| {
+            for h in ["Axis", "Servo", "Home", "In use", "Completed", "Error"] {
+                ui.label(RichText::new(h).strong());
+            }
+            ui.end_row();
+            for (i, (_, a)) in axes.iter().enumerate() {
+                let st = a.status;
+                ui.label(AXIS_NAMES.get(i).copied().unwrap_or("?"));
+                yes_no(ui, st.servo_on(), "on", "off");
+                let home = match st.home_state() {
+                    HomeState::Done => RichText::new("homed").color(GREEN),
+                    HomeState::Homing => RichText::new("homing").color(AMBER),
+                    _ => RichText::new("not homed").color(AMBER),
+                };
+                ui.label(home);
+                ui.label(if st.in_use() { "in use" } else { "-" });
+                ui.label(if st.completed_normally() { "yes" } else { "-" });
+                if a.error.0 == 0 {
+                    ui.label("-");
+                } else {
+                    ui.label(RichText::new(a.error.to_string()).color(RED));
+                }
+                ui.end_row();
+            }
+        });
+}
+
+fn yes_no(ui: &mut Ui, v: bool, yes: &str, no: &str) {
+    if v {
+        ui.label(RichText::new(yes).color(GREEN));
+    } else {
+        ui.label(no);
+    }
+}

@@ -1,0 +1,106 @@
+//! The top bar: line state, controller version, mode, E-stop, ready, alarm with reset,
+//! the theme switch, and the big STOP that is always visible and always enabled.
+
+use std::time::Instant;
+
+use egui::{Button, Color32, RichText, Ui, vec2};
+
+use super::widgets::{AMBER, GREEN, RED, lamp};
+use crate::pendant::{LineState, Pendant};
+use crate::protocol::SystemMode;
+
+/// What the bar asks of the app beyond the pendant's own calls.
+#[derive(Default)]
+pub struct TopBarOutput {
+    /// STOP was pressed: run it before anything else this frame.
+    pub stop: bool,
+}
+
+pub fn show(ui: &mut Ui, pendant: &mut Pendant, now: Instant) -> TopBarOutput {
+    let mut out = TopBarOutput::default();
+    ui.horizontal(|ui| {
+        let stop = Button::new(RichText::new("STOP").size(26.0).strong().color(Color32::WHITE))
+            .fill(RED)
+            .min_size(vec2(130.0, 46.0));
+        if ui
+            .add(stop)
+            .on_hover_text("238H to all axes, ahead of everything (Esc)")
+            .clicked()
+        {
+            out.stop = true;
+        }
+        ui.separator();
+        ui.vertical(|ui| {
+            let (color, text) = match &pendant.line {
+                LineState::Up { line, .. } => (GREEN, format!("Connected: {line}")),
+                LineState::Opening => (AMBER, "Connecting...".to_owned()),
+                LineState::Down { reason, .. } => (RED, format!("Line down: {reason}")),
+                LineState::Closed => (AMBER, "Disconnected".to_owned()),
+            };
+            ui.label(RichText::new(text).color(color).strong());
+            let version = pendant.controller.version.map_or_else(
+                || "controller version: -".to_owned(),
+                |v| {
+                    format!(
+                        "controller version {:X}, model {:02X}, {}-{:02}-{:02}",
+                        v.version, v.model, v.year, v.month, v.day
+                    )
+                },
+            );
+            ui.label(version);
+        });
+        ui.separator();
+        system_lamps(ui, pendant, now);
+        ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+            let light = pendant.settings.light_theme;
+            if ui
+                .button(if light { "Dark theme" } else { "Light theme" })
+                .on_hover_text("Switch between the dark and light themes")
+                .clicked()
+            {
+                pendant.settings.light_theme = !light;
+            }
+        });
+    });
+    out
+}
+
+fn system_lamps(ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
+    let system = pendant.controller.system.map(|s| s.value);
+    let stale = pendant.controller.is_stale(now);
+    ui.vertical(|ui| {
+        ui.horizontal(|ui| {
+            let mode = system.map_or("-", |s| s.mode.name().unwrap_or("unknown"));
+            let auto = system.is_some_and(|s| s.mode == SystemMode::AUTO);
+            lamp(ui, auto, GREEN, &format!("Mode {mode}"));
+            let estop = system.is_some_and(|s| s.status1.emergency_stop());
+            lamp(ui, estop, RED, if estop { "E-STOP ACTIVE" } else { "E-stop off" });
+            let ready = system.is_some_and(|s| s.status3.ready());
+            lamp(ui, ready, GREEN, "Ready");
+            if stale && pendant.line.is_up() {
+                ui.label(RichText::new("status stale").color(AMBER));
+            }
+        });
+        ui.horizontal(|ui| {
+            let alarm = system.filter(|s| s.critical_error.0 != 0 || s.latest_error.0 != 0);
+            match alarm {
+                Some(s) => {
+                    let code = if s.critical_error.0 != 0 {
+                        s.critical_error
+                    } else {
+                        s.latest_error
+                    };
+                    lamp(ui, true, RED, &format!("Alarm {code}"));
+                    if ui
+                        .add_enabled(pendant.line.is_up(), Button::new("Reset alarm"))
+                        .on_hover_text("252H alarm reset")
+                        .clicked()
+                    {
+                        pendant.reset_alarm(now);
+                    }
+                }
+                None => lamp(ui, false, RED, "No alarm"),
+            }
+        });
+    });
+}

@@ -1,0 +1,39 @@
+//! Small drawing helpers shared by the panels: lamps, coloured words, the disabled reason.
+
+use egui::{Color32, RichText, Ui};
+
+use crate::pendant::Level;
+
+pub const GREEN: Color32 = Color32::from_rgb(40, 170, 70);
+pub const AMBER: Color32 = Color32::from_rgb(220, 150, 20);
+pub const RED: Color32 = Color32::from_rgb(210, 40, 40);
+pub const GREY: Color32 = Color32::from_gray(120);
+
+/// A round lamp and its label.
+pub fn lamp(ui: &mut Ui, on: bool, color: Color32, label: &str) {
+    ui.horizontal(|ui| {
+        let (rect, _) = ui.allocate_exact_size(egui::vec2(12.0, 12.0), egui::Sense::hover());
+        let fill = if on { color } else { GREY.gamma_multiply(0.4) };
+        ui.painter().circle_filled(rect.center(), 5.5, fill);
+        ui.label(label);
+    });
+}
+
+/// The colour of a message level.
+pub fn level_color(level: Level) -> Color32 {
+    match level {
+        Level::Info => GREEN,
+        Level::Warning => AMBER,
+        Level::Error => RED,
+    }
+}
+
+/// A message in its level's colour.
+pub fn message(ui: &mut Ui, level: Level, text: &str) {
+    ui.label(RichText::new(text).color(level_color(level)));
+}
+
+/// The reason beside a disabled control, in the warning colour.
+pub fn reason(ui: &mut Ui, text: impl std::fmt::Display) {
+    ui.label(RichText::new(format!("⚠ {text}")).color(AMBER));
+}

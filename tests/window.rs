@@ -1,0 +1,168 @@
+//! The real window on the embedded simulator, driven headlessly with egui_kittest: an
+//! operator's clicks, and what reached the simulator's line. Waits are bounded by a
+//! deadline; nothing sleeps a fixed time before asserting.
+
+use std::time::{Duration, Instant};
+
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use xsel_pendant::protocol::HomeState;
+use xsel_pendant::sim::runner::Dir;
+use xsel_pendant::ui::{PendantApp, StartOptions};
+
+const DEADLINE: Duration = Duration::from_secs(20);
+
+fn app<'a>() -> Harness<'a, PendantApp> {
+    Harness::builder()
+        .with_size([1280.0, 800.0])
+        .build_eframe(|cc| PendantApp::new(cc, StartOptions { connection: None, fresh: true }))
+}
+
+/// Steps the window until `done` holds, or fails naming `what` after the deadline.
+fn step_until(h: &mut Harness<'_, PendantApp>, what: &str, done: impl Fn(&PendantApp) -> bool) {
+    let end = Instant::now() + DEADLINE;
+    while !done(h.state()) {
+        assert!(Instant::now() < end, "timed out waiting for: {what}");
+        h.step();
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    h.step();
+}
+
+fn sim_in_frames(app: &PendantApp, id: &str) -> Vec<String> {
+    app.sim()
+        .map(|s| s.traffic())
+        .unwrap_or_default()
+        .into_iter()
+        .filter(|t| t.dir == Dir::In)
+        .map(|t| String::from_utf8_lossy(&t.bytes).into_owned())
+        .filter(|f| f.get(3..6) == Some(id))
+        .collect()
+}
+
+/// The simulator's tool tip X in its selected work frame, mm.
+fn sim_x(app: &PendantApp) -> f64 {
+    app.sim().map_or(f64::NAN, |s| {
+        s.with(|c| {
+            let snap = c.snapshot();
+            let work = c.coords().work.get(snap.work).copied().unwrap_or_default();
+            work.base_to_work(&snap.tip_base).x
+        })
+    })
+}
+
+fn all_axes(app: &PendantApp, f: impl Fn(&xsel_pendant::protocol::AxisState) -> bool) -> bool {
+    app.pendant()
+        .controller
+        .axes()
+        .is_some_and(|axes| axes.iter().all(|(_, a)| f(&a)))
+}
+
+/// Connects, switches the servo on and homes, as an operator would.
+fn ready(h: &mut Harness<'_, PendantApp>) {
+    step_until(h, "the first status", |a| {
+        a.pendant().controller.work.is_some() && a.pendant().controller.system.is_some()
+    });
+    h.get_by_label("Servo ON").click();
+    step_until(h, "servo on", |a| all_axes(a, |s| s.status.servo_on()));
+    step_until(h, "the servo switch to end", |a| all_axes(a, |s| !s.status.in_use()));
+    h.get_by_label("Home").click();
+    step_until(h, "homed", |a| {
+        all_axes(a, |s| s.status.home_state() == HomeState::Done && !s.status.in_use())
+    });
+    step_until(h, "motion allowed and tables read", |a| {
+        a.pendant().motion_ready(Instant::now()).is_ok()
+            && a.pendant().controller.tool_table.is_some()
+    });
+}
+
+fn checksum_frame(body: &str) -> String {
+    let sc = body.bytes().fold(0u8, |s, b| s.wrapping_add(b));
+    format!("{body}{sc:02X}\r\n")
+}
+
+#[test]
+fn servo_home_and_a_10_mm_step_move_the_simulated_arm() {
+    let mut h = app();
+    ready(&mut h);
+    let x0 = sim_x(h.state());
+    h.get_by_label("10").click();
+    h.get_by_label("X+").click();
+    step_until(&mut h, "the arm to move 10 mm in X", |a| {
+        (sim_x(a) - x0 - 10.0).abs() < 0.0015
+    });
+    let sent = sim_in_frames(h.state(), "2D5");
+    // PROTOCOL.md 3.20: pattern 01, acc 30 %, dec 30 %, speed 20 %, type 02 (PTP, work
+    // frame, current arm), distance +10.000 mm.
+    let expected = checksum_frame("!992D501001E001E00140200002710");
+    assert_eq!(sent, vec![expected], "exactly one 2D5H, with these bytes");
+}
+
+#[test]
+fn cp_and_arm_policies_change_the_operation_type_on_the_line() {
+    let mut h = app();
+    ready(&mut h);
+    h.get_by_label("CP").click();
+    h.get_by_label("Y-").click();
+    step_until(&mut h, "a CP 2D5H", |a| sim_in_frames(a, "2D5").len() == 1);
+    let cp = sim_in_frames(h.state(), "2D5").remove(0);
+    assert_eq!(&cp[20..22], "03", "CP, work frame: {cp}");
+    h.get_by_label("PTP").click();
+    step_until(&mut h, "the CP step to end", |a| all_axes(a, |s| !s.status.in_use()));
+    h.get_by_label("X-").click();
+    step_until(&mut h, "a PTP 2D5H", |a| sim_in_frames(a, "2D5").len() == 2);
+    let ptp = sim_in_frames(h.state(), "2D5").remove(1);
+    assert_eq!(&ptp[20..22], "02", "PTP, current arm, no switching: {ptp}");
+}
+
+#[test]
+fn a_step_beyond_reach_is_refused_beside_the_button_and_nothing_is_sent() {
+    let mut h = app();
+    ready(&mut h);
+    h.get_by_label("50").click();
+    for _ in 0..20 {
+        h.get_by_label("X+").click();
+        h.step();
+        if h.state()
+            .pendant()
+            .jog_feedback
+            .as_ref()
+            .is_some_and(|m| m.text.starts_with("refused"))
+        {
+            break;
+        }
+        let n = sim_in_frames(h.state(), "2D5").len();
+        step_until(&mut h, "the step to end", |a| {
+            all_axes(a, |s| !s.status.in_use()) && a.pendant().motion_ready(Instant::now()).is_ok()
+        });
+        assert!(n <= 20);
+    }
+    let before = sim_in_frames(h.state(), "2D5").len();
+    let text = h.state().pendant().jog_feedback.clone().unwrap().text;
+    assert!(text.starts_with("refused"), "{text}");
+    assert!(h.query_by_label_contains("refused").is_some(), "the refusal is shown");
+    h.run_steps(5);
+    assert_eq!(sim_in_frames(h.state(), "2D5").len(), before);
+}
+
+#[test]
+fn stop_during_a_long_move_ends_it_short() {
+    let mut h = app();
+    ready(&mut h);
+    let x0 = sim_x(h.state());
+    h.get_by_label("1").click();
+    h.get_by_label("Y-").click();
+    step_until(&mut h, "a small step to end", |a| all_axes(a, |s| !s.status.in_use()));
+    h.get_by_label("50").click();
+    h.get_by_label("X-").click();
+    step_until(&mut h, "the move to start", |a| {
+        a.sim().is_some_and(|s| s.with(|c| c.snapshot().in_use) != 0)
+    });
+    h.get_by_label("STOP").click();
+    step_until(&mut h, "the arm to stop", |a| {
+        a.sim().is_some_and(|s| s.with(|c| c.snapshot().in_use) == 0)
+    });
+    let moved = (sim_x(h.state()) - x0).abs();
+    assert!(moved < 49.9, "the move ran to its end: {moved} mm");
+    assert_eq!(sim_in_frames(h.state(), "238").len(), 1);
+}
