@@ -110,6 +110,8 @@ fn a_late_error_reply_is_never_credited_to_the_next_move() {
 fn a_stalled_line_stops_a_running_jog() {
     let mut config = quiet_config();
     config.timing.margin = Duration::from_millis(50);
+    // The lease is not what stops this jog: the stall is.
+    config.jog_lease = Duration::from_secs(60);
     let (link, events, sim) = embedded_link(
         ready_setup(Duration::from_millis(1)),
         FaultSpec::none(),
