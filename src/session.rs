@@ -1,6 +1,6 @@
-//! A live connection: the link thread on the chosen line, and the embedded simulator when
-//! the line is the built-in one. Built from [`ConnectionSettings`]; dropped to close (the
-//! link stops any jog or move still running on its way out).
+//! A connection as the operator names it: the line to open (serial port, TCP bridge or
+//! the embedded simulator) and, once started, the link thread on it. The command line and
+//! the window both go through here, so a line is prepared one way only.
 
 use std::sync::Arc;
 use std::time::Duration;
@@ -8,23 +8,149 @@ use std::time::Duration;
 use crossbeam_channel::Receiver;
 
 use crate::link::transport::{SerialTransport, StreamTransport, TcpTransport};
-use crate::link::{Connector, LinkConfig, LinkEvent, LinkHandle, Polling, Repaint, Transport};
+use crate::link::{
+    Connector, LineSettings, LinkConfig, LinkEvent, LinkHandle, Polling, Repaint, Transport,
+};
 use crate::pendant::{ConnectionSettings, LineKind, state};
 use crate::robot::RobotModel;
 use crate::sim::pipe::PipeEnd;
 use crate::sim::{EmbeddedOptions, SimHandle, SimSetup, start_embedded};
 
-/// How often a poll cycle starts.
+/// How often a poll cycle starts in the window.
 pub const POLL_INTERVAL: Duration = Duration::from_millis(100);
 
-/// The robot model named in the settings: a built-in name or a TOML file.
+/// A robot model by name: `scara-500`, `scara-250`, or a TOML file.
 pub fn load_model(name: &str) -> Result<RobotModel, String> {
-    RobotModel::builtin(name)
-        .or_else(|_| RobotModel::load(name))
-        .map_err(|e| format!("robot model `{name}`: {e}"))
+    let builtin = if name.ends_with(".toml") {
+        None
+    } else {
+        RobotModel::builtin(name).ok()
+    };
+    builtin
+        .map(Ok)
+        .unwrap_or_else(|| RobotModel::load(name))
+        .map_err(|e| e.to_string())
 }
 
-/// The link thread and what stands behind the line.
+/// The line to open and, for the built-in one, the simulator behind it.
+pub struct Connection {
+    /// Opens (and re-opens) the line; hand it to `link::spawn`.
+    pub connector: Connector,
+    /// The embedded simulator, kept alive as long as this is held.
+    pub sim: Option<SimHandle>,
+    pub line: LineSettings,
+    /// The robot model (the simulator's, and the one the pendant checks moves with).
+    pub model: RobotModel,
+    /// What the line is, for messages: "serial port /dev/ttyUSB0", "TCP 10.0.0.5:4001".
+    pub target: String,
+    /// The port path or HOST:PORT as given (the target's name for the simulator).
+    pub address: String,
+}
+
+impl Connection {
+    /// Prepares the line of `settings`; only the simulator starts now, a port or socket
+    /// opens when the connector is called.
+    pub fn prepare(settings: &ConnectionSettings, model: RobotModel) -> Connection {
+        let line = settings.line();
+        match settings.kind {
+            LineKind::Serial => {
+                let port = settings.port.trim().to_owned();
+                let (target, address) = (format!("serial port {port}"), port.clone());
+                let connector: Connector = Box::new(move || {
+                    SerialTransport::open(&port, line).map(|t| Box::new(t) as Box<dyn Transport>)
+                });
+                Connection {
+                    connector,
+                    sim: None,
+                    line,
+                    model,
+                    target,
+                    address,
+                }
+            }
+            LineKind::Tcp => {
+                let addr = settings.tcp.trim().to_owned();
+                let (target, address) = (format!("TCP {addr}"), addr.clone());
+                let connector: Connector = Box::new(move || {
+                    TcpTransport::connect(&addr, Duration::from_secs(2))
+                        .map(|t| Box::new(t) as Box<dyn Transport>)
+                });
+                Connection {
+                    connector,
+                    sim: None,
+                    line,
+                    model,
+                    target,
+                    address,
+                }
+            }
+            LineKind::Simulator => {
+                let mut setup = SimSetup::for_model(model.clone());
+                setup.config.station = settings.station;
+                let (pipe, sim) = start_embedded(EmbeddedOptions {
+                    setup,
+                    byte_time: Some(line.byte_time()),
+                    ..EmbeddedOptions::default()
+                });
+                let target = format!("built-in simulator ({}, paced at {line})", settings.robot);
+                let name = target.clone();
+                let mut pipe = Some(pipe);
+                let connector: Connector = Box::new(move || {
+                    pipe.take()
+                        .map(|p| {
+                            Box::new(StreamTransport::new(p, &name, PipeEnd::set_read_timeout))
+                                as Box<dyn Transport>
+                        })
+                        .ok_or_else(|| std::io::Error::other("the built-in simulator has stopped"))
+                });
+                Connection {
+                    connector,
+                    sim: Some(sim),
+                    line,
+                    model,
+                    address: target.clone(),
+                    target,
+                }
+            }
+        }
+    }
+
+    /// Opens the line now, so a missing port or a refused connection is reported at once
+    /// (the message names the line); the connector then hands out that open line first
+    /// and re-opens as before.
+    pub fn open_now(&mut self) -> Result<(), String> {
+        let mut connector: Connector = Box::new(|| Err(std::io::Error::other("moved")));
+        std::mem::swap(&mut connector, &mut self.connector);
+        match connector() {
+            Ok(line) => {
+                let mut first = Some(line);
+                self.connector = Box::new(move || match first.take() {
+                    Some(t) => Ok(t),
+                    None => connector(),
+                });
+                Ok(())
+            }
+            Err(e) => {
+                self.connector = connector;
+                Err(self.open_error(&e))
+            }
+        }
+    }
+
+    /// A message for an error from the connector, naming the line once.
+    pub fn open_error(&self, e: &std::io::Error) -> String {
+        let text = e.to_string();
+        if !text.contains(&self.address) {
+            format!("cannot open {}: {text}", self.target)
+        } else if text.starts_with("cannot open") {
+            text
+        } else {
+            format!("cannot open {text}")
+        }
+    }
+}
+
+/// The link thread on a line, and the simulator behind it when there is one.
 pub struct Session {
     pub link: LinkHandle,
     pub events: Receiver<LinkEvent>,
@@ -33,16 +159,24 @@ pub struct Session {
 }
 
 impl Session {
-    /// Checks the settings and starts the link; the line itself opens on the link thread
-    /// (its success or failure arrives as an event).
+    /// Checks the settings, prepares the line and starts the link polling for the
+    /// window; the line opens on the link thread (success or failure arrives as an event).
     pub fn open(
         settings: &ConnectionSettings,
         model: &RobotModel,
         repaint: Repaint,
     ) -> Result<Session, String> {
-        let line = settings.line();
-        line.validate().map_err(|e| e.to_string())?;
-        let (connector, sim) = connector(settings, model)?;
+        settings.line().validate().map_err(|e| e.to_string())?;
+        match settings.kind {
+            LineKind::Serial if settings.port.trim().is_empty() => {
+                return Err("choose a serial port first".into());
+            }
+            LineKind::Tcp if settings.tcp.trim().is_empty() => {
+                return Err("enter the bridge's address as HOST:PORT".into());
+            }
+            _ => {}
+        }
+        let connection = Connection::prepare(settings, model.clone());
         let mut config = LinkConfig {
             station: settings.station(),
             polling: Polling {
@@ -51,64 +185,18 @@ impl Session {
             },
             ..LinkConfig::default()
         };
-        config.timing.line = line;
-        let (link, events) = crate::link::spawn(connector, config, repaint)
+        config.timing.line = connection.line;
+        let (link, events) = crate::link::spawn(connection.connector, config, repaint)
             .map_err(|e| format!("cannot start the link thread: {e}"))?;
-        Ok(Session { link, events, sim })
+        Ok(Session {
+            link,
+            events,
+            sim: connection.sim,
+        })
     }
 
-    /// A session with the repaint hook doing nothing (headless use, tests).
+    /// A session whose repaint hook does nothing (tests, benches).
     pub fn open_quiet(settings: &ConnectionSettings, model: &RobotModel) -> Result<Session, String> {
         Self::open(settings, model, Arc::new(|| {}))
-    }
-}
-
-fn connector(
-    settings: &ConnectionSettings,
-    model: &RobotModel,
-) -> Result<(Connector, Option<SimHandle>), String> {
-    let line = settings.line();
-    match settings.kind {
-        LineKind::Serial => {
-            let port = settings.port.trim().to_owned();
-            if port.is_empty() {
-                return Err("choose a serial port first".into());
-            }
-            let open: Connector = Box::new(move || {
-                SerialTransport::open(&port, line).map(|t| Box::new(t) as Box<dyn Transport>)
-            });
-            Ok((open, None))
-        }
-        LineKind::Tcp => {
-            let addr = settings.tcp.trim().to_owned();
-            if addr.is_empty() {
-                return Err("enter the bridge's address as HOST:PORT".into());
-            }
-            let open: Connector = Box::new(move || {
-                TcpTransport::connect(&addr, Duration::from_secs(2))
-                    .map(|t| Box::new(t) as Box<dyn Transport>)
-            });
-            Ok((open, None))
-        }
-        LineKind::Simulator => {
-            let mut setup = SimSetup::for_model(model.clone());
-            setup.config.station = settings.station;
-            let (pipe, sim) = start_embedded(EmbeddedOptions {
-                setup,
-                byte_time: Some(line.byte_time()),
-                ..EmbeddedOptions::default()
-            });
-            let name = format!("built-in simulator ({}, paced at {line})", model.name);
-            let mut pipe = Some(pipe);
-            let open: Connector = Box::new(move || {
-                pipe.take()
-                    .map(|p| {
-                        Box::new(StreamTransport::new(p, &name, PipeEnd::set_read_timeout))
-                            as Box<dyn Transport>
-                    })
-                    .ok_or_else(|| std::io::Error::other("the built-in simulator has stopped"))
-            });
-            Ok((open, Some(sim)))
-        }
     }
 }

@@ -110,6 +110,8 @@ fn a_late_error_reply_is_never_credited_to_the_next_move() {
 fn a_stalled_line_stops_a_running_jog() {
     let mut config = quiet_config();
     config.timing.margin = Duration::from_millis(50);
+    // The lease is not what stops this jog: the stall is.
+    config.jog_lease = Duration::from_secs(60);
     let (link, events, sim) = embedded_link(
         ready_setup(Duration::from_millis(1)),
         FaultSpec::none(),
@@ -322,4 +324,52 @@ fn a_tcp_bridge_that_comes_back_is_reconnected_automatically() {
         )
     })
     .expect("polling resumed");
+}
+
+#[test]
+fn a_line_lost_while_waiting_for_a_reply_is_reported_as_interrupted_not_timed_out() {
+    // The controller swallows the reply; the line is lost while the link waits for it.
+    let (link, events, sim) = embedded_link(
+        ready_setup(Duration::from_millis(1)),
+        FaultSpec::none().with(Fault::Drop, 1.0),
+        None,
+        LinkConfig {
+            timing: xsel_pendant::link::timing::Timing {
+                margin: Duration::from_secs(5),
+                ..Default::default()
+            },
+            ..quiet_config()
+        },
+    );
+    let id = link.submit(Command::SystemStatus, Priority::User);
+    let mut seen = Vec::new();
+    wait_for(
+        &events,
+        LONG,
+        &mut seen,
+        |e| matches!(e, LinkEvent::FrameSent { id: s, .. } if *s == id),
+    )
+    .expect("the query went out");
+    drop(sim);
+    let settled = wait_for(&events, LONG, &mut seen, |e| match e {
+        LinkEvent::Interrupted { id: s, .. } | LinkEvent::Timeout { id: s, .. } => *s == id,
+        _ => false,
+    });
+    assert!(
+        matches!(settled, Some(LinkEvent::Interrupted { .. })),
+        "{settled:?}\n{}",
+        story(&seen)
+    );
+    let lost = wait_for(&events, LONG, &mut seen, |e| {
+        matches!(e, LinkEvent::Disconnected { .. })
+    });
+    assert!(
+        matches!(
+            lost,
+            Some(LinkEvent::Disconnected {
+                reason: xsel_pendant::link::LineDownReason::Closed
+            })
+        ),
+        "{lost:?}"
+    );
 }

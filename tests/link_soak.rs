@@ -8,7 +8,7 @@ use std::collections::HashSet;
 use std::time::{Duration, Instant};
 
 use common::*;
-use xsel_pendant::link::{LinkConfig, LinkEvent, Polling, Priority};
+use xsel_pendant::link::{LinkConfig, LinkEvent, NotSentReason, Polling, Priority};
 use xsel_pendant::protocol::{AxisPattern, Command, PositionSystem, ScaraStatusQuery};
 use xsel_pendant::sim::{Fault, FaultSpec};
 
@@ -74,7 +74,7 @@ fn ten_thousand_transactions_with_ten_percent_faults() {
             LinkEvent::Timeout { .. } => timeouts += 1,
             LinkEvent::Garbage { error, .. } => {
                 garbage += 1;
-                if error.contains("checksum") {
+                if error.is_checksum() {
                     checksum_errors += 1;
                 }
             }
@@ -83,7 +83,7 @@ fn ten_thousand_transactions_with_ten_percent_faults() {
                     motion_submitted.contains(id),
                     "only moves may be held back: {reason}"
                 );
-                assert!(reason.contains("out of step"), "{reason}");
+                assert_eq!(*reason, NotSentReason::OutOfStep, "{reason}");
                 motion_refused_out_of_step += 1;
             }
             LinkEvent::Reply { command, reply, .. } => {
@@ -115,7 +115,7 @@ fn ten_thousand_transactions_with_ten_percent_faults() {
             LinkEvent::Timeout { .. } => timeouts += 1,
             LinkEvent::Garbage { error, .. } => {
                 garbage += 1;
-                if error.contains("checksum") {
+                if error.is_checksum() {
                     checksum_errors += 1;
                 }
             }

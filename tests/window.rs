@@ -6,6 +6,7 @@ use std::time::{Duration, Instant};
 
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
+use xsel_pendant::pendant::MotionPhase;
 use xsel_pendant::protocol::HomeState;
 use xsel_pendant::sim::runner::Dir;
 use xsel_pendant::ui::{PendantApp, StartOptions};
@@ -22,7 +23,12 @@ fn app<'a>() -> Harness<'a, PendantApp> {
 fn step_until(h: &mut Harness<'_, PendantApp>, what: &str, done: impl Fn(&PendantApp) -> bool) {
     let end = Instant::now() + DEADLINE;
     while !done(h.state()) {
-        assert!(Instant::now() < end, "timed out waiting for: {what}");
+        assert!(
+            Instant::now() < end,
+            "timed out waiting for: {what}; last jog message: {:?}; messages: {:?}",
+            h.state().pendant().jog_feedback,
+            h.state().pendant().messages.iter().rev().take(5).collect::<Vec<_>>()
+        );
         h.step();
         std::thread::sleep(Duration::from_millis(5));
     }
@@ -60,13 +66,13 @@ fn all_axes(app: &PendantApp, f: impl Fn(&xsel_pendant::protocol::AxisState) -> 
 
 /// Connects, switches the servo on and homes, as an operator would.
 fn ready(h: &mut Harness<'_, PendantApp>) {
-    step_until(h, "the first status", |a| {
-        a.pendant().controller.work.is_some() && a.pendant().controller.system.is_some()
+    step_until(h, "the controller to accept commands", |a| {
+        a.pendant().controller_ready(Instant::now()).is_ok()
     });
-    h.get_by_label("Servo ON").click();
+    click(h, "Servo ON");
     step_until(h, "servo on", |a| all_axes(a, |s| s.status.servo_on()));
     step_until(h, "the servo switch to end", |a| all_axes(a, |s| !s.status.in_use()));
-    h.get_by_label("Home").click();
+    click(h, "Home");
     step_until(h, "homed", |a| {
         all_axes(a, |s| s.status.home_state() == HomeState::Done && !s.status.in_use())
     });
@@ -74,6 +80,21 @@ fn ready(h: &mut Harness<'_, PendantApp>) {
         a.pendant().motion_ready(Instant::now()).is_ok()
             && a.pendant().controller.tool_table.is_some()
     });
+}
+
+/// Clicks the one button with this label, and lets the window take the click (the
+/// layout may change under the next button).
+fn click(h: &mut Harness<'_, PendantApp>, label: &str) {
+    h.get_by_role_and_label(egui::accesskit::Role::Button, label).click();
+    h.step();
+    h.step();
+}
+
+fn refused(a: &PendantApp) -> bool {
+    a.pendant()
+        .jog_feedback
+        .as_ref()
+        .is_some_and(|m| m.text.starts_with("refused"))
 }
 
 fn checksum_frame(body: &str) -> String {
@@ -86,8 +107,8 @@ fn servo_home_and_a_10_mm_step_move_the_simulated_arm() {
     let mut h = app();
     ready(&mut h);
     let x0 = sim_x(h.state());
-    h.get_by_label("10").click();
-    h.get_by_label("X+").click();
+    click(&mut h, "10");
+    click(&mut h, "X+");
     step_until(&mut h, "the arm to move 10 mm in X", |a| {
         (sim_x(a) - x0 - 10.0).abs() < 0.0015
     });
@@ -102,14 +123,14 @@ fn servo_home_and_a_10_mm_step_move_the_simulated_arm() {
 fn cp_and_arm_policies_change_the_operation_type_on_the_line() {
     let mut h = app();
     ready(&mut h);
-    h.get_by_label("CP").click();
-    h.get_by_label("Y-").click();
+    click(&mut h, "CP");
+    click(&mut h, "Y-");
     step_until(&mut h, "a CP 2D5H", |a| sim_in_frames(a, "2D5").len() == 1);
     let cp = sim_in_frames(h.state(), "2D5").remove(0);
     assert_eq!(&cp[20..22], "03", "CP, work frame: {cp}");
-    h.get_by_label("PTP").click();
+    click(&mut h, "PTP");
     step_until(&mut h, "the CP step to end", |a| all_axes(a, |s| !s.status.in_use()));
-    h.get_by_label("X-").click();
+    click(&mut h, "X-");
     step_until(&mut h, "a PTP 2D5H", |a| sim_in_frames(a, "2D5").len() == 2);
     let ptp = sim_in_frames(h.state(), "2D5").remove(1);
     assert_eq!(&ptp[20..22], "02", "PTP, current arm, no switching: {ptp}");
@@ -119,28 +140,27 @@ fn cp_and_arm_policies_change_the_operation_type_on_the_line() {
 fn a_step_beyond_reach_is_refused_beside_the_button_and_nothing_is_sent() {
     let mut h = app();
     ready(&mut h);
-    h.get_by_label("50").click();
-    for _ in 0..20 {
-        h.get_by_label("X+").click();
-        h.step();
-        if h.state()
-            .pendant()
-            .jog_feedback
-            .as_ref()
-            .is_some_and(|m| m.text.starts_with("refused"))
-        {
+    click(&mut h, "50");
+    // Step X+ until the arm's reach refuses the next step.
+    for n in 1..=20 {
+        click(&mut h, "X+");
+        step_until(&mut h, "the step to end or be refused", |a| {
+            refused(a)
+                || (sim_in_frames(a, "2D5").len() == n
+                    && a.pendant().motion_phase(Instant::now()) == MotionPhase::Done
+                    && all_axes(a, |s| !s.status.in_use()))
+        });
+        if refused(h.state()) {
             break;
         }
-        let n = sim_in_frames(h.state(), "2D5").len();
-        step_until(&mut h, "the step to end", |a| {
-            all_axes(a, |s| !s.status.in_use()) && a.pendant().motion_ready(Instant::now()).is_ok()
-        });
-        assert!(n <= 20);
     }
     let before = sim_in_frames(h.state(), "2D5").len();
     let text = h.state().pendant().jog_feedback.clone().unwrap().text;
     assert!(text.starts_with("refused"), "{text}");
-    assert!(h.query_by_label_contains("refused").is_some(), "the refusal is shown");
+    assert!(
+        h.query_all_by_label_contains("refused").count() >= 1,
+        "the refusal is shown"
+    );
     h.run_steps(5);
     assert_eq!(sim_in_frames(h.state(), "2D5").len(), before);
 }
@@ -150,15 +170,15 @@ fn stop_during_a_long_move_ends_it_short() {
     let mut h = app();
     ready(&mut h);
     let x0 = sim_x(h.state());
-    h.get_by_label("1").click();
-    h.get_by_label("Y-").click();
+    click(&mut h, "1");
+    click(&mut h, "Y-");
     step_until(&mut h, "a small step to end", |a| all_axes(a, |s| !s.status.in_use()));
-    h.get_by_label("50").click();
-    h.get_by_label("X-").click();
+    click(&mut h, "50");
+    click(&mut h, "X-");
     step_until(&mut h, "the move to start", |a| {
         a.sim().is_some_and(|s| s.with(|c| c.snapshot().in_use) != 0)
     });
-    h.get_by_label("STOP").click();
+    click(&mut h, "STOP");
     step_until(&mut h, "the arm to stop", |a| {
         a.sim().is_some_and(|s| s.with(|c| c.snapshot().in_use) == 0)
     });

@@ -2,11 +2,14 @@
 //! port, so any Format B client can talk to it.
 
 use std::io::Write;
+use std::process::ExitCode;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use clap::Parser;
+use xsel_pendant::cli::parse_or_exit;
+use xsel_pendant::protocol::Station;
 use xsel_pendant::robot::RobotModel;
 use xsel_pendant::sim::errors::code_table_text;
 use xsel_pendant::sim::line::byte_time_8n1;
@@ -18,6 +21,8 @@ Every frame in and out is logged to stderr with the time since start, e.g.
   [  1.234567] rx !992120189\\r\\n  command 212H axis status
 A frame that gets no reply (also a run without '!' header, logged at its LF) says why:
   [  1.240000] rx !99215FF\\r\\n  ...  [silent: wrong checksum]
+If stderr is closed (e.g. `2>&1 | head`), the simulator keeps serving with logging off.
+A bad option ends it with exit code 2 and one line on stderr naming the option.
 
 Replies: '#' normal, '&' + 3-hex-digit error code. The simulator's error codes
 (also in the README, section \"Simulator\"; `--codes` prints them):
@@ -37,9 +42,9 @@ struct Args {
     /// Serve TCP on this address (the default when --pty is not given).
     #[arg(long, value_name = "ADDR", default_missing_value = "127.0.0.1:5099", num_args = 0..=1)]
     tcp: Option<String>,
-    /// Station number, 2 hex digits.
-    #[arg(long, default_value = "99", value_parser = parse_station)]
-    station: u8,
+    /// Station number, exactly 2 hex digits.
+    #[arg(long, default_value = "99")]
+    station: Station,
     /// Robot model TOML file (default: the built-in 500 mm SCARA), or a built-in name
     /// (scara-500, scara-250).
     #[arg(long, value_name = "FILE")]
@@ -56,8 +61,8 @@ struct Args {
     /// garbage, delay, truncate, stall (probability per reply), seed, delay-ms, stall-ms.
     #[arg(long, value_name = "SPEC")]
     faults: Option<FaultSpec>,
-    /// Minimum reply delay in ms (I/O parameter 97 analogue).
-    #[arg(long, default_value_t = 2)]
+    /// Minimum reply delay in ms (I/O parameter 97 analogue), 0 to 60000.
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u64).range(0..=60_000))]
     delay_ms: u64,
     /// Linear axes 5 and 6 (0, 1 or 2).
     #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u8).range(0..=2))]
@@ -67,7 +72,7 @@ struct Args {
     ready: bool,
     /// Reply buffer size: 2048, or 1024 for a J/K/TT model setting (the longest command
     /// received is then 2051 or 1023 bytes).
-    #[arg(long, default_value_t = 2048)]
+    #[arg(long, default_value_t = 2048, value_parser = parse_reply_buffer)]
     reply_buffer: usize,
     /// Do not log frames to stderr.
     #[arg(long)]
@@ -77,13 +82,15 @@ struct Args {
     codes: bool,
 }
 
-/// Exactly 2 hex digits (PROTOCOL.md 1.3).
-fn parse_station(s: &str) -> Result<u8, String> {
-    let bad = || format!("`{s}` is not a station number: give exactly 2 hex digits, e.g. 99");
-    if s.len() != 2 || !s.bytes().all(|b| b.is_ascii_hexdigit()) {
-        return Err(bad());
+/// The two reply-buffer sizes of the X-SEL family.
+fn parse_reply_buffer(s: &str) -> Result<usize, String> {
+    match s.trim() {
+        "1024" => Ok(1024),
+        "2048" => Ok(2048),
+        _ => Err(format!(
+            "`{s}` is not a reply buffer size: use 1024 or 2048"
+        )),
     }
-    u8::from_str_radix(s, 16).map_err(|_| bad())
 }
 
 /// A serial line rate the pacing can honour.
@@ -105,49 +112,71 @@ fn parse_baud(s: &str) -> Result<u32, String> {
     }
 }
 
-fn main() {
-    if let Err(e) = run(Args::parse()) {
-        eprintln!("xsel-sim: {e}");
-        std::process::exit(1);
+fn main() -> ExitCode {
+    let args: Args = parse_or_exit("xsel-sim");
+    match run(args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(Failure::Flag(e)) => {
+            say(&format!("xsel-sim: {e}"));
+            ExitCode::from(2)
+        }
+        Err(Failure::Run(e)) => {
+            say(&format!("xsel-sim: {e}"));
+            ExitCode::FAILURE
+        }
     }
 }
 
-fn run(args: Args) -> Result<(), String> {
+/// Why the simulator did not run.
+enum Failure {
+    /// A file named by an option could not be used (exit code 2, like a bad option).
+    Flag(String),
+    /// The line could not be served (exit code 1).
+    Run(String),
+}
+
+/// One line on stderr; false when stderr is closed.
+fn say(line: &str) -> bool {
+    writeln!(std::io::stderr(), "{line}").is_ok()
+}
+
+fn run(args: Args) -> Result<(), Failure> {
     if args.codes {
-        print!("{}", code_table_text());
+        // A closed stdout (`--codes | head`) is not an error.
+        let _ = write!(std::io::stdout(), "{}", code_table_text());
         return Ok(());
     }
     let model = match &args.robot {
         None => RobotModel::default_model(),
         Some(r) if !r.ends_with(".toml") && RobotModel::builtin(r).is_ok() => {
-            RobotModel::builtin(r).map_err(|e| e.to_string())?
+            RobotModel::builtin(r).map_err(|e| Failure::Flag(format!("--robot: {e}")))?
         }
-        Some(path) => RobotModel::load(path).map_err(|e| e.to_string())?,
+        Some(path) => RobotModel::load(path).map_err(|e| Failure::Flag(format!("--robot: {e}")))?,
     };
     let mut setup = SimSetup::for_model(model);
     if let Some(path) = &args.coords {
-        let file = coords_file::load(path, &setup.model).map_err(|e| e.to_string())?;
+        let file = coords_file::load(path, &setup.model)
+            .map_err(|e| Failure::Flag(format!("--coords: {e}")))?;
         setup.coords = file.tables;
         setup.positions = file.positions;
     }
-    setup.config.station = args.station;
+    setup.config.station = args.station.0;
     setup.config.reply_delay = Duration::from_millis(args.delay_ms);
     setup.config.linear_axes = args.linear_axes;
     setup.config.start_ready = args.ready;
-    if !matches!(args.reply_buffer, 1024 | 2048) {
-        return Err("--reply-buffer must be 1024 or 2048".into());
-    }
     setup.config.reply_buffer = args.reply_buffer;
     let core = SimCore::new(
         Controller::new(setup),
         args.faults.clone().unwrap_or_default(),
     );
-    let quiet = args.quiet;
+    // Logging stops for good when stderr is closed; serving goes on.
+    let logging = Arc::new(AtomicBool::new(!args.quiet));
+    let log_on = logging.clone();
     let opts = RunOptions {
         pacing: args.baud.map(byte_time_8n1),
         log: Some(Box::new(move |entry| {
-            if !quiet {
-                eprintln!("{}", format_entry(entry));
+            if log_on.load(Ordering::Relaxed) && !say(&format_entry(entry)) {
+                log_on.store(false, Ordering::Relaxed);
             }
         })),
         ..RunOptions::default()
@@ -156,36 +185,39 @@ fn run(args: Args) -> Result<(), String> {
     {
         let stop = stop.clone();
         ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed))
-            .map_err(|e| format!("cannot catch Ctrl-C: {e}"))?;
+            .map_err(|e| Failure::Run(format!("cannot catch Ctrl-C: {e}")))?;
     }
     let handle = if args.pty {
-        let server =
-            start_pty(core, opts).map_err(|e| format!("cannot create a pseudo-terminal: {e}"))?;
+        let server = start_pty(core, opts)
+            .map_err(|e| Failure::Run(format!("cannot create a pseudo-terminal: {e}")))?;
         let mut out = std::io::stdout();
         let _ = writeln!(out, "{}", server.path);
         let _ = out.flush();
         server.handle
     } else {
         let addr = args.tcp.as_deref().unwrap_or("127.0.0.1:5099");
-        let server =
-            start_tcp(core, addr, opts).map_err(|e| format!("cannot listen on {addr}: {e}"))?;
+        let server = start_tcp(core, addr, opts)
+            .map_err(|e| Failure::Run(format!("cannot listen on {addr}: {e}")))?;
         let mut out = std::io::stdout();
         let _ = writeln!(out, "{}", server.addr);
         let _ = out.flush();
         server.handle
     };
-    eprintln!(
-        "xsel-sim: station {:02X}, faults: {}; Ctrl-C to stop",
+    let status = format!(
+        "xsel-sim: station {}, faults: {}; Ctrl-C to stop",
         args.station,
         args.faults.map_or("none".to_owned(), |f| f.to_string())
     );
+    if !say(&status) {
+        logging.store(false, Ordering::Relaxed);
+    }
     while !stop.load(Ordering::Relaxed) && handle.is_running() {
         std::thread::sleep(Duration::from_millis(50));
     }
     let counters = handle.counters();
     let faults = handle.fault_counts();
     handle.join();
-    eprintln!(
+    say(&format!(
         "xsel-sim: stopped; {} frames, {} replies, {} errors, {} silent; motion {} received / {} started; faults injected {}",
         counters.frames,
         counters.replies,
@@ -194,7 +226,7 @@ fn run(args: Args) -> Result<(), String> {
         counters.motion_received,
         counters.motion_started,
         faults.total()
-    );
+    ));
     Ok(())
 }
 
@@ -221,12 +253,29 @@ mod tests {
     }
 
     #[test]
+    fn delay_and_reply_buffer_are_bounded() {
+        for (flag, bad) in [
+            ("--delay-ms", "60001"),
+            ("--delay-ms", "many"),
+            ("--reply-buffer", "1000"),
+            ("--reply-buffer", "0"),
+        ] {
+            let e = parses(&[flag, bad]).err().unwrap_or_default();
+            assert!(e.contains(flag), "{flag} {bad}: {e}");
+        }
+        assert_eq!(
+            parses(&["--reply-buffer", "1024"]).unwrap().reply_buffer,
+            1024
+        );
+    }
+
+    #[test]
     fn station_is_exactly_two_hex_digits() {
         for bad in ["9", "+9", "099", "", "9G", " 9"] {
             let e = parses(&["--station", bad]).err().unwrap_or_default();
             assert!(e.contains("exactly 2 hex digits"), "--station {bad:?}: {e}");
         }
-        assert_eq!(parses(&["--station", "0a"]).unwrap().station, 0x0A);
-        assert_eq!(parses(&[]).unwrap().station, 0x99);
+        assert_eq!(parses(&["--station", "0a"]).unwrap().station, Station(0x0A));
+        assert_eq!(parses(&[]).unwrap().station, Station(0x99));
     }
 }

@@ -5,17 +5,21 @@ use std::sync::Arc;
 use std::sync::atomic::AtomicU64;
 use std::time::{Duration, Instant};
 
-use crossbeam_channel::{Receiver, RecvTimeoutError, Sender};
+use crossbeam_channel::{Receiver, TryRecvError, select};
 
 use super::event::LinkEvent;
-use super::handle::{Connector, Control, LinkConfig, Repaint};
+use super::events::EventOut;
+use super::handle::{Connector, Control, LinkConfig};
 use super::health::HealthMeter;
-use super::request::{Origin, Pending, RequestId};
+use super::lease::JogLease;
+use super::reason::{IoFailure, LineDownReason, NotSentReason};
+use super::request::{Origin, Pending, Priority, RequestId};
 use super::schedule::{Next, Scheduler};
+use super::shutdown::ShutdownReport;
 use super::sync::LineSync;
 use super::table::TableJob;
 use super::transport::{Transport, is_timeout};
-use crate::protocol::StreamDecoder;
+use crate::protocol::{AxisPattern, Command, Stop, StreamDecoder};
 
 /// While idle, the line is checked this often (a vanished port shows within a second).
 pub(super) const IDLE_CHECK: Duration = Duration::from_millis(200);
@@ -32,8 +36,9 @@ pub(crate) struct Engine {
     pub(super) connector: Connector,
     pub(super) config: LinkConfig,
     pub(super) control: Receiver<Control>,
-    pub(super) events: Sender<LinkEvent>,
-    pub(super) repaint: Repaint,
+    /// STOPs travel apart from everything else, so none waits behind other messages.
+    pub(super) stops: Receiver<Pending>,
+    pub(super) events: EventOut,
     pub(super) ids: Arc<AtomicU64>,
     pub(super) transport: Option<Box<dyn Transport>>,
     pub(super) sched: Scheduler,
@@ -45,13 +50,19 @@ pub(crate) struct Engine {
     pub(super) sync: LineSync,
     /// A jog was started and no STOP has been acknowledged since.
     pub(super) jog_may_run: bool,
+    /// A motion command went out and no STOP of all axes has been acknowledged since
+    /// (the link cannot tell when a move has ended; a STOP of a still arm is harmless).
+    pub(super) motion_may_run: bool,
+    pub(super) lease: JogLease,
+    /// Polling is paused because the event reader is far behind.
+    polls_paused: bool,
     /// When the last reply (or time-out) ended: the next command waits for the gap.
     pub(super) line_quiet_since: Option<Instant>,
     pub(super) shutting_down: bool,
     reconnect_requested: bool,
     ever_connected: bool,
     open_failure_reported: bool,
-    next_reconnect: Option<Instant>,
+    pub(super) next_reconnect: Option<Instant>,
     last_health: Instant,
     last_line_check: Instant,
 }
@@ -61,8 +72,9 @@ impl Engine {
         connector: Connector,
         config: LinkConfig,
         control: Receiver<Control>,
-        events: Sender<LinkEvent>,
-        repaint: Repaint,
+        stops: Receiver<Pending>,
+        events: EventOut,
+        lease: JogLease,
         ids: Arc<AtomicU64>,
     ) -> Self {
         let now = Instant::now();
@@ -71,8 +83,9 @@ impl Engine {
             sched: Scheduler::new(config.polling.clone(), now),
             config,
             control,
+            stops,
             events,
-            repaint,
+            lease,
             ids,
             transport: None,
             decoder: StreamDecoder::new(),
@@ -81,6 +94,8 @@ impl Engine {
             rx_buf: vec![0; 4096],
             sync: LineSync::default(),
             jog_may_run: false,
+            motion_may_run: false,
+            polls_paused: false,
             line_quiet_since: None,
             shutting_down: false,
             reconnect_requested: false,
@@ -93,20 +108,20 @@ impl Engine {
     }
 
     pub(super) fn emit(&self, event: LinkEvent) {
-        // A dropped receiver only means nobody listens any more.
-        let _ = self.events.send(event);
-        (self.repaint)();
+        self.events.send(event);
     }
 
     pub(super) fn new_id(&self) -> RequestId {
         RequestId::next(&self.ids)
     }
 
-    pub(crate) fn run(mut self) {
+    /// Runs until shut down (by the handle, or because it was dropped), then sends the
+    /// STOPs owed and closes the line.
+    pub(crate) fn run(mut self) -> ShutdownReport {
         while !self.shutting_down {
             let now = Instant::now();
             if std::mem::take(&mut self.reconnect_requested) {
-                self.line_lost("closed to reconnect on request".into());
+                self.line_lost(LineDownReason::ReconnectRequested);
                 self.next_reconnect = Some(now);
             }
             // Connecting comes first, so requests submitted while the line opens are
@@ -126,15 +141,18 @@ impl Engine {
                 self.wait_for_control(wait);
                 continue;
             }
-            if now.duration_since(self.last_health) >= HEALTH_EVERY {
-                self.last_health = now;
-                let health = self.health.snapshot(now);
-                self.emit(LinkEvent::Health(health));
-            }
+            self.check_lease(now);
+            self.follow_reader(now);
             let ids = self.ids.clone();
             match self.sched.next(now, &mut || RequestId::next(&ids)) {
-                Next::Send(pending) => self.transact(pending),
+                Next::Send(pending) => {
+                    self.transact(pending);
+                }
                 Next::Wait(until) => {
+                    let until = match (until, self.lease.deadline()) {
+                        (Some(a), Some(b)) => Some(a.min(b)),
+                        (a, b) => a.or(b),
+                    };
                     let wait = until
                         .map_or(IDLE_CHECK, |t| t.saturating_duration_since(now))
                         .min(IDLE_CHECK);
@@ -147,31 +165,98 @@ impl Engine {
                 }
             }
         }
-        self.transport = None;
+        self.shut_down()
     }
 
-    /// Handles control messages already waiting, without blocking.
-    pub(super) fn drain_control(&mut self) {
-        while let Ok(msg) = self.control.try_recv() {
-            self.handle_control(msg);
+    /// Health twice a second while the reader keeps up; polling paused while it is far
+    /// behind (polls are the link's own, and their replies are never left out).
+    fn follow_reader(&mut self, now: Instant) {
+        let behind = self.events.behind();
+        if behind != self.polls_paused {
+            self.polls_paused = behind;
+            self.sched.pause_polls(behind, now);
+            self.health.polling_paused(behind);
+            if behind {
+                // Sent once as the pause begins, so the reader learns why status is stale.
+                let health = self.health_now(now);
+                self.emit(LinkEvent::Health(health));
+            }
+        }
+        if !behind && now.duration_since(self.last_health) >= HEALTH_EVERY {
+            self.last_health = now;
+            let health = self.health_now(now);
+            self.emit(LinkEvent::Health(health));
         }
     }
 
-    /// Waits up to `wait` for one control message.
+    fn health_now(&mut self, now: Instant) -> super::health::LinkHealth {
+        let mut health = self.health.snapshot(now);
+        health.events_dropped = self.events.dropped_total();
+        health
+    }
+
+    /// Stops a continuous jog whose lease was not renewed in time.
+    fn check_lease(&mut self, now: Instant) {
+        if self.lease.take_lapse(now) && !self.sched.stop_queued() {
+            let stop = Command::Stop(Stop {
+                axes: AxisPattern::ALL,
+                cancel_held_outputs: false,
+            });
+            let id = self.new_id();
+            self.sched
+                .push(Pending::new(id, stop, Origin::LeaseLapsed, Priority::Stop));
+        }
+    }
+
+    /// Handles STOPs and control messages already waiting, without blocking; STOPs first.
+    pub(super) fn drain_control(&mut self) {
+        while let Ok(stop) = self.stops.try_recv() {
+            self.submitted(stop);
+        }
+        loop {
+            let msg = match self.control.try_recv() {
+                Ok(msg) => msg,
+                Err(TryRecvError::Empty) => break,
+                // The handle is gone without a word: shut down all the same.
+                Err(TryRecvError::Disconnected) => {
+                    self.shutting_down = true;
+                    break;
+                }
+            };
+            self.handle_control(msg);
+            // A STOP sent meanwhile overtakes the rest of a long backlog.
+            while let Ok(stop) = self.stops.try_recv() {
+                self.submitted(stop);
+            }
+        }
+    }
+
+    /// Waits up to `wait` for one STOP or control message.
     fn wait_for_control(&mut self, wait: Duration) {
-        match self.control.recv_timeout(wait) {
-            Ok(msg) => self.handle_control(msg),
-            Err(RecvTimeoutError::Timeout) => {}
-            Err(RecvTimeoutError::Disconnected) => self.shutting_down = true,
+        select! {
+            recv(self.stops) -> stop => match stop {
+                Ok(stop) => self.submitted(stop),
+                Err(_) => self.shutting_down = true,
+            },
+            recv(self.control) -> msg => match msg {
+                Ok(msg) => self.handle_control(msg),
+                Err(_) => self.shutting_down = true,
+            },
+            default(wait) => {}
+        }
+    }
+
+    fn submitted(&mut self, pending: Pending) {
+        if self.transport.is_none() {
+            self.not_sent(&pending, NotSentReason::LineDown);
+        } else {
+            self.sched.push(pending);
         }
     }
 
     fn handle_control(&mut self, msg: Control) {
         match msg {
-            Control::Submit(pending) if self.transport.is_none() => {
-                self.not_sent(&pending, "the line is down");
-            }
-            Control::Submit(pending) => self.sched.push(pending),
+            Control::Submit(pending) => self.submitted(pending),
             Control::SetPolling(polling) => self.sched.set_polling(polling, Instant::now()),
             Control::DownloadTable(request) => {
                 if let Some(old) = self.sched.start_table(request) {
@@ -201,15 +286,15 @@ impl Engine {
         }
     }
 
-    pub(super) fn not_sent(&self, pending: &Pending, reason: &str) {
+    pub(super) fn not_sent(&self, pending: &Pending, reason: NotSentReason) {
         self.emit(LinkEvent::NotSent {
             id: pending.id,
             command: pending.command,
-            reason: reason.into(),
+            reason,
         });
     }
 
-    fn try_reconnect(&mut self, now: Instant) {
+    pub(super) fn try_reconnect(&mut self, now: Instant) {
         let Some(at) = self.next_reconnect else {
             return;
         };
@@ -240,7 +325,7 @@ impl Engine {
                     // Reported once; further attempts stay quiet until one succeeds.
                     self.open_failure_reported = true;
                     self.emit(LinkEvent::Disconnected {
-                        reason: format!("cannot open the line: {e}"),
+                        reason: LineDownReason::OpenFailed(IoFailure::from(&e)),
                     });
                 }
                 self.next_reconnect = self
@@ -253,7 +338,7 @@ impl Engine {
 
     /// The line is gone: report it, refuse what is queued (none of it may go out later,
     /// least of all motion), and plan a reconnect. Does nothing if it is already down.
-    pub(super) fn line_lost(&mut self, reason: String) {
+    pub(super) fn line_lost(&mut self, reason: LineDownReason) {
         if self.transport.take().is_none() {
             return;
         }
@@ -262,7 +347,7 @@ impl Engine {
         // chunks are the link's own (the table is reported as a whole below).
         for pending in self.sched.drain_queued() {
             if !matches!(pending.origin, Origin::Poll | Origin::Table { .. }) {
-                self.not_sent(&pending, "the line was lost before it could be sent");
+                self.not_sent(&pending, NotSentReason::LineLost);
             }
         }
         if let Some(job) = self.sched.abort_table() {
@@ -282,10 +367,10 @@ impl Engine {
         };
         let mut buf = [0u8; 512];
         match transport.read_timeout(&mut buf, Duration::ZERO) {
-            Ok(0) => self.line_lost("the line was closed".into()),
+            Ok(0) => self.line_lost(LineDownReason::Closed),
             Ok(n) => self.report_stale(&buf[..n]),
             Err(e) if is_timeout(&e) => {}
-            Err(e) => self.line_lost(e.to_string()),
+            Err(e) => self.line_lost(LineDownReason::ReadFailed(IoFailure::from(&e))),
         }
     }
 

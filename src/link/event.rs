@@ -4,7 +4,9 @@ use std::ops::Range;
 use std::time::{Duration, Instant};
 
 use super::health::LinkHealth;
+use super::reason::{BadInput, LineDownReason, NotSentReason};
 use super::request::{Origin, RequestId};
+use super::shutdown::ShutdownReport;
 use crate::protocol::{
     AxisPattern, Command, CoordKind, DecodeError, ErrorCode, PerAxis, Reply, Thou,
 };
@@ -14,8 +16,9 @@ use crate::protocol::{
 pub enum LinkEvent {
     /// The line is open (first time).
     Connected { line: String },
-    /// The line was lost (port vanished, socket closed, read/write error).
-    Disconnected { reason: String },
+    /// The line was lost (port vanished, socket closed, read/write error), or could not
+    /// be opened.
+    Disconnected { reason: LineDownReason },
     /// The line is open again after a loss.
     Reconnected { line: String },
     /// A frame went out: the exact bytes, when the write returned.
@@ -34,9 +37,12 @@ pub enum LinkEvent {
     /// reply), or a valid frame nobody asked for.
     Garbage {
         bytes: Vec<u8>,
-        error: String,
+        error: BadInput,
         at: Instant,
     },
+    /// The reader fell behind: this many traffic events (`FrameSent`, `FrameReceived`,
+    /// `Garbage`) were left out just before this point. Nothing else is ever left out.
+    Dropped { frames: u64 },
     /// The reply to a request.
     Reply {
         id: RequestId,
@@ -61,11 +67,18 @@ pub enum LinkEvent {
         retrying: bool,
         recheck: Option<RequestId>,
     },
-    /// A request that never reached the line (line down, or it could not be encoded).
+    /// The line was lost while the request waited for its reply: it may or may not have
+    /// been carried out. A `Disconnected` follows.
+    Interrupted {
+        id: RequestId,
+        origin: Origin,
+        command: Command,
+    },
+    /// A request that never reached the line.
     NotSent {
         id: RequestId,
         command: Command,
-        reason: String,
+        reason: NotSentReason,
     },
     /// Progress of a coordinate-table download.
     TableProgress {
@@ -81,11 +94,25 @@ pub enum LinkEvent {
         records: Vec<Option<PerAxis<Thou>>>,
         missing: Vec<Range<u16>>,
     },
-    /// Figures of the line, about twice a second while connected.
+    /// Figures of the line, about twice a second while connected (fewer while the
+    /// reader is behind: each one says it all).
     Health(LinkHealth),
+    /// The link thread has ended: the last event. What was done to stop motion.
+    ShutDown(ShutdownReport),
 }
 
 impl LinkEvent {
+    /// Traffic events may be left out when the reader falls behind (counted in
+    /// [`LinkEvent::Dropped`]); all others always arrive.
+    pub fn is_traffic(&self) -> bool {
+        matches!(
+            self,
+            LinkEvent::FrameSent { .. }
+                | LinkEvent::FrameReceived { .. }
+                | LinkEvent::Garbage { .. }
+        )
+    }
+
     /// A one-line description for logs and the status bar.
     pub fn summary(&self) -> String {
         match self {
@@ -96,6 +123,12 @@ impl LinkEvent {
             LinkEvent::FrameReceived { bytes, .. } => format!("received {}", printable(bytes)),
             LinkEvent::Garbage { bytes, error, .. } => {
                 format!("bad input {}: {error}", printable(bytes))
+            }
+            LinkEvent::Dropped { frames } => {
+                format!("{frames} traffic events left out (the reader fell behind)")
+            }
+            LinkEvent::Interrupted { command, .. } => {
+                format!("line lost while waiting for the reply to {}", command.id())
             }
             LinkEvent::Reply { command, .. } => format!("reply to {}", command.id()),
             LinkEvent::ErrorReply { command, code, .. } => {
@@ -125,6 +158,7 @@ impl LinkEvent {
             LinkEvent::Health(h) => {
                 format!("{} transactions, {} timeouts", h.transactions, h.timeouts)
             }
+            LinkEvent::ShutDown(report) => format!("link shut down: {report}"),
         }
     }
 }
@@ -138,7 +172,7 @@ pub fn printable(bytes: &[u8]) -> String {
 pub(crate) fn garbage_event(error: &DecodeError, at: Instant) -> LinkEvent {
     LinkEvent::Garbage {
         bytes: error.raw().to_vec(),
-        error: error.to_string(),
+        error: BadInput::Malformed(error.clone()),
         at,
     }
 }

@@ -10,8 +10,11 @@ use crossbeam_channel::{Receiver, Sender, unbounded};
 
 use super::engine::Engine;
 use super::event::LinkEvent;
+use super::events::EventOut;
+use super::lease::{JogLease, LeaseClock, is_continuous_jog};
 use super::request::{Origin, Pending, Priority, RequestId};
 use super::schedule::Polling;
+use super::shutdown::ShutdownReport;
 use super::table::TableRequest;
 use super::timing::Timing;
 use super::transport::Transport;
@@ -37,6 +40,12 @@ pub struct LinkConfig {
     pub reconnect_interval: Duration,
     /// What is read after a motion command timed out, instead of re-sending it.
     pub recheck: Command,
+    /// A continuous jog (236H, distance 0) is stopped when its lease is not renewed
+    /// ([`LinkHandle::renew_jog_lease`]) for this long; one not yet sent is dropped.
+    pub jog_lease: Duration,
+    /// Events the reader may leave unread before traffic events are left out (counted
+    /// in `LinkEvent::Dropped`) and status polling pauses.
+    pub event_backlog: usize,
 }
 
 impl Default for LinkConfig {
@@ -56,6 +65,8 @@ impl Default for LinkConfig {
             auto_reconnect: true,
             reconnect_interval: Duration::from_millis(500),
             recheck,
+            jog_lease: Duration::from_millis(250),
+            event_backlog: 1024,
         }
     }
 }
@@ -71,11 +82,17 @@ pub(crate) enum Control {
     Shutdown,
 }
 
-/// The application's side of the link. Dropping it stops the thread and closes the line.
+/// The application's side of the link. Dropping it does what [`LinkHandle::shutdown`]
+/// does (the report then arrives as the last event, if anyone still listens).
 pub struct LinkHandle {
     control: Sender<Control>,
+    /// STOPs only: a channel of their own, so a STOP never waits behind other messages
+    /// (a burst of submissions, a table request) and the engine can look for one first,
+    /// between any two control messages and within 20 ms during a transaction.
+    stops: Sender<Pending>,
     ids: Arc<AtomicU64>,
-    thread: Option<JoinHandle<()>>,
+    lease: Arc<LeaseClock>,
+    thread: Option<JoinHandle<ShutdownReport>>,
 }
 
 /// Starts the link thread. Events arrive on the returned receiver; `repaint` is called
@@ -86,14 +103,20 @@ pub fn spawn(
     repaint: Repaint,
 ) -> std::io::Result<(LinkHandle, Receiver<LinkEvent>)> {
     let (control_tx, control_rx) = unbounded();
+    let (stop_tx, stop_rx) = unbounded();
+    // Unbounded, but kept short: see `events.rs`.
     let (event_tx, event_rx) = unbounded();
     let ids = Arc::new(AtomicU64::new(1));
+    let clock = Arc::new(LeaseClock::new());
+    let events = EventOut::new(event_tx, repaint, config.event_backlog);
+    let lease = JogLease::new(clock.clone(), config.jog_lease);
     let engine = Engine::new(
         connector,
         config,
         control_rx,
-        event_tx,
-        repaint,
+        stop_rx,
+        events,
+        lease,
         ids.clone(),
     );
     let thread = std::thread::Builder::new()
@@ -101,7 +124,9 @@ pub fn spawn(
         .spawn(move || engine.run())?;
     let handle = LinkHandle {
         control: control_tx,
+        stops: stop_tx,
         ids,
+        lease: clock,
         thread: Some(thread),
     };
     Ok((handle, event_rx))
@@ -109,12 +134,28 @@ pub fn spawn(
 
 impl LinkHandle {
     /// Queues a command; the events that answer it carry the returned id. 238H STOP
-    /// always goes to the head of the queue.
+    /// always goes to the head of the queue. Submitting a continuous jog renews its
+    /// lease (see [`LinkHandle::renew_jog_lease`]).
     pub fn submit(&self, command: Command, priority: Priority) -> RequestId {
         let id = RequestId::next(&self.ids);
         let pending = Pending::new(id, command, Origin::User, priority);
-        let _ = self.control.send(Control::Submit(pending));
+        if command.is_stop() {
+            let _ = self.stops.send(pending);
+        } else {
+            if is_continuous_jog(&command) {
+                self.lease.renew();
+            }
+            let _ = self.control.send(Control::Submit(pending));
+        }
         id
+    }
+
+    /// Keeps a continuous jog alive: call it at least every `LinkConfig::jog_lease`
+    /// (the window: every frame while the jog button or key is held). When renewals
+    /// stop, the link sends 238H by itself, so a frozen, minimised or crashed window
+    /// cannot leave the arm jogging. Cheap: one atomic store, no message.
+    pub fn renew_jog_lease(&self) {
+        self.lease.renew();
     }
 
     /// 238H for all axes, at the head of the queue.
@@ -153,13 +194,31 @@ impl LinkHandle {
     pub fn is_running(&self) -> bool {
         self.thread.as_ref().is_some_and(|t| !t.is_finished())
     }
+
+    /// Shuts the link down and says what was done: the transaction in flight ends
+    /// (bounded by its reply timeout), every queued STOP goes out, plus a 238H of the
+    /// link's own if a jog or move may still be running, each tried once and bounded by
+    /// its reply timeout; then the line is closed. Other queued requests are not sent.
+    pub fn shutdown(mut self) -> ShutdownReport {
+        self.finish()
+    }
+
+    fn finish(&mut self) -> ShutdownReport {
+        let _ = self.control.send(Control::Shutdown);
+        match self.thread.take() {
+            Some(thread) => thread.join().unwrap_or_else(|_| ShutdownReport {
+                motion_may_run: true,
+                thread_failed: true,
+                ..ShutdownReport::default()
+            }),
+            None => ShutdownReport::default(),
+        }
+    }
 }
 
 impl Drop for LinkHandle {
     fn drop(&mut self) {
-        let _ = self.control.send(Control::Shutdown);
-        if let Some(thread) = self.thread.take() {
-            let _ = thread.join();
-        }
+        // The report also went out as the last event (`LinkEvent::ShutDown`).
+        let _ = self.finish();
     }
 }

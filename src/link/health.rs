@@ -18,6 +18,13 @@ pub struct LinkHealth {
     pub median_round_trip: Option<Duration>,
     /// Share of the last second the line was busy with transactions (0..=1).
     pub line_busy: f64,
+    /// Traffic events (frames, garbage) left out because the event reader fell behind.
+    pub events_dropped: u64,
+    /// Status polling is paused because the event reader is far behind; it resumes by
+    /// itself once the reader catches up.
+    pub polling_paused: bool,
+    /// How many times polling was paused for a reader that fell behind.
+    pub reader_stalls: u64,
 }
 
 /// Collects what the link thread sees and condenses it into [`LinkHealth`].
@@ -61,6 +68,13 @@ impl HealthMeter {
 
     pub fn retry(&mut self) {
         self.health.retries += 1;
+    }
+
+    pub fn polling_paused(&mut self, paused: bool) {
+        if paused && !self.health.polling_paused {
+            self.health.reader_stalls += 1;
+        }
+        self.health.polling_paused = paused;
     }
 
     pub fn bad_frame(&mut self) {

@@ -2,12 +2,16 @@
 
 mod engine;
 pub mod event;
+mod events;
 pub mod handle;
 pub mod health;
+mod lease;
 pub mod line;
 pub mod ports;
+pub mod reason;
 pub mod request;
 pub mod schedule;
+pub mod shutdown;
 pub mod sync;
 pub mod table;
 pub mod timing;
@@ -17,7 +21,9 @@ pub mod transport;
 pub use event::LinkEvent;
 pub use handle::{Connector, LinkConfig, LinkHandle, Repaint, spawn};
 pub use line::{LineSettings, Parity};
+pub use reason::{BadInput, IoFailure, LineDownReason, NotSentReason};
 pub use request::{Origin, Priority, RequestId};
 pub use schedule::Polling;
+pub use shutdown::{ShutdownReport, StopOutcome};
 pub use table::TableRequest;
 pub use transport::{SerialTransport, StreamTransport, TcpTransport, Transport};

@@ -51,9 +51,11 @@ pub enum Origin {
     Recheck { after: RequestId },
     /// A query proving no late reply is on its way, sent before a motion command.
     Proof { before: RequestId },
-    /// Sent by the link itself to stop a jog that may still be running after the line
-    /// stalled or was lost.
+    /// Sent by the link itself to stop a jog or move that may still be running after the
+    /// line stalled or was lost, or as the link shuts down.
     SafetyStop,
+    /// Sent by the link itself because a continuous jog's lease was not renewed in time.
+    LeaseLapsed,
 }
 
 /// A request waiting for, or on, the line.

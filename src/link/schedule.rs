@@ -53,6 +53,8 @@ pub struct Scheduler {
     next_poll_at: Option<Instant>,
     /// After a poll cycle, one background request gets its turn before the next cycle.
     background_turn: bool,
+    /// Polls are paused (the event reader is far behind).
+    polls_paused: bool,
     table: Option<TableJob>,
     table_generation: u32,
 }
@@ -77,6 +79,14 @@ impl Scheduler {
         self.cycle_pos = 0;
         self.cycle_started = None;
         self.polling = polling;
+    }
+
+    /// Pauses or resumes polling; on resuming, a cycle is due at once.
+    pub fn pause_polls(&mut self, paused: bool, now: Instant) {
+        if self.polls_paused && !paused {
+            self.set_polling(self.polling.clone(), now);
+        }
+        self.polls_paused = paused;
     }
 
     /// Queues a request behind the others of its priority.
@@ -162,12 +172,13 @@ impl Scheduler {
         }
         Next::Wait(
             self.next_poll_at
-                .filter(|_| !self.polling.commands.is_empty()),
+                .filter(|_| !self.polling.commands.is_empty() && !self.polls_paused),
         )
     }
 
     fn poll_due(&self, now: Instant) -> bool {
-        !self.polling.commands.is_empty()
+        !self.polls_paused
+            && !self.polling.commands.is_empty()
             && (self.cycle_pos > 0 || self.next_poll_at.is_some_and(|at| now >= at))
     }
 
@@ -294,6 +305,18 @@ mod tests {
         };
         s.push(user(7, Command::AlarmReset, Priority::User));
         assert!(matches!(s.next(t0, &mut new_id), Next::Send(p) if p.id == RequestId(7)));
+    }
+
+    #[test]
+    fn paused_polls_are_not_made_and_resume_at_once() {
+        let t0 = Instant::now();
+        let mut s = Scheduler::new(Polling::default(), t0);
+        let mut new_id = ids();
+        s.pause_polls(true, t0);
+        let later = t0 + Duration::from_secs(1);
+        assert_eq!(s.next(later, &mut new_id), Next::Wait(None));
+        s.pause_polls(false, later);
+        assert!(matches!(s.next(later, &mut new_id), Next::Send(p) if p.origin == Origin::Poll));
     }
 
     #[test]

@@ -6,34 +6,56 @@ use std::time::{Duration, Instant};
 
 use super::engine::{Engine, later};
 use super::event::{LinkEvent, garbage_event};
+use super::lease::is_continuous_jog;
+use super::reason::{BadInput, IoFailure, LineDownReason, NotSentReason};
 use super::request::{Origin, Pending, Priority};
 use super::sync::reply_id;
 use super::transport::is_timeout;
-use crate::protocol::{AxisPattern, Command, Frame, Header, Reply, Stop};
+use crate::protocol::{AxisPattern, Command, ErrorCode, Frame, Header, Reply, Stop};
 
 /// Longest single wait on the line, so control messages are seen promptly.
 const READ_SLICE: Duration = Duration::from_millis(20);
 /// Proving queries tried for one motion command before it is refused.
 const MAX_PROOFS: u8 = 6;
 
-/// How a transaction ended.
-enum Outcome {
+/// How a transaction ended, for the caller (shutdown reports it per STOP).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(super) enum Settled {
+    /// A normal reply (to the request, or to the proving query sent in its place).
     Answered,
+    Refused(ErrorCode),
+    TimedOut,
+    /// The line was lost while waiting for the reply.
+    Interrupted,
+    NotSent(NotSentReason),
+}
+
+/// How the wait for a reply ended.
+enum Outcome {
+    Answered(Option<ErrorCode>),
     /// No valid answer in time; `reply_came_damaged` when a damaged frame carrying this
     /// command's reply ID arrived (so no late reply is to be expected).
     TimedOut {
         reply_came_damaged: bool,
     },
-    LineLost(String),
-    Shutdown,
+    LineLost(LineDownReason),
 }
 
 impl Engine {
     /// Sends `pending` (or, for motion on a line out of step, a proving query first)
     /// and waits for its reply, time-out or loss.
-    pub(super) fn transact(&mut self, pending: Pending) {
-        let Some(pending) = self.prove_before_motion(pending) else {
-            return;
+    pub(super) fn transact(&mut self, pending: Pending) -> Settled {
+        let refuse = |engine: &mut Engine, pending: &Pending, why: NotSentReason| {
+            engine.not_sent(pending, why.clone());
+            Settled::NotSent(why)
+        };
+        if is_continuous_jog(&pending.command) && self.lease.lapsed(Instant::now()) {
+            // Its caller stopped renewing the lease before it went out.
+            return refuse(self, &pending, NotSentReason::LeaseLapsed);
+        }
+        let pending = match self.prove_before_motion(pending) {
+            Ok(pending) => pending,
+            Err(refused) => return refused,
         };
         self.tx_buf.clear();
         if let Err(e) =
@@ -41,35 +63,42 @@ impl Engine {
                 .command
                 .encode_into(self.config.station, self.config.sc_mode, &mut self.tx_buf)
         {
-            return self.not_sent(&pending, &e.to_string());
+            return refuse(self, &pending, NotSentReason::Unencodable(e));
         }
         self.wait_for_gap();
         let Some(transport) = self.transport.as_mut() else {
-            return self.not_sent(&pending, "the line is down");
+            return refuse(self, &pending, NotSentReason::LineDown);
         };
         // Late replies and noise must not be taken for this command's answer.
         let stale = match transport.discard_input() {
             Ok(bytes) => bytes,
             Err(e) => {
-                self.not_sent(&pending, "the line failed before sending");
-                return self.line_lost(e.to_string());
+                let settled = refuse(self, &pending, NotSentReason::LineLost);
+                self.line_lost(LineDownReason::ReadFailed(IoFailure::from(&e)));
+                return settled;
             }
         };
         self.report_stale(&stale);
         let Some(transport) = self.transport.as_mut() else {
-            return self.not_sent(&pending, "the line is down");
+            return refuse(self, &pending, NotSentReason::LineDown);
         };
         if let Err(e) = transport.write_all_bytes(&self.tx_buf) {
-            let reason = format!("write failed: {e}");
-            self.not_sent(
-                &pending,
-                &format!("{reason} (part of the frame may have gone out)"),
-            );
-            return self.line_lost(reason);
+            let failure = IoFailure::from(&e);
+            let settled = refuse(self, &pending, NotSentReason::WriteFailed(failure.clone()));
+            // Part of a motion frame may have gone out: treat the motion as possible.
+            self.motion_may_run |= pending.command.is_motion();
+            self.line_lost(LineDownReason::WriteFailed(failure));
+            return settled;
         }
         let sent_at = Instant::now();
         let mut pending = pending;
         pending.attempts = pending.attempts.saturating_add(1);
+        if pending.command.is_motion() {
+            self.motion_may_run = true;
+        }
+        if is_continuous_jog(&pending.command) {
+            self.lease.hold();
+        }
         self.emit(LinkEvent::FrameSent {
             id: pending.id,
             bytes: self.tx_buf.clone(),
@@ -84,46 +113,46 @@ impl Engine {
         self.line_quiet_since = Some(ended);
         self.health
             .transaction(sent_at, ended, pending.origin == Origin::Poll);
-        match outcome {
-            Outcome::Answered | Outcome::Shutdown => {}
-            Outcome::TimedOut { reply_came_damaged } => self.timed_out(pending, reply_came_damaged),
+        let settled = match outcome {
+            Outcome::Answered(None) => Settled::Answered,
+            Outcome::Answered(Some(code)) => Settled::Refused(code),
+            Outcome::TimedOut { reply_came_damaged } => {
+                self.timed_out(pending, reply_came_damaged);
+                Settled::TimedOut
+            }
             Outcome::LineLost(reason) => {
-                self.emit(LinkEvent::Timeout {
+                self.emit(LinkEvent::Interrupted {
                     id: pending.id,
                     origin: pending.origin,
                     command: pending.command,
-                    retrying: false,
-                    recheck: None,
                 });
                 if matches!(pending.command, Command::Jog(_)) {
                     self.jog_may_run = true;
                 }
                 self.line_lost(reason);
+                Settled::Interrupted
             }
-        }
+        };
         self.finish_table_if_done();
+        settled
     }
 
     /// Motion goes out only on a line in step. Otherwise the move waits at the head of
     /// its queue while a proving query goes out; after [`MAX_PROOFS`] failed proofs the
     /// move is refused.
-    fn prove_before_motion(&mut self, pending: Pending) -> Option<Pending> {
+    fn prove_before_motion(&mut self, pending: Pending) -> Result<Pending, Settled> {
         let now = Instant::now();
         if !pending.command.is_motion() || self.sync.in_step(now) {
-            return Some(pending);
+            return Ok(pending);
         }
         if pending.proofs >= MAX_PROOFS {
-            self.not_sent(
-                &pending,
-                "the controller's replies are out of step (a late reply may still come), \
-                 so the move was not sent",
-            );
-            return None;
+            self.not_sent(&pending, NotSentReason::OutOfStep);
+            return Err(Settled::NotSent(NotSentReason::OutOfStep));
         }
         let mut waiting = pending;
         waiting.proofs += 1;
         self.sched.push_front(waiting);
-        Some(Pending::new(
+        Ok(Pending::new(
             self.new_id(),
             self.sync.proving_query(now),
             Origin::Proof { before: pending.id },
@@ -145,10 +174,10 @@ impl Engine {
         let mut first_byte: Option<Instant> = None;
         let mut reply_came_damaged = false;
         loop {
+            // A shutdown arriving now lets this transaction end (bounded by its reply
+            // timeout) before the STOPs go out: the protocol allows one outstanding
+            // command, and a reply still owed would otherwise be taken for the STOP's.
             self.drain_control();
-            if self.shutting_down {
-                return Outcome::Shutdown;
-            }
             let now = Instant::now();
             if now >= deadline {
                 let rest = self.decoder.take_pending();
@@ -157,21 +186,23 @@ impl Engine {
                     self.health.bad_frame();
                     self.emit(LinkEvent::Garbage {
                         bytes: rest,
-                        error: "incomplete frame: no line end before the time-out".into(),
+                        error: BadInput::CutOff,
                         at: now,
                     });
                 }
                 return Outcome::TimedOut { reply_came_damaged };
             }
             let Some(transport) = self.transport.as_mut() else {
-                return Outcome::LineLost("the line is down".into());
+                return Outcome::LineLost(LineDownReason::Closed);
             };
             let n = match transport.read_timeout(&mut self.rx_buf, (deadline - now).min(READ_SLICE))
             {
-                Ok(0) => return Outcome::LineLost("the line was closed".into()),
+                Ok(0) => return Outcome::LineLost(LineDownReason::Closed),
                 Ok(n) => n,
                 Err(e) if is_timeout(&e) => continue,
-                Err(e) => return Outcome::LineLost(e.to_string()),
+                Err(e) => {
+                    return Outcome::LineLost(LineDownReason::ReadFailed(IoFailure::from(&e)));
+                }
             };
             let at = Instant::now();
             if self.decoder.pending() == 0 {
@@ -186,8 +217,8 @@ impl Engine {
                             first_byte: first_byte.unwrap_or(at),
                             last_byte: at,
                         });
-                        if self.answers(pending, &frame, sent_at, at) {
-                            return Outcome::Answered;
+                        if let Some(refused) = self.answers(pending, &frame, sent_at, at) {
+                            return Outcome::Answered(refused);
                         }
                     }
                     Err(error) => {
@@ -201,44 +232,42 @@ impl Engine {
         }
     }
 
-    /// Whether `frame` is the answer to `pending`; if so it is reported. A frame for
-    /// another station or message is reported as unexpected and the wait goes on.
+    /// Whether `frame` is the answer to `pending` (`Some(error code if refused)`); if so
+    /// it is reported. A frame for another station or message is reported as unexpected
+    /// and the wait goes on.
     fn answers(
         &mut self,
         pending: &Pending,
         frame: &Frame<'_>,
         sent_at: Instant,
         at: Instant,
-    ) -> bool {
+    ) -> Option<Option<ErrorCode>> {
         let expected = pending.command.id();
-        let unexpected = |why: String| LinkEvent::Garbage {
+        let unexpected = |why: BadInput| LinkEvent::Garbage {
             bytes: frame.raw().to_vec(),
             error: why,
             at,
         };
         if frame.station() != self.config.station {
-            self.emit(unexpected(format!(
-                "reply from station {} while talking to station {}",
-                frame.station(),
-                self.config.station
-            )));
-            return false;
+            self.emit(unexpected(BadInput::WrongStation {
+                got: frame.station(),
+                expected: self.config.station,
+            }));
+            return None;
         }
         if frame.header() == Header::Command {
-            self.emit(unexpected(
-                "a command frame ('!') came back: is the line looped back?".into(),
-            ));
-            return false;
+            self.emit(unexpected(BadInput::Echo));
+            return None;
         }
         if frame.header() == Header::Reply && frame.id() != Some(expected) {
             if let Some(late) = frame.id() {
                 self.sync.late_reply_arrived(late);
             }
-            let id = frame.id().map_or_else(|| "?".into(), |id| id.to_string());
-            self.emit(unexpected(format!(
-                "reply to {id} while waiting for the reply to {expected}"
-            )));
-            return false;
+            self.emit(unexpected(BadInput::OtherReply {
+                got: frame.id(),
+                expected,
+            }));
+            return None;
         }
         let round_trip = at.saturating_duration_since(sent_at);
         match Reply::decode(frame) {
@@ -256,13 +285,19 @@ impl Engine {
                     command: pending.command,
                     code,
                 });
+                Some(Some(code))
             }
             Ok(reply) => {
                 self.health.reply(round_trip);
                 self.sync.reply_seen(expected, at);
                 match pending.command {
                     Command::Jog(_) => self.jog_may_run = true,
-                    Command::Stop(_) => self.jog_may_run = false,
+                    // Only a STOP of every axis ends what the link may have started.
+                    Command::Stop(stop) if stop.axes == AxisPattern::ALL => {
+                        self.jog_may_run = false;
+                        self.motion_may_run = false;
+                        self.lease.release();
+                    }
                     _ => {}
                 }
                 self.store_table_chunk(pending, &reply);
@@ -273,14 +308,14 @@ impl Engine {
                     reply,
                     round_trip,
                 });
+                Some(None)
             }
             Err(e) => {
                 self.health.bad_frame();
-                self.emit(unexpected(e.to_string()));
-                return false;
+                self.emit(unexpected(BadInput::BadMessage(e)));
+                None
             }
         }
-        true
     }
 
     /// Notes a damaged frame that starts like a reply: true if it carries `pending`'s
@@ -387,7 +422,7 @@ impl Engine {
             match item {
                 Ok(frame) => self.emit(LinkEvent::Garbage {
                     bytes: frame.raw().to_vec(),
-                    error: "late frame: not the answer to anything outstanding".into(),
+                    error: BadInput::Late,
                     at,
                 }),
                 Err(error) => self.emit(garbage_event(&error, at)),
@@ -401,7 +436,7 @@ impl Engine {
             self.health.bad_frame();
             self.emit(LinkEvent::Garbage {
                 bytes: rest,
-                error: "incomplete frame: no line end".into(),
+                error: BadInput::CutOff,
                 at,
             });
         }

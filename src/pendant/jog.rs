@@ -424,6 +424,7 @@ pub fn plan_step(
         end_work,
         line,
         flips_arm,
+        profile,
     })
 }
 

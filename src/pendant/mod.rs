@@ -292,6 +292,22 @@ impl Pendant {
                     self.requests.push(Request::ReadTable(CoordKind::Tool));
                 }
             }
+            LinkEvent::Interrupted { command, .. } if is_move(&command) => {
+                self.followed = None;
+                self.jog_says(
+                    Level::Error,
+                    format!(
+                        "the line was lost while {} ({}) waited for its reply: the arm may \
+                         have moved",
+                        command.id(),
+                        name(&command)
+                    ),
+                    now,
+                );
+            }
+            LinkEvent::ShutDown(report) if !report.is_clean() => {
+                self.say(Level::Error, format!("link closed: {report}"), now);
+            }
             LinkEvent::Health(h) => self.health = Some(h),
             _ => {}
         }

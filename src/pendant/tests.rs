@@ -308,7 +308,7 @@ fn a_lost_line_forgets_the_status_and_refuses_motion() {
     p.handle_event(
         now,
         LinkEvent::Disconnected {
-            reason: "the line was closed".into(),
+            reason: crate::link::LineDownReason::Closed,
         },
     );
     assert_eq!(p.motion_ready(now), Err(NotReady::LineDown));

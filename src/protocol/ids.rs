@@ -89,6 +89,35 @@ impl fmt::Display for Station {
     }
 }
 
+/// A station number that is not exactly 2 hex digits.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct StationParseError(pub String);
+
+impl fmt::Display for StationParseError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "`{}` is not a station number: give exactly 2 hex digits, e.g. 99",
+            self.0
+        )
+    }
+}
+
+impl std::error::Error for StationParseError {}
+
+impl std::str::FromStr for Station {
+    type Err = StationParseError;
+
+    /// Exactly 2 hex digits, either case, as on the wire (PROTOCOL.md 1.3): "99", "0a".
+    fn from_str(s: &str) -> Result<Station, StationParseError> {
+        let bad = || StationParseError(s.to_owned());
+        if s.len() != 2 || !s.bytes().all(|b| b.is_ascii_hexdigit()) {
+            return Err(bad());
+        }
+        u8::from_str_radix(s, 16).map(Station).map_err(|_| bad())
+    }
+}
+
 /// A 3-hex-digit message ID, e.g. `MessageId::AXIS_STATUS` = 212H.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct MessageId(pub u16);
@@ -265,6 +294,20 @@ mod tests {
             "CC1 (speed change condition error)"
         );
         assert_eq!(ErrorCode(0x0A2).to_string(), "0A2");
+    }
+
+    #[test]
+    fn a_station_is_exactly_two_hex_digits() {
+        assert_eq!("99".parse(), Ok(Station(0x99)));
+        assert_eq!("0a".parse(), Ok(Station(0x0A)));
+        assert_eq!("FF".parse(), Ok(Station(0xFF)));
+        for bad in ["9", "099", "+9", "", "9G", " 9", "99 ", "\u{e9}"] {
+            let e = bad.parse::<Station>().unwrap_err();
+            assert_eq!(
+                e.to_string(),
+                format!("`{bad}` is not a station number: give exactly 2 hex digits, e.g. 99")
+            );
+        }
     }
 
     #[test]

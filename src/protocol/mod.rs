@@ -33,7 +33,7 @@ pub use describe::{
 };
 pub use error::{Columns, EncodeError, MessageError, MessageErrorKind};
 pub use frame::{Frame, FrameError, FrameErrorKind, MAX_FRAME_LEN, MIN_FRAME_LEN, OwnedFrame};
-pub use ids::{ErrorCode, Header, MessageId, Role, Station};
+pub use ids::{ErrorCode, Header, MessageId, Role, Station, StationParseError};
 pub use messages::basic::{
     ErrorDetail, ErrorDetailQuery, TestData, UnitType, VersionInfo, VersionQuery,
 };

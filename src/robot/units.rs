@@ -72,6 +72,14 @@ impl Pose {
     pub fn is_finite(&self) -> bool {
         self.x.is_finite() && self.y.is_finite() && self.z.is_finite() && self.r.is_finite()
     }
+    /// `[x, y, z, r]`.
+    pub fn to_array(&self) -> [f64; 4] {
+        [self.x, self.y, self.z, self.r]
+    }
+    /// From `[x, y, z, r]`.
+    pub fn from_array(a: [f64; 4]) -> Self {
+        Self::new(a[0], a[1], a[2], a[3])
+    }
     /// Straight-line interpolation of all four components, `u` in 0..=1.
     pub fn lerp(&self, other: &Pose, u: f64) -> Pose {
         Pose::new(

@@ -123,7 +123,9 @@ impl PendantApp {
                     }
                 }
                 Request::RenewJogLease => {
-                    // LINK-LEASE: wired to the link's jog lease when it lands.
+                    if let Some(s) = &self.session {
+                        s.link.renew_jog_lease();
+                    }
                 }
                 Request::ReadTable(kind) => {
                     if let Some(s) = &self.session {

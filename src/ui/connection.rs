@@ -37,7 +37,7 @@ impl ConnectionPanel {
             .show(ui, |ui| {
                 match s.kind {
                     LineKind::Serial => {
-                        ui.label("Port");
+                        let label = ui.label("Port");
                         ui.horizontal(|ui| {
                             ComboBox::from_id_salt("port")
                                 .selected_text(if s.port.is_empty() {
@@ -53,7 +53,9 @@ impl ConnectionPanel {
                                     if self.ports.ports.is_empty() {
                                         ui.label("no serial ports found");
                                     }
-                                });
+                                })
+                                .response
+                                .labelled_by(label.id);
                             let label = if self.ports.is_listing() { "listing..." } else { "Refresh" };
                             if ui.button(label).on_hover_text("List the serial ports again").clicked() {
                                 let ctx = ui.ctx().clone();
@@ -75,26 +77,29 @@ impl ConnectionPanel {
                         }
                     }
                     LineKind::Tcp => {
-                        ui.label("Address");
+                        let label = ui.label("Address");
                         ui.text_edit_singleline(&mut s.tcp)
+                            .labelled_by(label.id)
                             .on_hover_text("HOST:PORT of a serial-to-Ethernet bridge or xsel-sim --tcp");
                         ui.end_row();
                     }
                     LineKind::Simulator => {}
                 }
-                ui.label("Baud");
+                let label = ui.label("Baud");
                 ComboBox::from_id_salt("baud")
                     .selected_text(s.baud.to_string())
                     .show_ui(ui, |ui| {
                         for b in STANDARD_BAUDS {
                             ui.selectable_value(&mut s.baud, b, b.to_string());
                         }
-                    });
+                    })
+                    .response
+                    .labelled_by(label.id);
                 ui.end_row();
                 ui.label("Data bits");
                 ui.horizontal(|ui| {
-                    ui.selectable_value(&mut s.data_bits, 8, "8");
-                    ui.selectable_value(&mut s.data_bits, 7, "7");
+                    ui.selectable_value(&mut s.data_bits, 8, "8 bits");
+                    ui.selectable_value(&mut s.data_bits, 7, "7 bits");
                 });
                 ui.end_row();
                 ui.label("Parity");
@@ -106,15 +111,17 @@ impl ConnectionPanel {
                 ui.end_row();
                 ui.label("Stop bits");
                 ui.horizontal(|ui| {
-                    ui.selectable_value(&mut s.stop_bits, 1, "1");
-                    ui.selectable_value(&mut s.stop_bits, 2, "2");
+                    ui.selectable_value(&mut s.stop_bits, 1, "1 bit");
+                    ui.selectable_value(&mut s.stop_bits, 2, "2 bits");
                 });
                 ui.end_row();
-                ui.label("Station");
+                let label = ui.label("Station");
                 let text = self
                     .station_text
                     .get_or_insert_with(|| format!("{:02X}", s.station));
-                let edit = ui.add(egui::TextEdit::singleline(text).desired_width(40.0));
+                let edit = ui
+                    .add(egui::TextEdit::singleline(text).desired_width(40.0))
+                    .labelled_by(label.id);
                 match parse_station(text) {
                     Ok(v) => s.station = v,
                     Err(e) => {
@@ -127,14 +134,16 @@ impl ConnectionPanel {
                     *text = format!("{:02X}", s.station);
                 }
                 ui.end_row();
-                ui.label("Robot");
+                let label = ui.label("Robot");
                 ComboBox::from_id_salt("robot")
                     .selected_text(s.robot.as_str())
                     .show_ui(ui, |ui| {
                         for (name, _) in BUILTIN_MODELS {
                             ui.selectable_value(&mut s.robot, name.to_owned(), name);
                         }
-                    });
+                    })
+                    .response
+                    .labelled_by(label.id);
                 ui.end_row();
             });
         if let Err(e) = s.line().validate() {

@@ -17,7 +17,7 @@ pub fn show(ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
     ui.separator();
     let ready = pendant.motion_ready(now);
     if let Err(why) = &ready {
-        reason(ui, format!("Jog disabled: {why}"));
+        reason(ui, why);
     }
     let enabled = ready.is_ok();
     ui.label(RichText::new(format!("Cartesian ({} frame)", pendant.settings.jog.frame.name())).strong());
@@ -41,7 +41,7 @@ fn settings(ui: &mut Ui, pendant: &mut Pendant) {
     });
     if j.mode == JogMode::Step {
         ui.horizontal_wrapped(|ui| {
-            ui.label("Step");
+            let label = ui.label("Step");
             for s in STEP_LADDER {
                 let selected = (j.step - s).abs() < 1e-9;
                 if ui.selectable_label(selected, format!("{s}")).clicked() {
@@ -55,8 +55,9 @@ fn settings(ui: &mut Ui, pendant: &mut Pendant) {
                     .max_decimals(3)
                     .suffix(" mm|deg"),
             )
+            .labelled_by(label.id)
             .on_hover_text("A custom step: 0.001 to 1000 mm (deg for R and the rotary joints)");
-            if ui.small_button("−").on_hover_text("Smaller step (-)").clicked() {
+            if ui.small_button("-").on_hover_text("Smaller step (-)").clicked() {
                 j.step_ladder(false);
             }
             if ui.small_button("+").on_hover_text("Larger step (+)").clicked() {
@@ -72,14 +73,16 @@ fn settings(ui: &mut Ui, pendant: &mut Pendant) {
     });
     if j.interpolation == Interpolation::Ptp {
         ui.horizontal(|ui| {
-            ui.label("Arm");
+            let label = ui.label("Arm");
             ComboBox::from_id_salt("arm-policy")
                 .selected_text(j.arm.name())
                 .show_ui(ui, |ui| {
                     for a in ArmChoice::ALL {
                         ui.selectable_value(&mut j.arm, a, a.name());
                     }
-                });
+                })
+                .response
+                .labelled_by(label.id);
             if let Some(arm) = current_arm {
                 ui.label(format!("now: {arm}"));
             }
@@ -88,21 +91,27 @@ fn settings(ui: &mut Ui, pendant: &mut Pendant) {
     egui::Grid::new("jog-speeds").num_columns(4).show(ui, |ui| {
         match j.interpolation {
             Interpolation::Ptp => {
-                ui.label("Speed");
-                ui.add(DragValue::new(&mut j.ptp_speed_pct).range(0..=100).suffix(" %"));
-                ui.label("Acc/Dec");
+                let l = ui.label("Speed");
+                let v = DragValue::new(&mut j.ptp_speed_pct).range(0..=100).suffix(" %");
+                ui.add(v).labelled_by(l.id);
+                let l = ui.label("Acc/Dec");
                 ui.horizontal(|ui| {
-                    ui.add(DragValue::new(&mut j.ptp_accel_pct).range(0..=100).suffix(" %"));
-                    ui.add(DragValue::new(&mut j.ptp_decel_pct).range(0..=100).suffix(" %"));
+                    let v = DragValue::new(&mut j.ptp_accel_pct).range(0..=100).suffix(" %");
+                    ui.add(v).labelled_by(l.id);
+                    let v = DragValue::new(&mut j.ptp_decel_pct).range(0..=100).suffix(" %");
+                    ui.add(v).labelled_by(l.id);
                 });
             }
             Interpolation::Cp => {
-                ui.label("Speed");
-                ui.add(DragValue::new(&mut j.cp_speed_mm_s).range(0..=cp_max).suffix(" mm/s"));
-                ui.label("Acc/Dec");
+                let l = ui.label("Speed");
+                let v = DragValue::new(&mut j.cp_speed_mm_s).range(0..=cp_max).suffix(" mm/s");
+                ui.add(v).labelled_by(l.id);
+                let l = ui.label("Acc/Dec");
                 ui.horizontal(|ui| {
-                    ui.add(DragValue::new(&mut j.cp_accel_cg).range(0..=999).suffix(" ×0.01 G"));
-                    ui.add(DragValue::new(&mut j.cp_decel_cg).range(0..=999).suffix(" ×0.01 G"));
+                    let v = DragValue::new(&mut j.cp_accel_cg).range(0..=999).suffix(" x0.01 G");
+                    ui.add(v).labelled_by(l.id);
+                    let v = DragValue::new(&mut j.cp_decel_cg).range(0..=999).suffix(" x0.01 G");
+                    ui.add(v).labelled_by(l.id);
                 });
             }
         }

@@ -10,10 +10,10 @@ use crate::protocol::Direction;
 
 /// Every mapped key with what it does, for the help overlay.
 pub const MAP: [(Key, JogAxis, Direction, &str); 8] = [
-    (Key::ArrowRight, JogAxis::X, Direction::Positive, "→"),
-    (Key::ArrowLeft, JogAxis::X, Direction::Negative, "←"),
-    (Key::ArrowUp, JogAxis::Y, Direction::Positive, "↑"),
-    (Key::ArrowDown, JogAxis::Y, Direction::Negative, "↓"),
+    (Key::ArrowRight, JogAxis::X, Direction::Positive, "Right"),
+    (Key::ArrowLeft, JogAxis::X, Direction::Negative, "Left"),
+    (Key::ArrowUp, JogAxis::Y, Direction::Positive, "Up"),
+    (Key::ArrowDown, JogAxis::Y, Direction::Negative, "Down"),
     (Key::PageUp, JogAxis::Z, Direction::Positive, "PgUp"),
     (Key::PageDown, JogAxis::Z, Direction::Negative, "PgDn"),
     (Key::Period, JogAxis::R, Direction::Positive, "."),

@@ -35,5 +35,5 @@ pub fn message(ui: &mut Ui, level: Level, text: &str) {
 
 /// The reason beside a disabled control, in the warning colour.
 pub fn reason(ui: &mut Ui, text: impl std::fmt::Display) {
-    ui.label(RichText::new(format!("⚠ {text}")).color(AMBER));
+    ui.label(RichText::new(format!("Not available: {text}")).color(AMBER));
 }

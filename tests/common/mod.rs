@@ -150,3 +150,56 @@ pub fn story(seen: &[LinkEvent]) -> String {
         .collect::<Vec<_>>()
         .join("\n")
 }
+
+/// 236H continuous jog (distance 0) of axis 1 in the work frame: runs until stopped.
+pub fn jog_x() -> Command {
+    use xsel_pendant::protocol::{CentiG, Direction, Jog, JogFrame, JogMotion, MmPerSec};
+    Command::Jog(Jog {
+        axes: AxisPattern::single(Axis::A1),
+        direction: Direction::Negative,
+        distance: Thou(0),
+        motion: JogMotion::Cartesian {
+            frame: JogFrame::Work,
+            acc: CentiG(10),
+            dec: CentiG(10),
+            speed: MmPerSec(5),
+        },
+    })
+}
+
+/// Waits until `cond` holds, checking every few milliseconds; false at the deadline.
+pub fn eventually(timeout: Duration, mut cond: impl FnMut() -> bool) -> bool {
+    let deadline = Instant::now() + timeout;
+    loop {
+        if cond() {
+            return true;
+        }
+        if Instant::now() >= deadline {
+            return false;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+/// The message IDs of the frames the simulator received, in order ("236", "238"...).
+pub fn ids_received(sim: &SimHandle) -> Vec<String> {
+    use xsel_pendant::sim::runner::Dir;
+    sim.traffic()
+        .into_iter()
+        .filter(|t| t.dir == Dir::In && t.bytes.first() == Some(&b'!'))
+        .filter_map(|t| {
+            std::str::from_utf8(t.bytes.get(3..6)?)
+                .ok()
+                .map(str::to_owned)
+        })
+        .collect()
+}
+
+/// Whether a 238H STOP follows the last 236H jog among the frames received.
+pub fn stop_follows_last_jog(sim: &SimHandle) -> bool {
+    let ids = ids_received(sim);
+    match ids.iter().rposition(|id| id == "236") {
+        Some(jog) => ids[jog..].iter().any(|id| id == "238"),
+        None => false,
+    }
+}

@@ -1,0 +1,273 @@
+//! The pendant's command line: its flags, their checks, and the line they open.
+
+use clap::Parser;
+
+use crate::link::line::LineSettingsError;
+use crate::link::{LineSettings, Parity};
+use crate::pendant::{ConnectionSettings, LineKind, ParityChoice};
+use crate::protocol::Station;
+use crate::robot::RobotModel;
+pub use crate::session::Connection;
+use crate::session::load_model;
+
+/// Teach pendant for IAI SCARA robots on X-SEL controllers (serial protocol Format B).
+/// With no --port or --tcp it talks to the built-in simulated controller.
+///
+/// Every flag is checked the same way whatever the line: a bad value ends the program
+/// with exit code 2 and one line on stderr naming the flag.
+#[derive(Parser, Debug, Clone)]
+#[command(name = "xsel-pendant", version)]
+pub struct Args {
+    /// Serial port of the controller, e.g. /dev/ttyUSB0 or COM3.
+    #[arg(long, conflicts_with = "tcp")]
+    pub port: Option<String>,
+    /// A serial-to-Ethernet bridge or `xsel-sim --tcp`, as HOST:PORT.
+    #[arg(long, value_name = "ADDR")]
+    pub tcp: Option<String>,
+    /// Baud rate (9600-230400). The built-in simulator is paced at it.
+    #[arg(long, default_value_t = 115_200, value_parser = parse_baud)]
+    pub baud: u32,
+    /// Data bits (7 or 8).
+    #[arg(long, default_value_t = 8, value_parser = parse_data_bits)]
+    pub data_bits: u8,
+    /// Parity: none, odd or even.
+    #[arg(long, default_value = "none", value_parser = parse_parity)]
+    pub parity: Parity,
+    /// Stop bits (1 or 2).
+    #[arg(long, default_value_t = 1, value_parser = parse_stop_bits)]
+    pub stop_bits: u8,
+    /// Station number, exactly 2 hex digits.
+    #[arg(long, default_value = "99")]
+    pub station: Station,
+    /// Robot model: a TOML file or scara-500 / scara-250.
+    #[arg(long, default_value = "scara-500")]
+    pub robot: String,
+    /// Use the built-in simulated controller (the default when no --port or --tcp is
+    /// given; in the window it replaces the saved connection).
+    #[arg(long, conflicts_with_all = ["port", "tcp"])]
+    pub sim: bool,
+    /// Text mode: no window; print the controller's state once (see --watch).
+    #[arg(long)]
+    pub headless: bool,
+    /// Text mode, printing the controller and the arm until Ctrl-C (implies --headless).
+    #[arg(long)]
+    pub watch: bool,
+}
+
+/// A flag value that cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum CliError {
+    #[error("{flag}: {source}")]
+    Line {
+        flag: &'static str,
+        source: LineSettingsError,
+    },
+    #[error("--robot: `{name}`: {reason}")]
+    Robot { name: String, reason: String },
+}
+
+impl Args {
+    /// The line settings, checked as a whole (the same checks for every kind of line).
+    pub fn line_settings(&self) -> Result<LineSettings, CliError> {
+        let line = LineSettings {
+            baud: self.baud,
+            data_bits: self.data_bits,
+            parity: self.parity,
+            stop_bits: self.stop_bits,
+        };
+        line.validate().map_err(|source| CliError::Line {
+            flag: match source {
+                LineSettingsError::Baud(_) => "--baud",
+                LineSettingsError::DataBits(_) => "--data-bits",
+                LineSettingsError::StopBits(_) => "--stop-bits",
+            },
+            source,
+        })?;
+        Ok(line)
+    }
+
+    /// The connection these flags name, as the window keeps it.
+    pub fn connection_settings(&self) -> ConnectionSettings {
+        let mut c = ConnectionSettings {
+            baud: self.baud,
+            data_bits: self.data_bits,
+            parity: ParityChoice::from_link(self.parity),
+            stop_bits: self.stop_bits,
+            station: self.station.0,
+            robot: self.robot.clone(),
+            ..ConnectionSettings::default()
+        };
+        if let Some(port) = &self.port {
+            c.kind = LineKind::Serial;
+            c.port = port.clone();
+        } else if let Some(addr) = &self.tcp {
+            c.kind = LineKind::Tcp;
+            c.tcp = addr.clone();
+        }
+        c
+    }
+
+    /// Text mode rather than the window.
+    pub fn is_headless(&self) -> bool {
+        self.headless || self.watch
+    }
+
+    /// The robot model named by `--robot`.
+    pub fn model(&self) -> Result<RobotModel, CliError> {
+        load_model(&self.robot).map_err(|reason| CliError::Robot {
+            name: self.robot.clone(),
+            reason,
+        })
+    }
+}
+
+/// Checks every flag, then prepares the line: a serial port, a TCP bridge, or the
+/// built-in simulator (started here, paced at the baud rate). Nothing is opened yet
+/// except the simulator; the connector opens the line when called.
+pub fn connection(args: &Args) -> Result<Connection, CliError> {
+    args.line_settings()?;
+    let model = args.model()?;
+    Ok(Connection::prepare(&args.connection_settings(), model))
+}
+
+/// Parses the command line; a bad flag ends the program with exit code 2 and one line
+/// on stderr (`--help` and `--version` print as usual and exit 0). Shared by both
+/// binaries.
+pub fn parse_or_exit<P: Parser>(program: &str) -> P {
+    match P::try_parse() {
+        Ok(args) => args,
+        Err(e) => exit_on_clap_error(program, &e),
+    }
+}
+
+/// Prints a clap error as one line (help and version in full), then exits.
+pub fn exit_on_clap_error(program: &str, e: &clap::Error) -> ! {
+    use clap::error::ErrorKind;
+    use std::io::Write;
+    if matches!(
+        e.kind(),
+        ErrorKind::DisplayHelp
+            | ErrorKind::DisplayVersion
+            | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+    ) {
+        // Help goes to stdout; a closed pipe there is not an error.
+        let _ = e.print();
+        std::process::exit(e.exit_code());
+    }
+    let _ = writeln!(std::io::stderr(), "{program}: {}", one_line(e));
+    std::process::exit(2);
+}
+
+/// The first line of a clap error, without its "error: " prefix, plus a pointer to
+/// `--help`.
+pub fn one_line(e: &clap::Error) -> String {
+    let text = e.render().to_string();
+    let first = text
+        .lines()
+        .map(str::trim)
+        .find(|l| !l.is_empty())
+        .unwrap_or("bad command line");
+    let first = first.strip_prefix("error: ").unwrap_or(first);
+    format!("{first} (--help lists the options)")
+}
+
+/// An error message for a line setting, as clap shows it after the flag's name.
+fn line_error(line: LineSettings) -> Result<(), String> {
+    line.validate().map_err(|e| e.to_string())
+}
+
+fn parse_number<T: std::str::FromStr>(s: &str, what: &str) -> Result<T, String> {
+    s.trim()
+        .parse()
+        .map_err(|_| format!("`{s}` is not a number of {what}"))
+}
+
+fn parse_baud(s: &str) -> Result<u32, String> {
+    let baud = parse_number(s, "bits per second")?;
+    line_error(LineSettings {
+        baud,
+        ..LineSettings::default()
+    })?;
+    Ok(baud)
+}
+
+fn parse_data_bits(s: &str) -> Result<u8, String> {
+    let data_bits = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("data bits must be 7 or 8, not `{s}`"))?;
+    line_error(LineSettings {
+        data_bits,
+        ..LineSettings::default()
+    })?;
+    Ok(data_bits)
+}
+
+fn parse_stop_bits(s: &str) -> Result<u8, String> {
+    let stop_bits = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("stop bits must be 1 or 2, not `{s}`"))?;
+    line_error(LineSettings {
+        stop_bits,
+        ..LineSettings::default()
+    })?;
+    Ok(stop_bits)
+}
+
+fn parse_parity(s: &str) -> Result<Parity, String> {
+    match s.to_ascii_lowercase().as_str() {
+        "none" | "n" => Ok(Parity::None),
+        "odd" | "o" => Ok(Parity::Odd),
+        "even" | "e" => Ok(Parity::Even),
+        _ => Err(format!("`{s}` is not a parity: use none, odd or even")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parses(args: &[&str]) -> Result<Args, String> {
+        Args::try_parse_from(std::iter::once("xsel-pendant").chain(args.iter().copied()))
+            .map_err(|e| one_line(&e))
+    }
+
+    #[test]
+    fn line_flags_are_checked_whatever_the_line() {
+        for line in [&[][..], &["--tcp", "127.0.0.1:5099"], &["--port", "COM3"]] {
+            for (flag, bad, says) in [
+                ("--baud", "0", "outside 9600-230400"),
+                ("--baud", "99999999", "outside 9600-230400"),
+                ("--baud", "fast", "not a number"),
+                ("--data-bits", "9", "7 or 8"),
+                ("--stop-bits", "3", "1 or 2"),
+                ("--parity", "mark", "none, odd or even"),
+                ("--station", "099", "exactly 2 hex digits"),
+            ] {
+                let mut argv = line.to_vec();
+                argv.extend([flag, bad]);
+                let e = parses(&argv).err().unwrap_or_default();
+                assert!(e.contains(flag) && e.contains(says), "{argv:?}: {e}");
+                assert_eq!(e.lines().count(), 1, "{e}");
+            }
+        }
+    }
+
+    #[test]
+    fn defaults_make_a_valid_line() {
+        let args = parses(&[]).unwrap();
+        assert_eq!(args.station, Station(0x99));
+        assert_eq!(args.line_settings().unwrap(), LineSettings::default());
+        let args = parses(&["--station", "0a", "--baud", "9600", "--parity", "E"]).unwrap();
+        assert_eq!(args.station, Station(0x0A));
+        assert_eq!(args.line_settings().unwrap().to_string(), "9600 8E1");
+    }
+
+    #[test]
+    fn a_bad_robot_is_refused_even_with_a_port() {
+        let args = parses(&["--port", "COM3", "--robot", "no-such-robot.toml"]).unwrap();
+        let e = connection(&args).err().map(|e| e.to_string());
+        assert!(e.is_some_and(|e| e.starts_with("--robot: `no-such-robot.toml`")));
+    }
+}

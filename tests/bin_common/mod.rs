@@ -1,0 +1,121 @@
+//! Shared helpers for the tests that run the real binaries: lines as they come, waits with deadlines.
+#![allow(dead_code)]
+
+use std::io::{BufRead, BufReader, Read};
+use std::process::{Child, Command, ExitStatus, Stdio};
+use std::sync::mpsc::{Receiver, RecvTimeoutError, channel};
+use std::time::{Duration, Instant};
+
+pub const PENDANT: &str = env!("CARGO_BIN_EXE_xsel-pendant");
+pub const SIM: &str = env!("CARGO_BIN_EXE_xsel-sim");
+
+/// Lines read from a pipe on a thread, so waits can have deadlines.
+pub fn lines_of(pipe: impl Read + Send + 'static) -> Receiver<String> {
+    let (tx, rx) = channel();
+    std::thread::spawn(move || {
+        for line in BufReader::new(pipe).lines() {
+            let Ok(line) = line else { break };
+            if tx.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    rx
+}
+
+/// Waits for a line matching `want`, returning it and every line read before it.
+pub fn wait_line(
+    rx: &Receiver<String>,
+    want: impl Fn(&str) -> bool,
+    within: Duration,
+) -> Result<(String, Vec<String>), Vec<String>> {
+    let deadline = Instant::now() + within;
+    let mut before = Vec::new();
+    loop {
+        let left = deadline.saturating_duration_since(Instant::now());
+        match rx.recv_timeout(left) {
+            Ok(line) if want(&line) => return Ok((line, before)),
+            Ok(line) => before.push(line),
+            Err(RecvTimeoutError::Timeout | RecvTimeoutError::Disconnected) => return Err(before),
+        }
+    }
+}
+
+/// Waits for the child to exit; kills it (and returns `None`) at the deadline.
+pub fn wait_exit(child: &mut Child, within: Duration) -> Option<ExitStatus> {
+    let deadline = Instant::now() + within;
+    while Instant::now() < deadline {
+        if let Ok(Some(status)) = child.try_wait() {
+            return Some(status);
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let _ = child.kill();
+    let _ = child.wait();
+    None
+}
+
+/// What a finished run left.
+pub struct Run {
+    pub status: Option<ExitStatus>,
+    pub stdout: String,
+    pub stderr: String,
+}
+
+/// Runs a binary to its end (killed after `within`), collecting both outputs.
+pub fn run(bin: &str, args: &[&str], within: Duration) -> Run {
+    let mut child = Command::new(bin)
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the binary starts");
+    let out = lines_of(child.stdout.take().expect("stdout"));
+    let err = lines_of(child.stderr.take().expect("stderr"));
+    let status = wait_exit(&mut child, within);
+    let collect = |rx: Receiver<String>| {
+        let mut text = String::new();
+        while let Ok(line) = rx.recv_timeout(Duration::from_secs(2)) {
+            text.push_str(&line);
+            text.push('\n');
+        }
+        text
+    };
+    Run {
+        status,
+        stdout: collect(out),
+        stderr: collect(err),
+    }
+}
+
+/// No sign of a panic in a program's output.
+pub fn assert_no_panic(text: &str) {
+    assert!(
+        !text.contains("panicked") && !text.contains("RUST_BACKTRACE"),
+        "a panic:\n{text}"
+    );
+}
+
+/// A loopback TCP port that refuses connections (bound, then closed).
+pub fn refused_addr() -> String {
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").expect("bind");
+    let addr = listener.local_addr().expect("addr");
+    drop(listener);
+    addr.to_string()
+}
+
+/// Resident memory of a process in kB, where the system tells.
+#[cfg(target_os = "linux")]
+pub fn rss_kb(pid: u32) -> Option<u64> {
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
+    status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmRSS:"))
+        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse().ok())
+}
+
+#[cfg(not(target_os = "linux"))]
+pub fn rss_kb(_pid: u32) -> Option<u64> {
+    None
+}

@@ -1,0 +1,105 @@
+//! The real `xsel-sim` binary under bad input: bad options, and closed stdout and stderr
+//! (it keeps serving with logging off).
+
+mod bin_common;
+
+use std::io::{Read, Write};
+use std::net::TcpStream;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use bin_common::*;
+
+#[test]
+fn every_bad_option_exits_2_with_one_line_naming_it() {
+    for (flag, value) in [
+        ("--station", "099"),
+        ("--station", "9"),
+        ("--baud", "0"),
+        ("--baud", "99999999"),
+        ("--reply-buffer", "1000"),
+        ("--delay-ms", "99999999999"),
+        ("--linear-axes", "3"),
+        ("--robot", "no-such-robot.toml"),
+        ("--coords", "no-such-coords.toml"),
+    ] {
+        let run = run(
+            SIM,
+            &["--tcp", "127.0.0.1:0", flag, value],
+            Duration::from_secs(20),
+        );
+        let code = run.status.and_then(|s| s.code());
+        assert_eq!(code, Some(2), "{flag} {value}: {}", run.stderr);
+        let err: Vec<&str> = run.stderr.lines().collect();
+        assert_eq!(err.len(), 1, "{flag} {value}: {}", run.stderr);
+        assert!(err[0].contains(flag), "{flag} {value}: {}", run.stderr);
+        assert_no_panic(&run.stderr);
+    }
+}
+
+/// Sends 215H and reads the reply up to its LF, with a deadline.
+fn ask(peer: &mut TcpStream) -> Result<String, String> {
+    peer.write_all(b"!99215@@\r\n").map_err(|e| e.to_string())?;
+    let deadline = Instant::now() + Duration::from_secs(10);
+    let mut got = Vec::new();
+    let mut buf = [0u8; 256];
+    while !got.ends_with(b"\n") {
+        if Instant::now() > deadline {
+            return Err(format!(
+                "no reply, got {:?}",
+                got.escape_ascii().to_string()
+            ));
+        }
+        match peer.read(&mut buf) {
+            Ok(0) => return Err("closed".into()),
+            Ok(n) => got.extend_from_slice(&buf[..n]),
+            Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => {}
+            Err(e) if e.kind() == std::io::ErrorKind::TimedOut => {}
+            Err(e) => return Err(e.to_string()),
+        }
+    }
+    Ok(got.escape_ascii().to_string())
+}
+
+#[test]
+fn closed_stdout_and_stderr_leave_it_serving_with_logging_off() {
+    let mut sim = Command::new(SIM)
+        .args(["--tcp", "127.0.0.1:0"])
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("starts");
+    let out = lines_of(sim.stdout.take().expect("stdout"));
+    let err = lines_of(sim.stderr.take().expect("stderr"));
+    let addr = out.recv_timeout(Duration::from_secs(20)).expect("address");
+    let mut peer = TcpStream::connect(&addr).expect("connects");
+    peer.set_read_timeout(Some(Duration::from_millis(200)))
+        .expect("timeout");
+    let first = ask(&mut peer);
+    assert!(
+        first.as_ref().is_ok_and(|r| r.starts_with("#99215")),
+        "{first:?}"
+    );
+    // Two lines of log (the banner, the frame in), then `| head -2` closes the pipe.
+    let logged = wait_line(&err, |l| l.contains("rx "), Duration::from_secs(20));
+    assert!(logged.is_ok(), "no log line: {logged:?}");
+    // The reader thread lets go of the pipe at the next line it cannot pass on, so
+    // later log lines meet a closed pipe.
+    drop(err);
+    drop(out);
+    for _ in 0..20 {
+        let reply = ask(&mut peer);
+        assert!(
+            reply.as_ref().is_ok_and(|r| r.starts_with("#99215")),
+            "{reply:?}"
+        );
+    }
+    let still = sim.try_wait().expect("status");
+    let _ = sim.kill();
+    let _ = sim.wait();
+    assert_eq!(
+        still, None,
+        "the simulator ended when its output was closed"
+    );
+}
