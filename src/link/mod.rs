@@ -4,7 +4,6 @@ mod engine;
 pub mod event;
 pub mod handle;
 pub mod health;
-pub mod line;
 pub mod ports;
 pub mod request;
 pub mod schedule;
@@ -16,7 +15,8 @@ pub mod transport;
 
 pub use event::LinkEvent;
 pub use handle::{Connector, LinkConfig, LinkHandle, Repaint, spawn};
-pub use line::{LineSettings, Parity};
+// The line settings moved below `link` and `sim`; `link::line` keeps naming them.
+pub use crate::line::{self, LineSettings, Parity};
 pub use request::{Origin, Priority, RequestId};
 pub use schedule::Polling;
 pub use table::TableRequest;

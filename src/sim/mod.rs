@@ -12,7 +12,6 @@ pub mod errors;
 pub mod faults;
 pub mod framing;
 mod handlers;
-pub mod line;
 pub mod motion;
 pub mod pipe;
 pub mod runner;
