@@ -4,6 +4,7 @@
 //! `link -> protocol`, `sim -> robot, protocol`. `protocol` and `robot` import nothing of
 //! the project.
 
+pub mod codes;
 pub mod line;
 pub mod link;
 pub mod protocol;
