@@ -1,8 +1,22 @@
 //! xsel-pendant: a teach pendant for IAI SCARA robots on X-SEL controllers.
 //!
 //! Layers (see DESIGN.md), arrows pointing down only:
-//! `link -> protocol`, `sim -> robot, protocol`. `protocol` and `robot` import nothing of
-//! the project.
+//!
+//! - [`link`]: the IO engine (one thread owns the line) -> [`protocol`], [`line`].
+//! - [`sim`]: the simulated controller -> [`codes`], [`robot`], [`protocol`], [`line`].
+//! - [`codes`]: wire codes <-> robot types (arm policy, jog frame, arm system), the one
+//!   place that knows both [`protocol`] and [`robot`].
+//! - [`line`]: byte lines (read with a timeout, write), line settings and byte timing,
+//!   shared by `link` and `sim`, which never import each other.
+//! - [`protocol`] (the Format B codec) and [`robot`] (SCARA math) import nothing of the
+//!   project; `line` imports nothing of it either.
+
+#![forbid(unsafe_code)]
+// Library code answers bad input instead of panicking (unit tests may unwrap).
+#![cfg_attr(
+    not(test),
+    warn(clippy::unwrap_used, clippy::expect_used, clippy::panic)
+)]
 
 pub mod codes;
 pub mod line;
