@@ -2,11 +2,11 @@
 //!
 //! Layers (see DESIGN.md), arrows pointing down only:
 //!
-//! - [`link`]: the IO engine (one thread owns the line) -> [`protocol`], [`line`].
-//! - [`sim`]: the simulated controller -> [`codes`], [`robot`], [`protocol`], [`line`].
+//! - [`link`]: the IO engine (one thread owns the line) -> [`protocol`], [`line`](mod@line).
+//! - [`sim`]: the simulated controller -> [`codes`], [`robot`], [`protocol`], [`line`](mod@line).
 //! - [`codes`]: wire codes <-> robot types (arm policy, jog frame, arm system), the one
 //!   place that knows both [`protocol`] and [`robot`].
-//! - [`line`]: byte lines (read with a timeout, write), line settings and byte timing,
+//! - [`line`](mod@line): byte lines (read with a timeout, write), line settings and byte timing,
 //!   shared by `link` and `sim`, which never import each other.
 //! - [`protocol`] (the Format B codec) and [`robot`] (SCARA math) import nothing of the
 //!   project; `line` imports nothing of it either.
