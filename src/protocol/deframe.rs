@@ -143,6 +143,7 @@ impl Deframer {
         self.scanned = self.start;
     }
 
+    #[inline]
     fn emit(&mut self, kind: RunKind, end_at: usize, end: End) -> Option<Run<'_>> {
         let from = self.start;
         self.start = end_at;
@@ -155,6 +156,7 @@ impl Deframer {
     }
 
     /// The next complete run, or `None` when more bytes are needed.
+    #[inline]
     pub fn pull(&mut self) -> Option<Run<'_>> {
         let first = *self.buf.get(self.start)?;
         if !self.is_header(first) {
