@@ -9,7 +9,7 @@ use std::io::{Read, Write};
 use std::time::{Duration, Instant};
 
 use criterion::{Criterion, Throughput};
-use xsel_pendant::sim::line::byte_time_8n1;
+use xsel_pendant::line::byte_time_8n1;
 use xsel_pendant::sim::runner::{RunOptions, SimCore, start_pty};
 use xsel_pendant::sim::{Controller, FaultSpec, SimSetup};
 

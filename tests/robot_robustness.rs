@@ -34,7 +34,13 @@ proptest! {
         let p = Pose::new(x, y, z, r);
         let j = Joints::from_array(j);
         let _ = k.inverse(&p, Arm::Left, &j);
-        let _ = solve_arm_policy(&k, &p, &j, ArmPolicy::from_code(code));
+        let policy = [
+            ArmPolicy::CurrentNoSwitch,
+            ArmPolicy::CurrentMaySwitch,
+            ArmPolicy::Right,
+            ArmPolicy::Left,
+        ][usize::from(code % 4)];
+        let _ = solve_arm_policy(&k, &p, &j, policy);
         let pp = PtpParams { speed_pct: s[0], accel_pct: s[1], decel_pct: s[2] };
         if let Ok(mut m) = PtpMove::joints(&k, j, k.inverse(&p, Arm::Right, &j).unwrap_or(j), &pp) {
             let _ = m.joints_at(t);

@@ -1,3 +1,4 @@
+#![cfg(unix)]
 //! Conformance of the simulated controller over a real pseudo-terminal, driven by an
 //! independent client: frames are built here by hand with this file's own checksum, not
 //! with the project's protocol encoder, so the two implementations check each other.

@@ -9,11 +9,12 @@ use std::time::Duration;
 
 use clap::Parser;
 use xsel_pendant::cli::parse_or_exit;
+use xsel_pendant::line::byte_time_8n1;
 use xsel_pendant::protocol::Station;
 use xsel_pendant::robot::RobotModel;
+use xsel_pendant::sim::SimHandle;
 use xsel_pendant::sim::errors::code_table_text;
-use xsel_pendant::sim::line::byte_time_8n1;
-use xsel_pendant::sim::runner::{RunOptions, SimCore, format_entry, start_pty, start_tcp};
+use xsel_pendant::sim::runner::{RunOptions, SimCore, format_entry, start_tcp};
 use xsel_pendant::sim::{Controller, FaultSpec, SimSetup, coords_file};
 
 const AFTER_HELP: &str = "\
@@ -188,12 +189,7 @@ fn run(args: Args) -> Result<(), Failure> {
             .map_err(|e| Failure::Run(format!("cannot catch Ctrl-C: {e}")))?;
     }
     let handle = if args.pty {
-        let server = start_pty(core, opts)
-            .map_err(|e| Failure::Run(format!("cannot create a pseudo-terminal: {e}")))?;
-        let mut out = std::io::stdout();
-        let _ = writeln!(out, "{}", server.path);
-        let _ = out.flush();
-        server.handle
+        serve_pty(core, opts).map_err(Failure::Run)?
     } else {
         let addr = args.tcp.as_deref().unwrap_or("127.0.0.1:5099");
         let server = start_tcp(core, addr, opts)
@@ -228,6 +224,23 @@ fn run(args: Args) -> Result<(), Failure> {
         faults.total()
     ));
     Ok(())
+}
+
+/// Serves a pseudo-terminal and prints its path.
+#[cfg(unix)]
+fn serve_pty(core: SimCore, opts: RunOptions) -> Result<SimHandle, String> {
+    let server = xsel_pendant::sim::runner::start_pty(core, opts)
+        .map_err(|e| format!("cannot create a pseudo-terminal: {e}"))?;
+    let mut out = std::io::stdout();
+    let _ = writeln!(out, "{}", server.path);
+    let _ = out.flush();
+    Ok(server.handle)
+}
+
+/// Pseudo-terminals exist on Unix only.
+#[cfg(not(unix))]
+fn serve_pty(_: SimCore, _: RunOptions) -> Result<SimHandle, String> {
+    Err("--pty is Unix-only (Linux, macOS); use --tcp HOST:PORT, which works everywhere".into())
 }
 
 #[cfg(test)]

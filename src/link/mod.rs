@@ -6,7 +6,6 @@ mod events;
 pub mod handle;
 pub mod health;
 mod lease;
-pub mod line;
 pub mod ports;
 pub mod reason;
 pub mod request;
@@ -20,7 +19,8 @@ pub mod transport;
 
 pub use event::LinkEvent;
 pub use handle::{Connector, LinkConfig, LinkHandle, Repaint, spawn};
-pub use line::{LineSettings, Parity};
+// The line settings moved below `link` and `sim`; `link::line` keeps naming them.
+pub use crate::line::{self, LineSettings, Parity};
 pub use reason::{BadInput, IoFailure, LineDownReason, NotSentReason};
 pub use request::{Origin, Priority, RequestId};
 pub use schedule::Polling;

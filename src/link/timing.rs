@@ -2,7 +2,7 @@
 
 use std::time::Duration;
 
-use super::line::LineSettings;
+use crate::line::LineSettings;
 
 /// The link's timing policy (PROTOCOL.md 1.5: the spec's "Timeout and Retry" chapter was
 /// not retrievable, so the figures here are [inferred] defaults, all configurable).

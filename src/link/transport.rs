@@ -5,7 +5,9 @@ use std::io::{self, Read, Write};
 use std::net::{TcpStream, ToSocketAddrs};
 use std::time::Duration;
 
-use super::line::{LineSettings, Parity};
+use crate::line::{Line, LineSettings, Parity};
+// The link's code reads `transport::is_timeout`; it lives with the line trait.
+pub use crate::line::is_timeout;
 
 /// What the link thread needs of a line. Implementations answer a read with nothing to
 /// deliver by `ErrorKind::TimedOut` (or `WouldBlock`) after at most `timeout`, with
@@ -21,26 +23,18 @@ pub trait Transport: Send {
     fn describe(&self) -> String;
 }
 
-/// Whether a read error only means "nothing yet".
-pub fn is_timeout(err: &io::Error) -> bool {
-    matches!(
-        err.kind(),
-        io::ErrorKind::TimedOut | io::ErrorKind::WouldBlock | io::ErrorKind::Interrupted
-    )
-}
-
 /// Longest time spent dropping input before a command: a line that never falls silent
 /// (wrong baud rate, a floating receive wire) must not hold a STOP back.
 const DRAIN_LIMIT: Duration = Duration::from_millis(5);
 
 /// Reads what is waiting, within a short timeout, until nothing more comes (or the
 /// time or size limit is reached).
-fn drain(read: &mut dyn FnMut(&mut [u8]) -> io::Result<usize>) -> io::Result<Vec<u8>> {
+fn drain(line: &mut dyn Line) -> io::Result<Vec<u8>> {
     let started = std::time::Instant::now();
     let mut dropped = Vec::new();
     let mut buf = [0u8; 512];
     loop {
-        match read(&mut buf) {
+        match line.read_timeout(&mut buf, Duration::ZERO) {
             Ok(0) => return Ok(dropped),
             Ok(n) => dropped.extend_from_slice(&buf[..n]),
             Err(e) if is_timeout(&e) => return Ok(dropped),
@@ -52,9 +46,11 @@ fn drain(read: &mut dyn FnMut(&mut [u8]) -> io::Result<usize>) -> io::Result<Vec
     }
 }
 
-/// A serial port opened exclusively with the given line settings.
+/// A serial port opened exclusively (where the platform can tell) with the given line
+/// settings. Windows opens COM ports exclusively by nature; on Unix the port is locked
+/// with `TIOCEXCL`.
 pub struct SerialTransport {
-    port: serialport::TTYPort,
+    port: Box<dyn serialport::SerialPort>,
     name: String,
     settings: LineSettings,
 }
@@ -81,16 +77,17 @@ impl SerialTransport {
             })
             .flow_control(serialport::FlowControl::None)
             .timeout(Duration::from_millis(10));
-        let mut port = builder
-            .open_native()
+        let port = open_exclusive(builder)
             .map_err(|e| io::Error::other(format!("cannot open {path}: {e}")))?;
-        port.set_exclusive(true)
-            .map_err(|e| io::Error::other(format!("cannot lock {path} for this program: {e}")))?;
         Ok(Self::from_port(port, path, settings))
     }
 
-    /// Wraps an already open port (for example one end of `TTYPort::pair()`).
-    pub fn from_port(port: serialport::TTYPort, name: &str, settings: LineSettings) -> Self {
+    /// Wraps an already open port (for example one end of `TTYPort::pair()`, boxed).
+    pub fn from_port(
+        port: Box<dyn serialport::SerialPort>,
+        name: &str,
+        settings: LineSettings,
+    ) -> Self {
         Self {
             port,
             name: name.to_owned(),
@@ -99,24 +96,36 @@ impl SerialTransport {
     }
 }
 
+/// Opens the port and locks it for this program where the platform has such a lock.
+#[cfg(unix)]
+fn open_exclusive(
+    builder: serialport::SerialPortBuilder,
+) -> io::Result<Box<dyn serialport::SerialPort>> {
+    let mut port = builder.open_native().map_err(io::Error::other)?;
+    port.set_exclusive(true)
+        .map_err(|e| io::Error::other(format!("cannot lock it for this program: {e}")))?;
+    Ok(Box::new(port))
+}
+
+/// Opens the port; COM ports are exclusive by nature.
+#[cfg(not(unix))]
+fn open_exclusive(
+    builder: serialport::SerialPortBuilder,
+) -> io::Result<Box<dyn serialport::SerialPort>> {
+    builder.open().map_err(io::Error::other)
+}
+
 impl Transport for SerialTransport {
     fn read_timeout(&mut self, buf: &mut [u8], timeout: Duration) -> io::Result<usize> {
-        use serialport::SerialPort;
-        self.port
-            .set_timeout(timeout.max(Duration::from_micros(100)))?;
-        self.port.read(buf)
+        self.port.read_timeout(buf, timeout)
     }
 
     fn write_all_bytes(&mut self, bytes: &[u8]) -> io::Result<()> {
-        self.port.write_all(bytes)?;
-        self.port.flush()
+        self.port.write_all_bytes(bytes)
     }
 
     fn discard_input(&mut self) -> io::Result<Vec<u8>> {
-        use serialport::SerialPort;
-        self.port.set_timeout(Duration::from_micros(100))?;
-        let port = &mut self.port;
-        drain(&mut |buf| port.read(buf))
+        drain(&mut self.port)
     }
 
     fn describe(&self) -> String {
@@ -155,20 +164,15 @@ impl TcpTransport {
 
 impl Transport for TcpTransport {
     fn read_timeout(&mut self, buf: &mut [u8], timeout: Duration) -> io::Result<usize> {
-        self.stream
-            .set_read_timeout(Some(timeout.max(Duration::from_micros(100))))?;
-        self.stream.read(buf)
+        Line::read_timeout(&mut self.stream, buf, timeout)
     }
 
     fn write_all_bytes(&mut self, bytes: &[u8]) -> io::Result<()> {
-        self.stream.write_all(bytes)
+        self.stream.write_all_bytes(bytes)
     }
 
     fn discard_input(&mut self) -> io::Result<Vec<u8>> {
-        self.stream
-            .set_read_timeout(Some(Duration::from_micros(100)))?;
-        let stream = &mut self.stream;
-        drain(&mut |buf| stream.read(buf))
+        drain(&mut self.stream)
     }
 
     fn describe(&self) -> String {
@@ -194,7 +198,7 @@ impl<S: Read + Write + Send> StreamTransport<S> {
     }
 }
 
-impl<S: Read + Write + Send> Transport for StreamTransport<S> {
+impl<S: Read + Write + Send> Line for StreamTransport<S> {
     fn read_timeout(&mut self, buf: &mut [u8], timeout: Duration) -> io::Result<usize> {
         (self.set_timeout)(&mut self.stream, timeout);
         self.stream.read(buf)
@@ -204,11 +208,19 @@ impl<S: Read + Write + Send> Transport for StreamTransport<S> {
         self.stream.write_all(bytes)?;
         self.stream.flush()
     }
+}
+
+impl<S: Read + Write + Send> Transport for StreamTransport<S> {
+    fn read_timeout(&mut self, buf: &mut [u8], timeout: Duration) -> io::Result<usize> {
+        Line::read_timeout(self, buf, timeout)
+    }
+
+    fn write_all_bytes(&mut self, bytes: &[u8]) -> io::Result<()> {
+        Line::write_all_bytes(self, bytes)
+    }
 
     fn discard_input(&mut self) -> io::Result<Vec<u8>> {
-        (self.set_timeout)(&mut self.stream, Duration::ZERO);
-        let stream = &mut self.stream;
-        drain(&mut |buf| stream.read(buf))
+        drain(self)
     }
 
     fn describe(&self) -> String {
@@ -221,11 +233,13 @@ mod tests {
     use super::*;
     use std::net::TcpListener;
 
+    #[cfg(unix)]
     #[test]
     fn serial_pair_carries_a_frame_and_times_out_when_idle() {
         let (master, slave) = serialport::TTYPort::pair().expect("pty pair");
-        let mut host = SerialTransport::from_port(master, "pty", LineSettings::default());
-        let mut device = SerialTransport::from_port(slave, "pty-slave", LineSettings::default());
+        let settings = LineSettings::default();
+        let mut host = SerialTransport::from_port(Box::new(master), "pty", settings);
+        let mut device = SerialTransport::from_port(Box::new(slave), "pty-slave", settings);
         host.write_all_bytes(b"!992152B\r\n").unwrap();
         let mut buf = [0u8; 64];
         let mut got = Vec::new();

@@ -2,10 +2,8 @@
 
 use std::fmt;
 
+use super::deframe::{Deframer, RunKind};
 use super::frame::{Frame, FrameError, FrameErrorKind, MAX_FRAME_LEN, OwnedFrame};
-
-/// Consumed bytes are dropped from the buffer's front once this many have accumulated.
-const COMPACT_AT: usize = 32 * 1024;
 
 /// Something in the byte stream that is not a valid frame, with its raw bytes.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -56,187 +54,100 @@ impl fmt::Display for DecodeError {
 
 impl std::error::Error for DecodeError {}
 
-/// Position of the first LF in `s`, eight bytes at a time.
-#[inline]
-fn find_lf(s: &[u8]) -> Option<usize> {
-    const ONES: u64 = 0x0101_0101_0101_0101;
-    const HIGH: u64 = 0x8080_8080_8080_8080;
-    let mut chunks = s.chunks_exact(8);
-    let mut base = 0;
-    for c in &mut chunks {
-        let w = u64::from_le_bytes(<[u8; 8]>::try_from(c).unwrap_or([0; 8]))
-            ^ (ONES * u64::from(b'\n'));
-        // Nonzero iff some byte of `w` is zero (the classic has-zero-byte test).
-        let z = w.wrapping_sub(ONES) & !w & HIGH;
-        if z != 0 {
-            return Some(base + (z.trailing_zeros() / 8) as usize);
-        }
-        base += 8;
-    }
-    chunks
-        .remainder()
-        .iter()
-        .position(|&b| b == b'\n')
-        .map(|p| base + p)
-}
-
-#[inline]
-fn is_header(b: u8) -> bool {
-    matches!(b, b'!' | b'#' | b'&')
-}
+/// The headers a client accepts: commands (in logs of both directions), replies, errors.
+const HEADERS: &[u8] = b"!#&";
 
 /// Splits a byte stream into frames. Feed bytes with [`push`](Self::push) in any split;
 /// take results with [`pull`](Self::pull) until it returns `None`.
 ///
 /// Resynchronises on the next header after any error. Never panics. After every
 /// `pull` has returned `None`, at most [`MAX_FRAME_LEN`] + 1 bytes are held.
-#[derive(Debug, Default)]
+#[derive(Debug, Clone)]
 pub struct StreamDecoder {
-    buf: Vec<u8>,
-    /// Start of the unconsumed bytes.
-    start: usize,
-    /// Bytes in `start..scanned` have been searched already (for LF when `buf[start]` is a
-    /// header; for a header or LF otherwise).
-    scanned: usize,
+    runs: Deframer,
+}
+
+impl Default for StreamDecoder {
+    fn default() -> Self {
+        Self::new()
+    }
 }
 
 impl StreamDecoder {
     /// An empty decoder.
     pub fn new() -> Self {
-        Self::default()
+        // Runs of MAX_FRAME_LEN + 1 bytes reach the parser, which names the excess.
+        Self {
+            runs: Deframer::new(HEADERS, MAX_FRAME_LEN + 1, false),
+        }
     }
 
     /// Adds received bytes.
     #[inline]
     pub fn push(&mut self, bytes: &[u8]) {
-        if self.start == self.buf.len() {
-            self.buf.clear();
-            self.start = 0;
-            self.scanned = 0;
-        } else if self.start >= COMPACT_AT {
-            self.buf.drain(..self.start);
-            self.scanned -= self.start.min(self.scanned);
-            self.start = 0;
-            if self.buf.capacity() > 4 * (COMPACT_AT + MAX_FRAME_LEN) {
-                self.buf.shrink_to(2 * (COMPACT_AT + MAX_FRAME_LEN));
-            }
-        }
-        self.buf.extend_from_slice(bytes);
+        self.runs.push(bytes);
     }
 
     /// Bytes received but not yet returned as a frame or an error.
     pub fn pending(&self) -> usize {
-        self.buf.len() - self.start
+        self.runs.pending()
     }
 
     /// Drops the pending bytes and returns them (e.g. after a reply time-out).
     pub fn take_pending(&mut self) -> Vec<u8> {
-        let rest = self.buf.get(self.start..).unwrap_or(&[]).to_vec();
-        self.buf.clear();
-        self.start = 0;
-        self.scanned = 0;
-        rest
-    }
-
-    fn emit_bytes(&mut self, end: usize) -> Vec<u8> {
-        let raw = self.buf.get(self.start..end).unwrap_or(&[]).to_vec();
-        self.start = end;
-        self.scanned = end;
-        raw
+        self.runs.take_pending()
     }
 
     /// The next complete frame or error, or `None` when more bytes are needed.
     pub fn pull(&mut self) -> Option<Result<OwnedFrame, DecodeError>> {
-        let first = *self.buf.get(self.start)?;
-        if !is_header(first) {
-            return self.pull_garbage();
-        }
-        let from = self.scanned.max(self.start + 1);
-        let tail = self.buf.get(from..).unwrap_or(&[]);
-        let Some(off) = find_lf(tail) else {
-            self.scanned = self.buf.len();
-            if self.buf.len() - self.start > MAX_FRAME_LEN {
-                return Some(Err(self.overlong()));
+        let run = self.runs.pull()?;
+        let (kind, bytes) = (run.kind, run.bytes);
+        let error = match kind {
+            RunKind::Noise => {
+                return Some(Err(DecodeError::Garbage {
+                    raw: bytes.to_vec(),
+                }));
             }
-            return None;
-        };
-        let end = from + off + 1;
-        let cand = self.buf.get(self.start..end).unwrap_or(&[]);
-        match Frame::parse(cand) {
-            Ok(frame) => {
-                let frame = frame.into_owned();
-                self.start = end;
-                self.scanned = end;
-                Some(Ok(frame))
-            }
-            Err(e) => {
-                // A header inside means an earlier frame was cut short: report the
-                // piece before it and restart there (the rest is searched again).
-                if let Some(k) = cand
-                    .get(1..)
-                    .and_then(|c| c.iter().position(|&b| is_header(b)))
-                {
-                    return Some(Err(self.cut_short(self.start + 1 + k)));
-                }
-                self.start = end;
-                self.scanned = end;
-                Some(Err(DecodeError::Frame(e)))
-            }
-        }
-    }
-
-    /// Bytes from `start` up to the header at `k`, which lack a line end.
-    fn cut_short(&mut self, k: usize) -> DecodeError {
-        let raw = self.buf.get(self.start..k).unwrap_or(&[]).to_vec();
-        self.start = k;
-        // `scanned` still holds: no LF was seen before it, and it is >= k.
-        let kind = match Frame::parse(&raw) {
-            Err(e) => e.kind,
-            Ok(_) => FrameErrorKind::MissingLineEnd {
-                column: raw.len() + 1,
+            RunKind::Candidate => match Frame::parse(bytes) {
+                Ok(frame) => return Some(Ok(frame.into_owned())),
+                Err(e) => DecodeError::Frame(e),
             },
-        };
-        DecodeError::Frame(FrameError { raw, kind })
-    }
-
-    fn overlong(&mut self) -> DecodeError {
-        let limit = self.start + MAX_FRAME_LEN + 1;
-        let inner = self
-            .buf
-            .get(self.start + 1..limit)
-            .and_then(|c| c.iter().position(|&b| is_header(b)));
-        match inner {
-            Some(k) => self.cut_short(self.start + 1 + k),
-            None => DecodeError::Overlong {
-                raw: self.emit_bytes(limit),
+            RunKind::Overlong => DecodeError::Overlong {
+                raw: bytes.to_vec(),
             },
-        }
+            // Not made without `cut_at_header`; read like a frame cut by a header.
+            RunKind::Cut => return Some(Err(cut_short(bytes.to_vec()))),
+        };
+        // A header inside means an earlier frame was cut short: report the piece before
+        // it and restart there (the rest is split again).
+        let inner = bytes
+            .get(1..)
+            .and_then(|c| c.iter().position(|&b| is_header(b)))
+            .map(|k| k + 1);
+        let Some(k) = inner else {
+            return Some(Err(error));
+        };
+        let raw = bytes.get(..k).unwrap_or(&[]).to_vec();
+        let rest = bytes.len() - k;
+        self.runs.rewind(rest);
+        Some(Err(cut_short(raw)))
     }
+}
 
-    fn pull_garbage(&mut self) -> Option<Result<OwnedFrame, DecodeError>> {
-        let from = self.scanned.max(self.start);
-        let tail = self.buf.get(from..).unwrap_or(&[]);
-        match tail.iter().position(|&b| is_header(b) || b == b'\n') {
-            Some(off) => {
-                let at = from + off;
-                let is_lf = self.buf.get(at) == Some(&b'\n');
-                let end = if is_lf { at + 1 } else { at };
-                Some(Err(DecodeError::Garbage {
-                    raw: self.emit_bytes(end),
-                }))
-            }
-            None => {
-                self.scanned = self.buf.len();
-                if self.buf.len() - self.start > MAX_FRAME_LEN {
-                    let end = self.buf.len();
-                    return Some(Err(DecodeError::Garbage {
-                        raw: self.emit_bytes(end),
-                    }));
-                }
-                None
-            }
-        }
-    }
+/// A run from a header that lacks its line end because the next header came first.
+fn cut_short(raw: Vec<u8>) -> DecodeError {
+    let kind = match Frame::parse(&raw) {
+        Err(e) => e.kind,
+        Ok(_) => FrameErrorKind::MissingLineEnd {
+            column: raw.len() + 1,
+        },
+    };
+    DecodeError::Frame(FrameError { raw, kind })
+}
+
+#[inline]
+fn is_header(b: u8) -> bool {
+    HEADERS.contains(&b)
 }
 
 impl Iterator for StreamDecoder {
@@ -255,24 +166,6 @@ mod tests {
 
     fn drain(d: &mut StreamDecoder) -> Vec<Result<OwnedFrame, DecodeError>> {
         std::iter::from_fn(|| d.pull()).collect()
-    }
-
-    #[test]
-    fn lf_search_finds_the_first_lf_anywhere() {
-        for len in 0..40 {
-            for at in 0..=len {
-                let mut v = vec![b'A'; len];
-                if at < len {
-                    v[at] = b'\n';
-                    if at + 3 < len {
-                        v[at + 3] = b'\n';
-                    }
-                }
-                let want = v.iter().position(|&b| b == b'\n');
-                assert_eq!(find_lf(&v), want, "{len} {at}");
-            }
-        }
-        assert_eq!(find_lf(&[0x8A, 0x0B, 0x0A]), Some(2));
     }
 
     #[test]

@@ -1,7 +1,8 @@
 //! The Format B codec, sans-IO: bytes <-> typed commands and replies, in both roles.
 //!
 //! * [`Frame`] parses one complete frame and checks its SC; [`StreamDecoder`] splits a byte
-//!   stream into frames and typed errors, resynchronising on the next header.
+//!   stream into frames and typed errors, resynchronising on the next header; both it and
+//!   the simulator's receiver split the stream with [`deframe::Deframer`].
 //! * [`Command`] and [`Reply`] encode and decode every message of PROTOCOL.md section 3.
 //! * [`describe()`] explains any bytes field by field, for the frame log.
 //!
@@ -12,6 +13,7 @@ pub mod axis;
 pub mod checksum;
 pub mod command;
 pub mod decoder;
+pub mod deframe;
 pub mod describe;
 pub mod error;
 mod fields;

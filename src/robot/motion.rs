@@ -54,8 +54,9 @@ pub enum MoveError {
     Profile(#[from] ProfileError),
 }
 
-/// PTP target arm, 2D5H/2D6H operation type bits 3-4. The printed spec is ambiguous for
-/// codes 2 and 3; this follows PROTOCOL.md section 5 erratum 5 `[inferred]`.
+/// PTP target arm (on the wire: 2D4H-2D6H operation type bits 3-4, converted in
+/// `crate::codes`). The printed spec is ambiguous for the right/left policies; this
+/// follows PROTOCOL.md section 5 erratum 5 `[inferred]`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum ArmPolicy {
     /// 0: keep the current arm; refuse if it cannot reach.
@@ -66,21 +67,6 @@ pub enum ArmPolicy {
     Right,
     /// 3: the left arm.
     Left,
-}
-
-impl ArmPolicy {
-    /// From the 2-bit code (bits 3-4 of the operation type, already shifted down).
-    pub fn from_code(code: u8) -> Self {
-        match code & 3 {
-            0 => ArmPolicy::CurrentNoSwitch,
-            1 => ArmPolicy::CurrentMaySwitch,
-            2 => ArmPolicy::Right,
-            _ => ArmPolicy::Left,
-        }
-    }
-    pub fn code(self) -> u8 {
-        self as u8
-    }
 }
 
 /// The joints for a PTP move's flange target (base frame) under an arm policy. J1 and J4
@@ -462,14 +448,6 @@ pub fn relative_move<T: Copy + Add<Output = T>>(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn arm_policy_codes() {
-        for code in 0..4u8 {
-            assert_eq!(ArmPolicy::from_code(code).code(), code);
-        }
-        assert_eq!(ArmPolicy::from_code(6), ArmPolicy::Right);
-    }
 
     #[test]
     fn command_fields_resolve_defaults_and_clamp() {

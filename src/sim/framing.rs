@@ -2,6 +2,8 @@
 //! candidate frames, and the reasons for silence. Frames themselves are read by
 //! [`crate::protocol::Frame::parse`].
 
+use crate::protocol::deframe::{Deframer, End, RunKind};
+
 /// Longest command the larger controllers can receive (PROTOCOL.md 1.7: 2051 bytes);
 /// see [`max_command`] for the 1024-byte reply-buffer setting.
 pub const MAX_COMMAND: usize = 2051;
@@ -64,31 +66,25 @@ pub fn max_command(reply_buffer: usize) -> usize {
 pub enum Received<'a> {
     /// A run from `!` to LF, within the receive limit: for the controller.
     Frame(&'a [u8]),
-    /// A run that can never be a command, reported at its LF or when a new `!` starts:
-    /// no `!` header, a frame cut by a new `!`, or one longer than the limit (`bytes`
-    /// then holds only its first `limit` bytes).
+    /// A run that can never be a command, reported at its LF, when a new `!` starts, or
+    /// at the limit: no `!` header, a frame cut by a new `!`, or one longer than the
+    /// limit (`bytes` then holds only its first `limit` bytes).
     Dropped { bytes: &'a [u8], reason: Silence },
 }
 
-/// Splits an incoming byte stream into candidate frames.
+/// Splits an incoming byte stream into candidate frames, as the controller receives.
 ///
-/// A frame starts at `!` and ends at LF. Bytes before a `!` are line noise; a run longer
-/// than the receive limit without LF is dropped whole `[inferred, PROTOCOL.md 1.6: the
-/// controller answers nothing it cannot recognise]`. Dropped runs are reported so they
-/// can be logged and counted.
+/// A frame starts at `!` and ends at LF; any `!` starts a new frame. Bytes before a `!`
+/// are line noise; a run longer than the receive limit without LF is dropped whole
+/// `[inferred, PROTOCOL.md 1.6: the controller answers nothing it cannot recognise]`.
+/// Each dropped run is reported once, with at most its first `limit` bytes, so it can be
+/// logged and counted; a run longer than the limit is reported when the limit is reached
+/// and the rest of it is counted in [`dropped`](Self::dropped) only.
 #[derive(Debug)]
 pub struct Assembler {
-    /// The current run (at most `limit` bytes kept).
-    buf: Vec<u8>,
-    /// All bytes of the current run, kept or not.
-    run: usize,
-    /// The current run started with `!`.
-    in_frame: bool,
-    /// The last push handed out `buf`: clear it on the next byte.
-    delivered: bool,
-    /// A dropped run reported when a `!` starts a new frame.
-    report: Vec<u8>,
-    limit: usize,
+    runs: Deframer,
+    /// The run reported at the limit goes on: its remaining noise is not reported again.
+    skipping: bool,
     /// Bytes dropped as noise, cut frames or overflow.
     pub dropped: u64,
 }
@@ -108,73 +104,45 @@ impl Assembler {
     /// An assembler that drops runs longer than `limit` bytes.
     pub fn with_limit(limit: usize) -> Self {
         Self {
-            buf: Vec::new(),
-            run: 0,
-            in_frame: false,
-            delivered: false,
-            report: Vec::new(),
-            limit: limit.max(1),
+            runs: Deframer::new(b"!", limit, true),
+            skipping: false,
             dropped: 0,
         }
     }
 
-    fn reason(&self) -> Silence {
-        if !self.in_frame {
-            Silence::Header
-        } else if self.run > self.limit {
-            Silence::Overflow
-        } else {
-            Silence::Terminator
-        }
-    }
-
     /// Feeds one byte; returns a complete frame (with CR LF) or a dropped run when this
-    /// byte ends one.
+    /// byte ends one (or, for a run longer than the limit, reaches the limit).
     pub fn push(&mut self, byte: u8) -> Option<Received<'_>> {
-        if self.delivered {
-            self.buf.clear();
-            self.run = 0;
-            self.in_frame = false;
-            self.delivered = false;
-        }
-        if byte == b'!' && self.run > 0 {
-            // A new header ends the run before it: noise or a frame without LF.
-            let reason = self.reason();
-            self.dropped += self.run as u64;
-            std::mem::swap(&mut self.report, &mut self.buf);
-            self.buf.clear();
-            self.buf.push(byte);
-            self.run = 1;
-            self.in_frame = true;
-            return Some(Received::Dropped {
-                bytes: &self.report,
-                reason,
-            });
-        }
-        if byte == b'!' {
-            self.in_frame = true;
-        }
-        self.run += 1;
-        if self.buf.len() < self.limit {
-            self.buf.push(byte);
-        }
-        if byte != b'\n' {
-            return None;
-        }
-        self.delivered = true;
-        if self.in_frame && self.run <= self.limit {
-            return Some(Received::Frame(&self.buf));
-        }
-        self.dropped += self.run as u64;
+        self.runs.push(&[byte]);
+        // One byte completes at most one run, so one pull takes it.
+        let run = self.runs.pull()?;
+        self.dropped += match run.kind {
+            RunKind::Candidate => 0,
+            _ => run.bytes.len() as u64,
+        };
+        let reason = match run.kind {
+            RunKind::Candidate => {
+                self.skipping = false;
+                return Some(Received::Frame(run.bytes));
+            }
+            RunKind::Noise if self.skipping => {
+                self.skipping = run.end == End::Limit;
+                return None;
+            }
+            RunKind::Noise => Silence::Header,
+            RunKind::Cut => Silence::Terminator,
+            RunKind::Overlong => Silence::Overflow,
+        };
+        self.skipping = run.end == End::Limit;
         Some(Received::Dropped {
-            bytes: &self.buf,
-            reason: self.reason(),
+            bytes: run.bytes,
+            reason,
         })
     }
 
     /// Bytes of an unfinished run are waiting.
     pub fn pending(&self) -> bool {
-        !self.delivered && self.run > 0
+        self.skipping || self.runs.pending() > 0
     }
 }
 
@@ -232,7 +200,7 @@ mod tests {
     }
 
     #[test]
-    fn overflow_is_reported_at_its_lf() {
+    fn overflow_is_reported_once_with_its_first_limit_bytes() {
         let mut a = Assembler::with_limit(12);
         let got = runs(&mut a, b"!99200123456789\r\n!9920027\r\n");
         assert_eq!(
@@ -242,6 +210,17 @@ mod tests {
                 (b"!9920027\r\n".to_vec(), None),
             ]
         );
+        assert_eq!(a.dropped, 17, "the whole overlong run is counted");
+        let got = runs(&mut a, b"abcdefghijklmnopqrstuvwxyz!9920027\r\n");
+        assert_eq!(
+            got,
+            vec![
+                (b"abcdefghijkl".to_vec(), Some(Silence::Header)),
+                (b"!9920027\r\n".to_vec(), None),
+            ],
+            "a long stretch of noise is reported once"
+        );
+        assert_eq!(a.dropped, 17 + 26);
         assert_eq!(max_command(1024), 1023);
         assert_eq!(max_command(2048), 2051);
     }

@@ -12,7 +12,6 @@ pub mod errors;
 pub mod faults;
 pub mod framing;
 mod handlers;
-pub mod line;
 pub mod motion;
 pub mod pipe;
 pub mod runner;
@@ -45,32 +44,4 @@ pub fn describe_frame(frame: &[u8]) -> String {
         s.push_str(&format!(" [{}]", p.message));
     }
     s
-}
-
-/// The name of a message ID (PROTOCOL.md 3).
-pub fn message_name(id: &str) -> &'static str {
-    match id {
-        "200" => "test call",
-        "201" => "version",
-        "212" => "axis status",
-        "215" => "system status",
-        "216" => "error detail",
-        "232" => "servo on/off",
-        "233" => "home return",
-        "234" => "absolute move",
-        "235" => "relative move",
-        "236" => "jog/inching",
-        "238" => "stop",
-        "252" => "alarm reset",
-        "25B" => "software reset",
-        "262" => "speed change",
-        "2A0" => "coordinate systems",
-        "2A1" => "SCARA status",
-        "2A3" => "SCARA status 2",
-        "2A4" => "coordinate systems 2",
-        "2D4" => "SCARA absolute move",
-        "2D5" => "SCARA relative move",
-        "2D6" => "SCARA position move",
-        _ => "(unknown message)",
-    }
 }

@@ -6,6 +6,8 @@ use std::io::{self, Read, Write};
 use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
+use crate::line::Line;
+
 /// How the pipe behaves: pacing and how long a read waits for a byte.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct PipeConfig {
@@ -129,6 +131,17 @@ fn ready_count(chunk: &Chunk, now: Instant, byte_time: Option<Duration>) -> usiz
                 .saturating_add(1)
                 .min(chunk.data.len())
         }
+    }
+}
+
+impl Line for PipeEnd {
+    fn read_timeout(&mut self, buf: &mut [u8], timeout: Duration) -> io::Result<usize> {
+        self.set_read_timeout(timeout);
+        self.read(buf)
+    }
+
+    fn write_all_bytes(&mut self, bytes: &[u8]) -> io::Result<()> {
+        self.write_all(bytes)
     }
 }
 

@@ -11,10 +11,10 @@ use std::time::{Duration, Instant};
 use super::controller::Controller;
 use super::faults::{FaultCounts, FaultInjector, FaultSpec};
 use super::framing::{Assembler, Received, Silence, max_command};
-use super::line::{SimLine, is_timeout, sleep_until, write_paced};
 use super::pipe::{PipeConfig, PipeEnd, duplex};
 use super::state::{Counters, Mode};
 use super::{SimSetup, describe_frame};
+use crate::line::{Line, is_timeout, sleep_until, write_paced};
 
 /// Direction of a logged frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -114,7 +114,7 @@ fn lock(shared: &Mutex<SimCore>) -> MutexGuard<'_, SimCore> {
 
 /// Serves one line until it closes, fails or `stop` is set.
 pub fn serve(
-    line: &mut dyn SimLine,
+    line: &mut dyn Line,
     shared: &Mutex<SimCore>,
     stop: &AtomicBool,
     opts: &mut RunOptions,
@@ -127,7 +127,7 @@ pub fn serve(
         if stop.load(Ordering::Relaxed) {
             return ServeEnd::Stopped;
         }
-        let n = match line.read_some(&mut buf, opts.tick) {
+        let n = match line.read_timeout(&mut buf, opts.tick) {
             Ok(0) => return ServeEnd::Closed,
             Ok(n) => n,
             Err(e) if is_timeout(&e) => 0,
@@ -181,7 +181,7 @@ fn dropped(
 
 /// Handles one frame: controller, delay, faults, pacing, logging.
 fn answer(
-    line: &mut dyn SimLine,
+    line: &mut dyn Line,
     shared: &Mutex<SimCore>,
     frame: &[u8],
     arrived: Instant,
@@ -218,7 +218,7 @@ fn answer(
                 write_paced(line, &piece.bytes, bt, start)?;
                 start += bt.saturating_mul(piece.bytes.len() as u32);
             }
-            None => line.write_bytes(&piece.bytes)?,
+            None => line.write_all_bytes(&piece.bytes)?,
         }
     }
     let entry = TrafficEntry {
@@ -435,18 +435,45 @@ impl Drop for SimHandle {
 }
 
 /// A pseudo-terminal served by the simulator: clients open [`PtyServer::path`].
+#[cfg(unix)]
 pub struct PtyServer {
     pub path: String,
     pub handle: SimHandle,
 }
 
-/// Creates a pseudo-terminal and serves it on a new thread.
+/// The master side of the simulator's pseudo-terminal.
+#[cfg(unix)]
+struct PtyMaster(Box<dyn serialport::SerialPort>);
+
+#[cfg(unix)]
+impl Line for PtyMaster {
+    fn read_timeout(&mut self, buf: &mut [u8], timeout: Duration) -> io::Result<usize> {
+        match self.0.read_timeout(buf, timeout) {
+            // A pty master reads EIO while no client has the slave open on some systems;
+            // treat it as "nothing yet".
+            Err(e) if e.raw_os_error() == Some(5) => {
+                std::thread::sleep(timeout);
+                Err(io::Error::new(io::ErrorKind::TimedOut, "no client"))
+            }
+            other => other,
+        }
+    }
+
+    fn write_all_bytes(&mut self, bytes: &[u8]) -> io::Result<()> {
+        self.0.write_all_bytes(bytes)
+    }
+}
+
+/// Creates a pseudo-terminal and serves it on a new thread (Unix only; TCP works
+/// everywhere).
+#[cfg(unix)]
 pub fn start_pty(core: SimCore, mut opts: RunOptions) -> io::Result<PtyServer> {
-    let (mut master, slave) = serialport::TTYPort::pair().map_err(io::Error::other)?;
+    let (master, slave) = serialport::TTYPort::pair().map_err(io::Error::other)?;
     use serialport::SerialPort;
     let path = slave
         .name()
         .ok_or_else(|| io::Error::other("the pseudo-terminal has no name"))?;
+    let mut master = PtyMaster(Box::new(master));
     let handle = SimHandle::spawn(core, move |shared, stop| {
         // The slave stays open here so the path stays valid and the master never sees a
         // hang-up between clients.

@@ -1,9 +1,8 @@
 //! Axis messages: 232H servo, 233H home, 234H/235H linear-axis moves, 236H jog/inching,
 //! 238H stop, 262H speed change.
 
-use crate::protocol::{
-    AxisMove, Direction, Home, Jog, JogFrame, JogMotion, Servo, SpeedChange, Stop,
-};
+use crate::codes;
+use crate::protocol::{AxisMove, Direction, Home, Jog, JogMotion, Servo, SpeedChange, Stop};
 use crate::robot::G_MM_S2;
 use crate::robot::Trapezoid;
 use crate::sim::controller::Controller;
@@ -185,24 +184,15 @@ impl Controller {
         }
         let distance = j.distance.0.unsigned_abs();
         let positive = j.direction == Direction::Positive;
-        let (accel, decel, speed, system) = match j.motion {
+        let (accel, decel, speed) = match j.motion {
             JogMotion::Cartesian {
-                frame,
-                acc,
-                dec,
-                speed,
-            } => {
-                let system = match frame {
-                    JogFrame::Base => 0,
-                    JogFrame::Work => 1,
-                    JogFrame::Tool => 2,
-                };
-                (acc.0, dec.0, speed.0, system)
-            }
-            JogMotion::Joint { acc, dec, speed } => (acc.0, dec.0, speed.0, 3),
+                acc, dec, speed, ..
+            } => (acc.0, dec.0, speed.0),
+            JogMotion::Joint { acc, dec, speed } => (acc.0, dec.0, speed.0),
         };
         if pattern & SCARA != 0 {
-            self.scara_jog(pattern, [speed, accel, decel], distance, positive, system)?;
+            let frame = codes::jog_frame(&j.motion);
+            self.scara_jog(pattern, [speed, accel, decel], distance, positive, frame)?;
         } else {
             self.check_ready_to_move(pattern)?;
             let i = pattern.trailing_zeros() as usize;

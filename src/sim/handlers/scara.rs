@@ -3,6 +3,7 @@
 //! checked by the robot layer's motion generator.
 
 use super::axis::{AT_LIMIT, LINEAR, SCARA};
+use crate::codes;
 use crate::protocol::{ScaraMotion, ScaraMove, ScaraPositionMove};
 use crate::robot::{
     ArmPolicy, CpMove, CpParams, DEFAULT_CHECK_SPACING_MM, IkError, JogFrame, Joints, MoveError,
@@ -36,21 +37,16 @@ fn move_error(e: MoveError) -> SimError {
     }
 }
 
-/// A SCARA move's kind and rates (speed, accel, decel): CP in mm/s and 0.01 G, PTP in %
-/// with an arm policy (PROTOCOL.md 3.20).
+/// A SCARA move's arm policy (PTP) or none (CP), and its rates (speed, accel, decel): CP
+/// in mm/s and 0.01 G, PTP in % (PROTOCOL.md 3.20).
 fn op_type(m: &ScaraMotion) -> (Option<ArmPolicy>, [u16; 3]) {
-    match *m {
-        ScaraMotion::Cp { acc, dec, speed } => (None, [speed.0, acc.0, dec.0]),
+    let rates = match *m {
+        ScaraMotion::Cp { acc, dec, speed } => [speed.0, acc.0, dec.0],
         ScaraMotion::Ptp {
-            acc,
-            dec,
-            speed,
-            arm,
-        } => (
-            Some(ArmPolicy::from_code(arm.code())),
-            [speed.0, acc.0, dec.0],
-        ),
-    }
+            acc, dec, speed, ..
+        } => [speed.0, acc.0, dec.0],
+    };
+    (codes::arm_policy(m), rates)
 }
 
 impl Controller {
@@ -188,8 +184,8 @@ impl Controller {
         self.scara_or_linear_move(pattern, &values, false, policy, rates)
     }
 
-    /// The SCARA side of 236H: one axis of the base/work/tool frame (X, Y, Z, R) or one
-    /// joint (each-axis system, speeds in % `[inferred, PROTOCOL.md 5 erratum 12]`).
+    /// The SCARA side of 236H: one axis of the base/work/tool `frame` (X, Y, Z, R) or, with
+    /// no frame, one joint (each-axis system, speeds in % `[inferred, PROTOCOL.md 5 erratum 12]`).
     /// `distance` 0 = jog until 238H or the edge of the workspace (a joint: its limit).
     pub(crate) fn scara_jog(
         &mut self,
@@ -197,7 +193,7 @@ impl Controller {
         rates: [u16; 3],
         distance: u32,
         positive: bool,
-        system: u8,
+        frame: Option<JogFrame>,
     ) -> Result<(), SimError> {
         self.check_ready_to_move(SCARA)?;
         // "Only while no servo axis is operating" (PROTOCOL.md 3.10): the linear axes too.
@@ -212,7 +208,7 @@ impl Controller {
         } else {
             MotionKind::Move
         };
-        if system == 3 {
+        let Some(frame) = frame else {
             let (lo, hi) = self.axis_range(i);
             let mut j = self.joints().to_array();
             j[i] = match distance {
@@ -226,11 +222,6 @@ impl Controller {
                 return Err(SimError::SoftLimit);
             }
             return self.start_ptp(Joints::from_array(j), rates, kind);
-        }
-        let frame = match system {
-            0 => JogFrame::Base,
-            1 => JogFrame::Work,
-            _ => JogFrame::Tool,
         };
         let mut unit = [0.0; 4];
         unit[i] = sign;

@@ -4,7 +4,7 @@ use crate::protocol::{
     self, AxisPattern, AxisStatus, CommonStatus, EncoderStatus, ErrorCode, PerAxis, PositionSystem,
     Reply, ScaraStatus, ScaraStatus2, ScaraUnitStatus, SensorInput, Thou,
 };
-use crate::robot::{ArmSystem, round_wire};
+use crate::robot::round_wire;
 use crate::sim::controller::Controller;
 use crate::sim::state::HomeState;
 
@@ -78,11 +78,7 @@ impl Controller {
             PositionSystem::Work => self.work().base_to_work(&tip).to_wire(),
             PositionSystem::Joint => std::array::from_fn(|i| self.axis_wire(i)),
         };
-        let arm = match self.kin.arm_system(&self.joints()) {
-            ArmSystem::Right => protocol::ArmSystem::Right,
-            ArmSystem::Left => protocol::ArmSystem::Left,
-            ArmSystem::Undetermined => protocol::ArmSystem::Undetermined,
-        };
+        let arm = self.kin.arm_system(&self.joints()).into();
         let pattern = AxisPattern(axes.0 & self.present());
         let blocks = self.axis_blocks(
             pattern,

@@ -1,0 +1,92 @@
+//! Byte lines, below both `link` and `sim`: a read-with-timeout + write trait, what a
+//! "nothing yet" read looks like, and wire timing (line settings, byte time, pacing).
+//!
+//! Serial ports are handled as `Box<dyn serialport::SerialPort>` so the same code builds
+//! on Linux, macOS and Windows.
+
+mod pace;
+pub mod settings;
+
+use std::io::{self, Read, Write};
+use std::net::TcpStream;
+use std::time::Duration;
+
+pub use pace::{sleep_until, write_paced};
+pub use settings::{LineSettings, LineSettingsError, Parity, STANDARD_BAUDS};
+
+/// Shortest read timeout handed to an OS handle (a zero timeout means "block" to some).
+const MIN_TIMEOUT: Duration = Duration::from_micros(100);
+
+/// A byte line: `std::io::Read + Write` plus a read timeout.
+///
+/// A read with nothing to deliver answers `ErrorKind::TimedOut` (or `WouldBlock`, see
+/// [`is_timeout`]) after at most `timeout`; `Ok(0)` or another error means the line is gone.
+pub trait Line: Send {
+    /// Reads what has arrived, waiting at most `timeout` for the first byte.
+    fn read_timeout(&mut self, buf: &mut [u8], timeout: Duration) -> io::Result<usize>;
+    /// Writes every byte and pushes them out.
+    fn write_all_bytes(&mut self, bytes: &[u8]) -> io::Result<()>;
+}
+
+impl Line for TcpStream {
+    fn read_timeout(&mut self, buf: &mut [u8], timeout: Duration) -> io::Result<usize> {
+        self.set_read_timeout(Some(timeout.max(MIN_TIMEOUT)))?;
+        self.read(buf)
+    }
+
+    fn write_all_bytes(&mut self, bytes: &[u8]) -> io::Result<()> {
+        self.write_all(bytes)
+    }
+}
+
+impl Line for Box<dyn serialport::SerialPort> {
+    fn read_timeout(&mut self, buf: &mut [u8], timeout: Duration) -> io::Result<usize> {
+        self.set_timeout(timeout.max(MIN_TIMEOUT))?;
+        self.read(buf)
+    }
+
+    fn write_all_bytes(&mut self, bytes: &[u8]) -> io::Result<()> {
+        self.write_all(bytes)?;
+        self.flush()
+    }
+}
+
+/// Whether a read error only means "nothing yet".
+pub fn is_timeout(err: &io::Error) -> bool {
+    matches!(
+        err.kind(),
+        io::ErrorKind::TimedOut | io::ErrorKind::WouldBlock | io::ErrorKind::Interrupted
+    )
+}
+
+/// The wire time of one character at `baud` with 10 bits a character (8N1).
+pub fn byte_time_8n1(baud: u32) -> Duration {
+    LineSettings {
+        baud,
+        ..LineSettings::default()
+    }
+    .byte_time()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn byte_time_of_8n1_is_ten_bits() {
+        assert_eq!(byte_time_8n1(9_600), Duration::from_nanos(1_041_666));
+        assert_eq!(byte_time_8n1(115_200), Duration::from_nanos(86_805));
+        assert_eq!(
+            byte_time_8n1(0),
+            Duration::from_secs(10),
+            "no division by zero"
+        );
+    }
+
+    #[test]
+    fn timeouts_are_told_from_lost_lines() {
+        assert!(is_timeout(&io::Error::from(io::ErrorKind::TimedOut)));
+        assert!(is_timeout(&io::Error::from(io::ErrorKind::WouldBlock)));
+        assert!(!is_timeout(&io::Error::from(io::ErrorKind::BrokenPipe)));
+    }
+}
