@@ -29,5 +29,5 @@ pub mod pendant;
 pub mod protocol;
 pub mod robot;
 pub mod session;
-pub mod ui;
 pub mod sim;
+pub mod ui;

@@ -196,7 +196,10 @@ impl Session {
     }
 
     /// A session whose repaint hook does nothing (tests, benches).
-    pub fn open_quiet(settings: &ConnectionSettings, model: &RobotModel) -> Result<Session, String> {
+    pub fn open_quiet(
+        settings: &ConnectionSettings,
+        model: &RobotModel,
+    ) -> Result<Session, String> {
         Self::open(settings, model, Arc::new(|| {}))
     }
 }

@@ -16,7 +16,15 @@ const DEADLINE: Duration = Duration::from_secs(20);
 fn app<'a>() -> Harness<'a, PendantApp> {
     Harness::builder()
         .with_size([1280.0, 800.0])
-        .build_eframe(|cc| PendantApp::new(cc, StartOptions { connection: None, fresh: true }))
+        .build_eframe(|cc| {
+            PendantApp::new(
+                cc,
+                StartOptions {
+                    connection: None,
+                    fresh: true,
+                },
+            )
+        })
 }
 
 /// Steps the window until `done` holds, or fails naming `what` after the deadline.
@@ -27,7 +35,13 @@ fn step_until(h: &mut Harness<'_, PendantApp>, what: &str, done: impl Fn(&Pendan
             Instant::now() < end,
             "timed out waiting for: {what}; last jog message: {:?}; messages: {:?}",
             h.state().pendant().jog_feedback,
-            h.state().pendant().messages.iter().rev().take(5).collect::<Vec<_>>()
+            h.state()
+                .pendant()
+                .messages
+                .iter()
+                .rev()
+                .take(5)
+                .collect::<Vec<_>>()
         );
         h.step();
         std::thread::sleep(Duration::from_millis(5));
@@ -71,10 +85,14 @@ fn ready(h: &mut Harness<'_, PendantApp>) {
     });
     click(h, "Servo ON");
     step_until(h, "servo on", |a| all_axes(a, |s| s.status.servo_on()));
-    step_until(h, "the servo switch to end", |a| all_axes(a, |s| !s.status.in_use()));
+    step_until(h, "the servo switch to end", |a| {
+        all_axes(a, |s| !s.status.in_use())
+    });
     click(h, "Home");
     step_until(h, "homed", |a| {
-        all_axes(a, |s| s.status.home_state() == HomeState::Done && !s.status.in_use())
+        all_axes(a, |s| {
+            s.status.home_state() == HomeState::Done && !s.status.in_use()
+        })
     });
     step_until(h, "motion allowed and tables read", |a| {
         a.pendant().motion_ready(Instant::now()).is_ok()
@@ -85,7 +103,8 @@ fn ready(h: &mut Harness<'_, PendantApp>) {
 /// Clicks the one button with this label, and lets the window take the click (the
 /// layout may change under the next button).
 fn click(h: &mut Harness<'_, PendantApp>, label: &str) {
-    h.get_by_role_and_label(egui::accesskit::Role::Button, label).click();
+    h.get_by_role_and_label(egui::accesskit::Role::Button, label)
+        .click();
     h.step();
     h.step();
 }
@@ -129,7 +148,9 @@ fn cp_and_arm_policies_change_the_operation_type_on_the_line() {
     let cp = sim_in_frames(h.state(), "2D5").remove(0);
     assert_eq!(&cp[20..22], "03", "CP, work frame: {cp}");
     click(&mut h, "PTP");
-    step_until(&mut h, "the CP step to end", |a| all_axes(a, |s| !s.status.in_use()));
+    step_until(&mut h, "the CP step to end", |a| {
+        all_axes(a, |s| !s.status.in_use())
+    });
     click(&mut h, "X-");
     step_until(&mut h, "a PTP 2D5H", |a| sim_in_frames(a, "2D5").len() == 2);
     let ptp = sim_in_frames(h.state(), "2D5").remove(1);
@@ -172,17 +193,99 @@ fn stop_during_a_long_move_ends_it_short() {
     let x0 = sim_x(h.state());
     click(&mut h, "1");
     click(&mut h, "Y-");
-    step_until(&mut h, "a small step to end", |a| all_axes(a, |s| !s.status.in_use()));
+    step_until(&mut h, "a small step to end", |a| {
+        all_axes(a, |s| !s.status.in_use())
+    });
     click(&mut h, "50");
     click(&mut h, "X-");
     step_until(&mut h, "the move to start", |a| {
-        a.sim().is_some_and(|s| s.with(|c| c.snapshot().in_use) != 0)
+        a.sim()
+            .is_some_and(|s| s.with(|c| c.snapshot().in_use) != 0)
     });
     click(&mut h, "STOP");
     step_until(&mut h, "the arm to stop", |a| {
-        a.sim().is_some_and(|s| s.with(|c| c.snapshot().in_use) == 0)
+        a.sim()
+            .is_some_and(|s| s.with(|c| c.snapshot().in_use) == 0)
     });
     let moved = (sim_x(h.state()) - x0).abs();
     assert!(moved < 49.9, "the move ran to its end: {moved} mm");
     assert_eq!(sim_in_frames(h.state(), "238").len(), 1);
+}
+
+/// Message IDs of the frames the simulator received, in order.
+fn ids_in(traffic: &[xsel_pendant::sim::runner::TrafficEntry]) -> Vec<String> {
+    traffic
+        .iter()
+        .filter(|t| t.dir == Dir::In)
+        .filter_map(|t| {
+            String::from_utf8_lossy(&t.bytes)
+                .get(3..6)
+                .map(str::to_owned)
+        })
+        .filter(|id| id != "2A1" && id != "215")
+        .collect()
+}
+
+fn sim_busy(app: &PendantApp) -> bool {
+    app.sim()
+        .is_some_and(|s| s.with(|c| c.snapshot().in_use) != 0)
+}
+
+#[test]
+fn a_held_continuous_jog_runs_until_the_key_is_released() {
+    let mut h = app();
+    ready(&mut h);
+    click(&mut h, "Continuous");
+    h.key_down(egui::Key::ArrowRight);
+    step_until(&mut h, "the jog to run", sim_busy);
+    // Held for a while: the lease is renewed every frame, the jog keeps running.
+    let end = Instant::now() + Duration::from_millis(600);
+    while Instant::now() < end {
+        h.key_down(egui::Key::ArrowRight);
+        h.step();
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    assert!(
+        sim_busy(h.state()),
+        "the jog stopped while the key was held"
+    );
+    h.key_up(egui::Key::ArrowRight);
+    step_until(&mut h, "the jog to stop on release", |a| !sim_busy(a));
+    let ids = ids_in(&h.state().sim().map(|s| s.traffic()).unwrap_or_default());
+    let jog = ids
+        .iter()
+        .rposition(|id| id == "236")
+        .expect("a 236H went out");
+    assert_eq!(
+        ids[jog + 1..].first().map(String::as_str),
+        Some("238"),
+        "{ids:?}"
+    );
+}
+
+#[test]
+fn closing_the_window_mid_jog_stops_the_arm() {
+    let mut h = app();
+    ready(&mut h);
+    click(&mut h, "Continuous");
+    h.key_down(egui::Key::ArrowUp);
+    step_until(&mut h, "the jog to run", sim_busy);
+    let watch = h
+        .state()
+        .sim()
+        .map(|s| s.watch())
+        .expect("the built-in simulator");
+    // The window closes with the key still held: the app, its link and the simulator go.
+    drop(h);
+    let busy = || watch.with(|c| c.snapshot().in_use) != 0;
+    let end = Instant::now() + DEADLINE;
+    while busy() {
+        assert!(
+            Instant::now() < end,
+            "the arm still jogs after the window closed"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let ids = ids_in(&watch.traffic());
+    assert_eq!(ids.last().map(String::as_str), Some("238"), "{ids:?}");
 }

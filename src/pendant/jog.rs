@@ -110,11 +110,7 @@ impl StepFrame {
         }
     }
     fn robot(self) -> JogFrame {
-        match self {
-            StepFrame::Work => JogFrame::Work,
-            StepFrame::Base => JogFrame::Base,
-            StepFrame::Tool => JogFrame::Tool,
-        }
+        self.wire().into()
     }
     fn wire(self) -> WireFrame {
         match self {
@@ -188,12 +184,7 @@ impl ArmChoice {
         }
     }
     fn robot(self) -> ArmPolicy {
-        match self {
-            ArmChoice::KeepNoSwitch => ArmPolicy::CurrentNoSwitch,
-            ArmChoice::KeepMaySwitch => ArmPolicy::CurrentMaySwitch,
-            ArmChoice::Right => ArmPolicy::Right,
-            ArmChoice::Left => ArmPolicy::Left,
-        }
+        self.wire().into()
     }
 }
 

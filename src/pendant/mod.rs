@@ -15,9 +15,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::link::LinkEvent;
 use crate::link::health::LinkHealth;
-use crate::protocol::{
-    AxisPattern, Command, CoordKind, Direction, Home, MmPerSec, Reply, Servo,
-};
+use crate::protocol::{AxisPattern, Command, CoordKind, Direction, Home, MmPerSec, Reply, Servo};
 use crate::robot::{Joints, Move, RobotModel, Scara, in_position};
 pub use connection::{ConnectionSettings, LineKind, LineState, ParityChoice};
 pub use jog::{
@@ -206,10 +204,7 @@ impl Pendant {
     /// The link could not be started at all (the port could not be opened, a bad file).
     pub fn connect_failed(&mut self, reason: String, now: Instant) {
         self.say(Level::Error, format!("cannot connect: {reason}"), now);
-        self.line = LineState::Down {
-            reason,
-            since: now,
-        };
+        self.line = LineState::Down { reason, since: now };
     }
 
     fn line_gone(&mut self, _now: Instant) {
@@ -227,22 +222,22 @@ impl Pendant {
             LinkEvent::Connected { line } | LinkEvent::Reconnected { line } => {
                 self.say(Level::Info, format!("connected: {line}"), now);
                 self.line = LineState::Up { line, since: now };
-                self.requests
-                    .push(Request::Submit(state::version_query()));
+                self.requests.push(Request::Submit(state::version_query()));
                 self.requests.push(Request::ReadTable(CoordKind::Work));
             }
             LinkEvent::Disconnected { reason } => {
                 let reason = reason.to_string();
                 self.say(Level::Error, format!("line down: {reason}"), now);
-                self.line = LineState::Down {
-                    reason,
-                    since: now,
-                };
+                self.line = LineState::Down { reason, since: now };
                 self.line_gone(now);
             }
             LinkEvent::Reply { command, reply, .. } => self.reply(now, command, reply),
             LinkEvent::ErrorReply { command, code, .. } => {
-                let text = format!("{} ({}) refused: error {code}", command.id(), name(&command));
+                let text = format!(
+                    "{} ({}) refused: error {code}",
+                    command.id(),
+                    name(&command)
+                );
                 if is_move(&command) {
                     self.followed = None;
                     self.held = None;
@@ -252,8 +247,10 @@ impl Pendant {
                 }
             }
             LinkEvent::Timeout {
-                command, origin, ..
-            } if origin == crate::link::Origin::User => {
+                command,
+                origin: crate::link::Origin::User,
+                ..
+            } => {
                 let text = format!("no reply to {} ({})", command.id(), name(&command));
                 if is_move(&command) {
                     self.followed = None;
@@ -322,15 +319,13 @@ impl Pendant {
             Reply::Version(v) => self.controller.version = Some(v),
             Reply::Ack(_) => match command {
                 Command::ScaraMoveRelative(_) | Command::ScaraMoveAbsolute(_) => {
-                    if let Some(f) = self.followed.as_mut().filter(|f| f.plan.command == command)
-                    {
+                    if let Some(f) = self.followed.as_mut().filter(|f| f.plan.command == command) {
                         f.accepted = Some(now);
                         self.command_position = Some(f.plan.end);
                     }
                 }
                 Command::Jog(j) if j.distance.0 != 0 => {
-                    if let Some(f) = self.followed.as_mut().filter(|f| f.plan.command == command)
-                    {
+                    if let Some(f) = self.followed.as_mut().filter(|f| f.plan.command == command) {
                         f.accepted = Some(now);
                         self.command_position = Some(f.plan.end);
                     }
@@ -446,14 +441,7 @@ impl Pendant {
             work,
             tool,
         };
-        jog::plan_step(
-            &self.model,
-            &self.kin,
-            &self.settings.jog,
-            axis,
-            dir,
-            &arm,
-        )
+        jog::plan_step(&self.model, &self.kin, &self.settings.jog, axis, dir, &arm)
     }
 
     /// A click on a jog button in step mode: plan, check, send (or refuse, or ask to
@@ -473,10 +461,9 @@ impl Pendant {
             Ok(plan) => plan,
             Err(why) => return self.jog_says(Level::Warning, format!("refused: {why}"), now),
         };
-        let confirmed = self
-            .confirm
-            .take()
-            .is_some_and(|(a, d, at)| a == axis && d == dir && now.duration_since(at) < CONFIRM_FOR);
+        let confirmed = self.confirm.take().is_some_and(|(a, d, at)| {
+            a == axis && d == dir && now.duration_since(at) < CONFIRM_FOR
+        });
         if plan.flips_arm && !confirmed {
             self.confirm = Some((axis, dir, now));
             return self.jog_says(
@@ -514,8 +501,11 @@ impl Pendant {
         if let Err(why) = self.motion_ready(now) {
             return self.jog_says(Level::Warning, format!("not sent: {why}"), now);
         }
-        self.requests
-            .push(Request::Submit(jog::continuous_jog(&self.settings.jog, axis, dir)));
+        self.requests.push(Request::Submit(jog::continuous_jog(
+            &self.settings.jog,
+            axis,
+            dir,
+        )));
         self.held = Some(HeldJog {
             axis,
             direction: dir,

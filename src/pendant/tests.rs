@@ -6,8 +6,8 @@ use super::*;
 use crate::link::{LinkEvent, Origin, RequestId};
 use crate::protocol::{
     ArmPolicy as WirePolicy, ArmSystem, Axis, AxisState, AxisStatus, CommonStatus, CoordKind,
-    Direction, HomeState, JogMotion, PerAxis, PositionSystem, ScaraMotion, ScaraStatus,
-    SystemMode, SystemStatus, SystemStatus1, SystemStatus3, Thou,
+    Direction, HomeState, JogMotion, PerAxis, PositionSystem, ScaraMotion, ScaraStatus, SystemMode,
+    SystemStatus, SystemStatus1, SystemStatus3, Thou,
 };
 use crate::robot::{Joints, Pose, RobotModel, Scara};
 
@@ -30,7 +30,11 @@ fn ready_system() -> SystemStatus {
 fn scara(system: PositionSystem, values: [f64; 4], servo: bool, homed: bool) -> ScaraStatus {
     let status = AxisStatus::default()
         .with_servo_on(servo)
-        .with_home_state(if homed { HomeState::Done } else { HomeState::NotDone });
+        .with_home_state(if homed {
+            HomeState::Done
+        } else {
+            HomeState::NotDone
+        });
     let axes = PerAxis::from_fn(crate::protocol::AxisPattern::SCARA_1, |a: Axis| AxisState {
         status,
         position: Thou((values[a.index()] * 1000.0).round() as i32),
@@ -66,7 +70,12 @@ fn ready_at(joints: Joints, now: Instant) -> Pendant {
 }
 
 fn feed_ready(p: &mut Pendant, joints: Joints, now: Instant) {
-    p.handle_event(now, LinkEvent::Connected { line: "test".into() });
+    p.handle_event(
+        now,
+        LinkEvent::Connected {
+            line: "test".into(),
+        },
+    );
     let kin = Scara::new(&p.model);
     let tip = kin.forward(&joints).to_array();
     let polls = state::poll_commands();
@@ -76,7 +85,10 @@ fn feed_ready(p: &mut Pendant, joints: Joints, now: Instant) {
         (polls[2], PositionSystem::Joint, joints.to_array()),
         (polls[3], PositionSystem::Base, tip),
     ] {
-        p.handle_event(now, reply(cmd, Reply::ScaraStatus(scara(system, values, true, true))));
+        p.handle_event(
+            now,
+            reply(cmd, Reply::ScaraStatus(scara(system, values, true, true))),
+        );
     }
     for kind in [CoordKind::Work, CoordKind::Tool] {
         p.handle_event(
@@ -110,7 +122,12 @@ fn submitted(p: &mut Pendant) -> Vec<Command> {
 fn connecting_asks_for_the_version_and_both_tables_in_turn() {
     let now = t0();
     let mut p = pendant();
-    p.handle_event(now, LinkEvent::Connected { line: "pipe".into() });
+    p.handle_event(
+        now,
+        LinkEvent::Connected {
+            line: "pipe".into(),
+        },
+    );
     let r = p.take_requests();
     assert_eq!(
         r,
@@ -335,7 +352,9 @@ fn a_base_frame_step_turns_with_the_work_frame() {
     p.settings.jog.frame = StepFrame::Base;
     p.settings.jog.relative_to = StepBase::Actual;
     p.settings.jog.step = 5.0;
-    let plan = p.preview_step(JogAxis::X, Direction::Positive, now).unwrap();
+    let plan = p
+        .preview_step(JogAxis::X, Direction::Positive, now)
+        .unwrap();
     let Command::ScaraMoveRelative(m) = plan.command else {
         panic!()
     };
@@ -353,7 +372,11 @@ fn a_ptp_step_that_flips_the_arm_asks_for_a_second_press() {
     p.jog_step(JogAxis::X, Direction::Positive, now);
     assert!(submitted(&mut p).is_empty(), "sent without confirmation");
     assert!(p.jog_feedback.as_ref().unwrap().text.contains("flips"));
-    p.jog_step(JogAxis::X, Direction::Positive, now + Duration::from_secs(1));
+    p.jog_step(
+        JogAxis::X,
+        Direction::Positive,
+        now + Duration::from_secs(1),
+    );
     assert_eq!(submitted(&mut p).len(), 1);
 }
 

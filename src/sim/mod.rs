@@ -25,7 +25,7 @@ use crate::protocol::{Frame, Reply};
 pub use controller::{Controller, SimSetup, Snapshot};
 pub use errors::{CODE_TABLE, SimError};
 pub use faults::{Fault, FaultCounts, FaultSpec};
-pub use runner::{EmbeddedOptions, SimHandle, start_embedded};
+pub use runner::{EmbeddedOptions, SimHandle, SimWatch, start_embedded};
 pub use state::{Counters, Mode, SimConfig};
 
 /// A short decoded summary of a frame for logs: the protocol describer's title, the

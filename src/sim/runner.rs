@@ -315,6 +315,25 @@ pub fn start_embedded(opts: EmbeddedOptions) -> (PipeEnd, SimHandle) {
     (pendant, handle)
 }
 
+/// A second view of a simulator's controller and traffic; see [`SimHandle::watch`].
+#[derive(Clone)]
+pub struct SimWatch(Arc<Mutex<SimCore>>);
+
+impl SimWatch {
+    /// Runs `f` on the controller, after advancing it to the present.
+    pub fn with<R>(&self, f: impl FnOnce(&mut Controller) -> R) -> R {
+        let mut core = lock(&self.0);
+        let now = core.now();
+        core.controller.advance(now);
+        f(&mut core.controller)
+    }
+
+    /// The recent traffic, oldest first.
+    pub fn traffic(&self) -> Vec<TrafficEntry> {
+        lock(&self.0).traffic.iter().cloned().collect()
+    }
+}
+
 /// Owner's handle of a running simulator: control API, counters, stop/join.
 /// Dropping it stops the thread and waits for it.
 pub struct SimHandle {
@@ -348,10 +367,13 @@ impl SimHandle {
 
     /// Runs `f` on the controller, after advancing it to the present.
     pub fn with<R>(&self, f: impl FnOnce(&mut Controller) -> R) -> R {
-        let mut core = lock(&self.shared);
-        let now = core.now();
-        core.controller.advance(now);
-        f(&mut core.controller)
+        self.watch().with(f)
+    }
+
+    /// A view of the controller that outlives this handle: a test can read what the
+    /// arm did after the pendant (and the simulator with it) was closed.
+    pub fn watch(&self) -> SimWatch {
+        SimWatch(self.shared.clone())
     }
 
     /// Runs `f` on the whole core (controller, faults, traffic).
@@ -402,7 +424,7 @@ impl SimHandle {
 
     /// The recent traffic, oldest first.
     pub fn traffic(&self) -> Vec<TrafficEntry> {
-        lock(&self.shared).traffic.iter().cloned().collect()
+        self.watch().traffic()
     }
 
     /// Asks the thread to stop (it notices within one tick).

@@ -48,8 +48,7 @@ impl PendantApp {
         let saved: Option<Settings> = if options.fresh {
             None
         } else {
-            cc.storage
-                .and_then(|s| eframe::get_value(s, SETTINGS_KEY))
+            cc.storage.and_then(|s| eframe::get_value(s, SETTINGS_KEY))
         };
         let mut settings = saved.unwrap_or_default();
         match options.connection {

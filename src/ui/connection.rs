@@ -48,7 +48,11 @@ impl ConnectionPanel {
                                 .width(170.0)
                                 .show_ui(ui, |ui| {
                                     for p in &self.ports.ports {
-                                        ui.selectable_value(&mut s.port, p.path.clone(), p.to_string());
+                                        ui.selectable_value(
+                                            &mut s.port,
+                                            p.path.clone(),
+                                            p.to_string(),
+                                        );
                                     }
                                     if self.ports.ports.is_empty() {
                                         ui.label("no serial ports found");
@@ -56,8 +60,16 @@ impl ConnectionPanel {
                                 })
                                 .response
                                 .labelled_by(label.id);
-                            let label = if self.ports.is_listing() { "listing..." } else { "Refresh" };
-                            if ui.button(label).on_hover_text("List the serial ports again").clicked() {
+                            let label = if self.ports.is_listing() {
+                                "listing..."
+                            } else {
+                                "Refresh"
+                            };
+                            if ui
+                                .button(label)
+                                .on_hover_text("List the serial ports again")
+                                .clicked()
+                            {
                                 let ctx = ui.ctx().clone();
                                 self.ports.refresh(move || ctx.request_repaint());
                             }
@@ -80,7 +92,9 @@ impl ConnectionPanel {
                         let label = ui.label("Address");
                         ui.text_edit_singleline(&mut s.tcp)
                             .labelled_by(label.id)
-                            .on_hover_text("HOST:PORT of a serial-to-Ethernet bridge or xsel-sim --tcp");
+                            .on_hover_text(
+                                "HOST:PORT of a serial-to-Ethernet bridge or xsel-sim --tcp",
+                            );
                         ui.end_row();
                     }
                     LineKind::Simulator => {}
@@ -151,10 +165,16 @@ impl ConnectionPanel {
         }
         ui.horizontal(|ui| {
             let up = !matches!(pendant.line, crate::pendant::LineState::Closed);
-            if ui.button(if up { "Reconnect" } else { "Connect" }).clicked() {
+            if ui
+                .button(if up { "Reconnect" } else { "Connect" })
+                .clicked()
+            {
                 pendant.connect(now);
             }
-            if ui.add_enabled(up, egui::Button::new("Disconnect")).clicked() {
+            if ui
+                .add_enabled(up, egui::Button::new("Disconnect"))
+                .clicked()
+            {
                 pendant.disconnect(now);
             }
         });

@@ -20,7 +20,13 @@ pub fn show(ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
         reason(ui, why);
     }
     let enabled = ready.is_ok();
-    ui.label(RichText::new(format!("Cartesian ({} frame)", pendant.settings.jog.frame.name())).strong());
+    ui.label(
+        RichText::new(format!(
+            "Cartesian ({} frame)",
+            pendant.settings.jog.frame.name()
+        ))
+        .strong(),
+    );
     buttons(ui, pendant, &JogAxis::CARTESIAN, enabled, now);
     ui.label(RichText::new("Joints").strong());
     buttons(ui, pendant, &JogAxis::JOINTS, enabled, now);
@@ -57,10 +63,18 @@ fn settings(ui: &mut Ui, pendant: &mut Pendant) {
             )
             .labelled_by(label.id)
             .on_hover_text("A custom step: 0.001 to 1000 mm (deg for R and the rotary joints)");
-            if ui.small_button("-").on_hover_text("Smaller step (-)").clicked() {
+            if ui
+                .small_button("-")
+                .on_hover_text("Smaller step (-)")
+                .clicked()
+            {
                 j.step_ladder(false);
             }
-            if ui.small_button("+").on_hover_text("Larger step (+)").clicked() {
+            if ui
+                .small_button("+")
+                .on_hover_text("Larger step (+)")
+                .clicked()
+            {
                 j.step_ladder(true);
             }
         });
@@ -88,37 +102,53 @@ fn settings(ui: &mut Ui, pendant: &mut Pendant) {
             }
         });
     }
-    egui::Grid::new("jog-speeds").num_columns(4).show(ui, |ui| {
-        match j.interpolation {
-            Interpolation::Ptp => {
-                let l = ui.label("Speed");
-                let v = DragValue::new(&mut j.ptp_speed_pct).range(0..=100).suffix(" %");
-                ui.add(v).labelled_by(l.id);
-                let l = ui.label("Acc/Dec");
-                ui.horizontal(|ui| {
-                    let v = DragValue::new(&mut j.ptp_accel_pct).range(0..=100).suffix(" %");
+    egui::Grid::new("jog-speeds")
+        .num_columns(4)
+        .show(ui, |ui| {
+            match j.interpolation {
+                Interpolation::Ptp => {
+                    let l = ui.label("Speed");
+                    let v = DragValue::new(&mut j.ptp_speed_pct)
+                        .range(0..=100)
+                        .suffix(" %");
                     ui.add(v).labelled_by(l.id);
-                    let v = DragValue::new(&mut j.ptp_decel_pct).range(0..=100).suffix(" %");
+                    let l = ui.label("Acc/Dec");
+                    ui.horizontal(|ui| {
+                        let v = DragValue::new(&mut j.ptp_accel_pct)
+                            .range(0..=100)
+                            .suffix(" %");
+                        ui.add(v).labelled_by(l.id);
+                        let v = DragValue::new(&mut j.ptp_decel_pct)
+                            .range(0..=100)
+                            .suffix(" %");
+                        ui.add(v).labelled_by(l.id);
+                    });
+                }
+                Interpolation::Cp => {
+                    let l = ui.label("Speed");
+                    let v = DragValue::new(&mut j.cp_speed_mm_s)
+                        .range(0..=cp_max)
+                        .suffix(" mm/s");
                     ui.add(v).labelled_by(l.id);
-                });
+                    let l = ui.label("Acc/Dec");
+                    ui.horizontal(|ui| {
+                        let v = DragValue::new(&mut j.cp_accel_cg)
+                            .range(0..=999)
+                            .suffix(" x0.01 G");
+                        ui.add(v).labelled_by(l.id);
+                        let v = DragValue::new(&mut j.cp_decel_cg)
+                            .range(0..=999)
+                            .suffix(" x0.01 G");
+                        ui.add(v).labelled_by(l.id);
+                    });
+                }
             }
-            Interpolation::Cp => {
-                let l = ui.label("Speed");
-                let v = DragValue::new(&mut j.cp_speed_mm_s).range(0..=cp_max).suffix(" mm/s");
-                ui.add(v).labelled_by(l.id);
-                let l = ui.label("Acc/Dec");
-                ui.horizontal(|ui| {
-                    let v = DragValue::new(&mut j.cp_accel_cg).range(0..=999).suffix(" x0.01 G");
-                    ui.add(v).labelled_by(l.id);
-                    let v = DragValue::new(&mut j.cp_decel_cg).range(0..=999).suffix(" x0.01 G");
-                    ui.add(v).labelled_by(l.id);
-                });
-            }
-        }
-        ui.end_row();
-    })
-    .response
-    .on_hover_text("0 = the controller's parameter value. Joint steps and jogs use the % rates.");
+            ui.end_row();
+        })
+        .response
+        .on_hover_text(
+            "0 = the controller's parameter value. Joint steps and jogs use the % rates.",
+        );
     ui.horizontal(|ui| {
         ui.label("Frame");
         for f in [StepFrame::Work, StepFrame::Base, StepFrame::Tool] {

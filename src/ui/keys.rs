@@ -99,23 +99,26 @@ pub fn help(ctx: &Context, open: &mut bool) {
         .collapsible(false)
         .resizable(false)
         .show(ctx, |ui| {
-            egui::Grid::new("key-map").num_columns(2).striped(true).show(ui, |ui| {
-                ui.label("Esc");
-                ui.label("STOP (always)");
-                ui.end_row();
-                for (_, axis, dir, name) in MAP {
-                    ui.label(name);
-                    let sign = if dir == Direction::Positive { "+" } else { "-" };
-                    ui.label(format!("jog {}{sign}", axis.name()));
+            egui::Grid::new("key-map")
+                .num_columns(2)
+                .striped(true)
+                .show(ui, |ui| {
+                    ui.label("Esc");
+                    ui.label("STOP (always)");
                     ui.end_row();
-                }
-                ui.label("+ / -");
-                ui.label("larger / smaller step");
-                ui.end_row();
-                ui.label("F1");
-                ui.label("this help");
-                ui.end_row();
-            });
+                    for (_, axis, dir, name) in MAP {
+                        ui.label(name);
+                        let sign = if dir == Direction::Positive { "+" } else { "-" };
+                        ui.label(format!("jog {}{sign}", axis.name()));
+                        ui.end_row();
+                    }
+                    ui.label("+ / -");
+                    ui.label("larger / smaller step");
+                    ui.end_row();
+                    ui.label("F1");
+                    ui.label("this help");
+                    ui.end_row();
+                });
             ui.label("Continuous mode: the jog runs while the key is held and stops on release.");
         });
 }

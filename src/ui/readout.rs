@@ -8,6 +8,9 @@ use egui::{RichText, Ui};
 use super::widgets::AMBER;
 use crate::pendant::Pendant;
 
+/// One line of the readout: its name, the four values, their labels and units.
+type Row<'a> = (&'a str, Option<[f64; 4]>, [&'a str; 4], [&'a str; 4]);
+
 pub fn show(ui: &mut Ui, pendant: &Pendant, now: Instant) {
     ui.heading("Position");
     let stale = pendant.controller.is_stale(now);
@@ -15,7 +18,7 @@ pub fn show(ui: &mut Ui, pendant: &Pendant, now: Instant) {
         ui.label(RichText::new("out of date: no fresh status from the controller").color(AMBER));
     }
     let c = &pendant.controller;
-    let rows: [(&str, Option<[f64; 4]>, [&str; 4], [&str; 4]); 3] = [
+    let rows: [Row<'_>; 3] = [
         (
             "Work",
             c.work_position().map(|p| p.to_array()),

@@ -56,7 +56,16 @@ pub fn show(ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
             (MotionPhase::Jogging, "Jogging"),
             (MotionPhase::Stopped, "Stopped"),
         ] {
-            lamp(ui, phase == p, if p == MotionPhase::Stopped { RED } else { GREEN }, label);
+            lamp(
+                ui,
+                phase == p,
+                if p == MotionPhase::Stopped {
+                    RED
+                } else {
+                    GREEN
+                },
+                label,
+            );
         }
     })
     .response

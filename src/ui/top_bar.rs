@@ -19,9 +19,14 @@ pub struct TopBarOutput {
 pub fn show(ui: &mut Ui, pendant: &mut Pendant, now: Instant) -> TopBarOutput {
     let mut out = TopBarOutput::default();
     ui.horizontal(|ui| {
-        let stop = Button::new(RichText::new("STOP").size(26.0).strong().color(Color32::WHITE))
-            .fill(RED)
-            .min_size(vec2(130.0, 46.0));
+        let stop = Button::new(
+            RichText::new("STOP")
+                .size(26.0)
+                .strong()
+                .color(Color32::WHITE),
+        )
+        .fill(RED)
+        .min_size(vec2(130.0, 46.0));
         if ui
             .add(stop)
             .on_hover_text("238H to all axes, ahead of everything (Esc)")
@@ -74,7 +79,12 @@ fn system_lamps(ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
             let auto = system.is_some_and(|s| s.mode == SystemMode::AUTO);
             lamp(ui, auto, GREEN, &format!("Mode {mode}"));
             let estop = system.is_some_and(|s| s.status1.emergency_stop());
-            lamp(ui, estop, RED, if estop { "E-STOP ACTIVE" } else { "E-stop off" });
+            lamp(
+                ui,
+                estop,
+                RED,
+                if estop { "E-STOP ACTIVE" } else { "E-stop off" },
+            );
             let ready = system.is_some_and(|s| s.status3.ready());
             lamp(ui, ready, GREEN, "Ready");
             if stale && pendant.line.is_up() {
