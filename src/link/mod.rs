@@ -6,6 +6,7 @@ pub mod handle;
 pub mod health;
 pub mod line;
 pub mod ports;
+pub mod probe;
 pub mod request;
 pub mod schedule;
 pub mod sync;
