@@ -19,7 +19,9 @@ use crate::protocol::Command;
 
 pub use classify::{Attempt, Outcome, classify};
 pub use error::ProbeError;
-pub use plan::{Candidate, Framing, LIKELY_BAUDS, MORE_FRAMINGS, ProbePlan, station_sweep};
+pub use plan::{
+    Candidate, Framing, LIKELY_BAUDS, MORE_FRAMINGS, ProbePlan, estimate_duration, station_sweep,
+};
 
 /// Longest single read, so a cancel is seen within about this time.
 const READ_SLICE: Duration = Duration::from_millis(20);
@@ -78,7 +80,10 @@ impl ProbeReport {
             .found()
             .map(|r| format!("{}: {}", r.candidate, r.outcome));
         match (&self.end, found) {
-            (ProbeEnd::Failed(e), _) => e.to_string(),
+            (ProbeEnd::Failed(e), None) => e.to_string(),
+            (ProbeEnd::Failed(e), Some(found)) => {
+                format!("found on {}: {found}; then stopped: {e}", self.port)
+            }
             (_, Some(found)) => format!("found on {}: {found}", self.port),
             (ProbeEnd::Cancelled, None) => {
                 format!("cancelled after {tried} of {} candidates", self.total)

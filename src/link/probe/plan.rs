@@ -133,6 +133,31 @@ const OPEN_ALLOWANCE: Duration = Duration::from_millis(20);
 /// Dropping stale input before each command (the transport's drain limit is 5 ms).
 const DISCARD_ALLOWANCE: Duration = Duration::from_millis(5);
 
+/// Worst-case duration of trying `candidates` in order with reply margin `margin`: each
+/// silent until its time-out, plus an allowance for each (re)opening of the port and for
+/// dropping stale input `[inferred allowances]`. Pure: for the panel's "about N s".
+pub fn estimate_duration(candidates: &[Candidate], margin: Duration) -> Duration {
+    let command_len = Command::SystemStatus
+        .to_bytes(Station::DEFAULT, ScMode::Computed)
+        .map_or(10, |b| b.len());
+    let reply_len = Command::SystemStatus.max_reply_len();
+    let mut total = Duration::ZERO;
+    let mut open: Option<LineSettings> = None;
+    for c in candidates {
+        if open != Some(c.line) {
+            total += OPEN_ALLOWANCE;
+            open = Some(c.line);
+        }
+        let timing = Timing {
+            line: c.line,
+            margin,
+            ..Timing::default()
+        };
+        total += timing.reply_timeout(command_len, reply_len) + timing.gap + DISCARD_ALLOWANCE;
+    }
+    total
+}
+
 fn dedup<T: PartialEq + Copy>(items: &[T]) -> Vec<T> {
     let mut out: Vec<T> = Vec::with_capacity(items.len());
     for &item in items {
@@ -179,28 +204,10 @@ impl ProbePlan {
         firsts.chain(others).collect()
     }
 
-    /// Worst-case duration: every candidate silent until its time-out.
+    /// Worst-case duration: every candidate silent until its time-out (see
+    /// [`estimate_duration`]).
     pub fn estimate(&self) -> Duration {
-        let candidates = self.candidates();
-        let command_len = Command::SystemStatus
-            .to_bytes(Station::DEFAULT, ScMode::Computed)
-            .map_or(10, |b| b.len());
-        let reply_len = Command::SystemStatus.max_reply_len();
-        let mut total = Duration::ZERO;
-        let mut open: Option<LineSettings> = None;
-        for c in &candidates {
-            if open != Some(c.line) {
-                total += OPEN_ALLOWANCE;
-                open = Some(c.line);
-            }
-            let timing = Timing {
-                line: c.line,
-                margin: self.margin,
-                ..Timing::default()
-            };
-            total += timing.reply_timeout(command_len, reply_len) + timing.gap + DISCARD_ALLOWANCE;
-        }
-        total
+        estimate_duration(&self.candidates(), self.margin)
     }
 
     /// Refuses an empty list or a setting the line cannot take.
