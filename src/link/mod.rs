@@ -7,6 +7,7 @@ pub mod handle;
 pub mod health;
 mod lease;
 pub mod ports;
+pub mod probe;
 pub mod reason;
 pub mod request;
 pub mod schedule;
