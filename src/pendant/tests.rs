@@ -143,7 +143,7 @@ fn connecting_asks_for_the_version_and_both_tables_in_turn() {
             kind: CoordKind::Work,
             axes: crate::protocol::AxisPattern::SCARA_1,
             records: vec![None, Some(PerAxis::new())],
-            missing: vec![0..1],
+            missing: std::iter::once(0..1).collect(),
         },
     );
     assert_eq!(p.take_requests(), vec![Request::ReadTable(CoordKind::Tool)]);
