@@ -8,6 +8,7 @@
 pub mod cli;
 pub mod headless;
 pub mod link;
+pub mod pendant;
 pub mod protocol;
 pub mod robot;
 pub mod sim;

@@ -1,0 +1,561 @@
+//! Teach-list files, CSV and JSON: written exactly, loaded all or nothing.
+//!
+//! CSV (RFC 4180 quoting, a header line required, a BOM and blank trailing lines
+//! tolerated), positions in mm / deg with exactly 3 decimals, which parse back to the
+//! same wire integers:
+//!
+//! ```text
+//! name,x_mm,y_mm,z_mm,r_deg,arm,work,tool
+//! P1,300.000,-150.000,20.000,45.000,right,0,0
+//! "pick, left",12.345,-0.500,0.000,-90.000,left,1,2
+//! ```
+//!
+//! JSON is the serde form of [`TeachList`]: `{"points": [{"name": "P1", "pose": [300000,
+//! -150000, 20000, 45000], "arm": "right", "work": 0, "tool": 0}]}` (wire units).
+
+use std::collections::HashMap;
+use std::fmt;
+
+use serde::de::{Error as _, SeqAccess, Visitor};
+use serde::{Deserialize, Deserializer};
+
+use super::teach::{TeachError, TeachList, TeachPoint, arm_word, check_name, parse_arm_word};
+use crate::protocol::{ArmSystem, Thou};
+
+/// The CSV header line.
+pub const CSV_HEADER: &str = "name,x_mm,y_mm,z_mm,r_deg,arm,work,tool";
+const COLUMNS: [&str; 8] = [
+    "name", "x_mm", "y_mm", "z_mm", "r_deg", "arm", "work", "tool",
+];
+const NUMBER_HINT: &str = "is not a number (use a dot, 3 decimals at most)";
+
+/// Why a file did not load: the 1-based line, the column when one is to blame, and what
+/// is wrong. Displays as `line 3, field z_mm: "12,5" is not a number (...)`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FileError {
+    /// 1-based line of the file.
+    pub line: usize,
+    /// The column (CSV header name; for JSON the point's field) when one is to blame.
+    pub field: Option<String>,
+    /// What is wrong, for the operator.
+    pub message: String,
+}
+
+impl FileError {
+    fn new(line: usize, field: Option<&str>, message: impl Into<String>) -> FileError {
+        FileError {
+            line,
+            field: field.map(str::to_owned),
+            message: message.into(),
+        }
+    }
+}
+
+impl fmt::Display for FileError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match &self.field {
+            Some(field) => write!(f, "line {}, field {field}: {}", self.line, self.message),
+            None => write!(f, "line {}: {}", self.line, self.message),
+        }
+    }
+}
+
+impl std::error::Error for FileError {}
+
+impl TeachList {
+    /// The list as CSV (header first, one point a line, LF line ends).
+    pub fn to_csv(&self) -> String {
+        let mut out = String::with_capacity(CSV_HEADER.len() + 1 + 64 * self.len());
+        out.push_str(CSV_HEADER);
+        out.push('\n');
+        for p in self {
+            push_csv_text(&mut out, &p.name);
+            for v in p.pose {
+                out.push(',');
+                out.push_str(&Thou(v).to_string());
+            }
+            out.push(',');
+            out.push_str(arm_word(p.arm));
+            out.push_str(&format!(",{},{}\n", p.work, p.tool));
+        }
+        out
+    }
+
+    /// A list from CSV text, or the first thing wrong with it (by line).
+    pub fn from_csv(text: &str) -> Result<TeachList, FileError> {
+        parse_csv(text)
+    }
+
+    /// A list from the bytes of a CSV file; bytes that are not UTF-8 are refused with the
+    /// line (and column) they are on.
+    pub fn from_csv_bytes(bytes: &[u8]) -> Result<TeachList, FileError> {
+        match std::str::from_utf8(bytes) {
+            Ok(text) => parse_csv(text),
+            Err(e) => Err(not_utf8(bytes, e.valid_up_to())),
+        }
+    }
+
+    /// Replaces this list with the CSV file's points, only if the whole file loads.
+    pub fn load_csv(&mut self, bytes: &[u8]) -> Result<(), FileError> {
+        *self = TeachList::from_csv_bytes(bytes)?;
+        Ok(())
+    }
+
+    /// The list as pretty-printed JSON.
+    pub fn to_json(&self) -> String {
+        // Serialising these types cannot fail (string keys, no maps of other keys).
+        serde_json::to_string_pretty(self).unwrap_or_default()
+    }
+
+    /// A list from JSON text (the form [`TeachList::to_json`] writes).
+    pub fn from_json(text: &str) -> Result<TeachList, FileError> {
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        serde_json::from_str(text).map_err(json_error)
+    }
+
+    /// A list from the bytes of a JSON file.
+    pub fn from_json_bytes(bytes: &[u8]) -> Result<TeachList, FileError> {
+        let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+        serde_json::from_slice(bytes).map_err(json_error)
+    }
+
+    /// Replaces this list with the JSON file's points, only if the whole file loads.
+    pub fn load_json(&mut self, bytes: &[u8]) -> Result<(), FileError> {
+        *self = TeachList::from_json_bytes(bytes)?;
+        Ok(())
+    }
+}
+
+/// At most 40 characters of `text`, for messages.
+pub(super) fn shown(text: &str) -> String {
+    let mut s: String = text.chars().take(40).collect();
+    if s.len() < text.len() {
+        s.push('…');
+    }
+    s
+}
+
+fn push_csv_text(out: &mut String, text: &str) {
+    if text.contains([',', '"', '\r', '\n']) {
+        out.push('"');
+        out.push_str(&text.replace('"', "\"\""));
+        out.push('"');
+    } else {
+        out.push_str(text);
+    }
+}
+
+fn column(i: usize) -> Option<&'static str> {
+    COLUMNS.get(i).copied()
+}
+
+fn not_utf8(bytes: &[u8], offset: usize) -> FileError {
+    let prefix = bytes.get(..offset).unwrap_or(bytes);
+    let (mut line, mut col, mut quoted) = (1, 0, false);
+    for &b in prefix {
+        match b {
+            b'"' => quoted = !quoted,
+            b',' if !quoted => col += 1,
+            b'\n' => {
+                line += 1;
+                if !quoted {
+                    col = 0;
+                }
+            }
+            _ => {}
+        }
+    }
+    FileError::new(
+        line,
+        column(col),
+        format!("the file is not UTF-8 text (bad byte at offset {offset}); save it as UTF-8"),
+    )
+}
+
+/// One CSV record: the line it starts on and its fields (unquoted).
+struct Record {
+    line: usize,
+    fields: Vec<String>,
+    blank: bool,
+}
+
+/// Splits CSV text into records, one at a time, tracking physical line numbers.
+struct Records<'a> {
+    it: std::iter::Peekable<std::str::Chars<'a>>,
+    line: usize,
+}
+
+impl Records<'_> {
+    fn next_record(&mut self) -> Option<Result<Record, FileError>> {
+        self.it.peek()?;
+        Some(self.read_record())
+    }
+
+    fn read_record(&mut self) -> Result<Record, FileError> {
+        let start = self.line;
+        let mut fields = Vec::new();
+        let mut first_quoted = false;
+        loop {
+            let mut field = String::new();
+            let col = column(fields.len());
+            if self.it.peek() == Some(&'"') {
+                if fields.is_empty() {
+                    first_quoted = true;
+                }
+                self.read_quoted(&mut field, col)?;
+                if !matches!(self.it.peek(), None | Some(',' | '\n' | '\r')) {
+                    return Err(FileError::new(
+                        self.line,
+                        col,
+                        "text after the closing quote (put the whole field in quotes)",
+                    ));
+                }
+            } else {
+                while let Some(&c) = self.it.peek() {
+                    match c {
+                        ',' | '\n' | '\r' => break,
+                        '"' => {
+                            return Err(FileError::new(
+                                self.line,
+                                col,
+                                "a quote inside a field that does not start with one \
+                                 (quote the whole field and double the quote: \"a \"\"b\"\"\")",
+                            ));
+                        }
+                        _ => {
+                            field.push(c);
+                            self.it.next();
+                        }
+                    }
+                }
+            }
+            fields.push(field);
+            match self.it.next() {
+                Some(',') => {}
+                Some('\r') => {
+                    self.it.next_if_eq(&'\n');
+                    self.line += 1;
+                    break;
+                }
+                Some('\n') => {
+                    self.line += 1;
+                    break;
+                }
+                _ => break,
+            }
+        }
+        let blank =
+            !first_quoted && fields.len() == 1 && fields.iter().all(|f| f.trim().is_empty());
+        Ok(Record {
+            line: start,
+            fields,
+            blank,
+        })
+    }
+
+    fn read_quoted(&mut self, field: &mut String, col: Option<&str>) -> Result<(), FileError> {
+        let open_line = self.line;
+        self.it.next();
+        loop {
+            match self.it.next() {
+                None => {
+                    return Err(FileError::new(
+                        open_line,
+                        col,
+                        "the quote opened here is never closed",
+                    ));
+                }
+                Some('"') => {
+                    if self.it.next_if_eq(&'"').is_some() {
+                        field.push('"');
+                    } else {
+                        return Ok(());
+                    }
+                }
+                Some(c) => {
+                    if c == '\n' || (c == '\r' && self.it.peek() != Some(&'\n')) {
+                        self.line += 1;
+                    }
+                    field.push(c);
+                }
+            }
+        }
+    }
+}
+
+fn parse_csv(text: &str) -> Result<TeachList, FileError> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let mut records = Records {
+        it: text.chars().peekable(),
+        line: 1,
+    };
+    let mut header_seen = false;
+    let mut first_blank: Option<usize> = None;
+    let mut names: HashMap<String, usize> = HashMap::new();
+    let mut list = TeachList::new();
+    while let Some(record) = records.next_record() {
+        let record = record?;
+        if record.blank {
+            first_blank.get_or_insert(record.line);
+            continue;
+        }
+        if let Some(blank) = first_blank {
+            return Err(FileError::new(
+                blank,
+                None,
+                "blank line (blank lines are allowed only at the end of the file)",
+            ));
+        }
+        if !header_seen {
+            check_header(&record)?;
+            header_seen = true;
+            continue;
+        }
+        let point = parse_point(&record)?;
+        if let Some(first) = names.get(&point.name) {
+            return Err(FileError::new(
+                record.line,
+                Some("name"),
+                format!("\"{}\" is already used on line {first}", shown(&point.name)),
+            ));
+        }
+        names.insert(point.name.clone(), record.line);
+        list.push_checked(point);
+    }
+    if !header_seen {
+        return Err(FileError::new(
+            1,
+            None,
+            format!("the file is empty (a teach list starts with the line {CSV_HEADER})"),
+        ));
+    }
+    Ok(list)
+}
+
+fn check_header(r: &Record) -> Result<(), FileError> {
+    let wrong =
+        (0..COLUMNS.len().max(r.fields.len())).find(|&i| match (r.fields.get(i), column(i)) {
+            (Some(found), Some(want)) => !found.trim().eq_ignore_ascii_case(want),
+            _ => true,
+        });
+    match wrong {
+        None => Ok(()),
+        Some(i) => Err(FileError::new(
+            r.line,
+            column(i),
+            format!(
+                "the first line must be the header {CSV_HEADER} (found \"{}\")",
+                shown(&r.fields.join(","))
+            ),
+        )),
+    }
+}
+
+fn parse_point(r: &Record) -> Result<TeachPoint, FileError> {
+    let n = r.fields.len();
+    if n < COLUMNS.len() {
+        return Err(FileError::new(
+            r.line,
+            column(n),
+            format!("missing column: the line has {n} fields, expected 8 ({CSV_HEADER})"),
+        ));
+    }
+    if n > COLUMNS.len() {
+        return Err(FileError::new(
+            r.line,
+            None,
+            format!(
+                "extra column: the line has {n} fields, expected 8 ({CSV_HEADER}); \
+                 a name with a comma must be in quotes"
+            ),
+        ));
+    }
+    let f = |i: usize| r.fields.get(i).map(String::as_str).unwrap_or("");
+    let at = |i: usize, message: String| FileError::new(r.line, column(i), message);
+    let name = check_name(f(0)).map_err(|e| at(0, e.to_string()))?;
+    let mut pose = [0i32; 4];
+    for (i, slot) in pose.iter_mut().enumerate() {
+        *slot = parse_thou(f(i + 1)).map_err(|m| at(i + 1, m))?;
+    }
+    let arm = parse_arm_word(f(5)).ok_or_else(|| {
+        at(
+            5,
+            format!(
+                "\"{}\" is not an arm system (use right, left or undetermined)",
+                shown(f(5))
+            ),
+        )
+    })?;
+    let work = parse_frame(f(6), "work", 31).map_err(|m| at(6, m))?;
+    let tool = parse_frame(f(7), "tool", 127).map_err(|m| at(7, m))?;
+    let point = TeachPoint {
+        name,
+        pose,
+        arm,
+        work,
+        tool,
+    };
+    point
+        .checked()
+        .map_err(|e| FileError::new(r.line, e.field(), e.to_string()))
+}
+
+/// A decimal in mm or deg with at most 3 decimals, exactly to 0.001 units.
+pub fn parse_thou(text: &str) -> Result<i32, String> {
+    let t = text.trim();
+    let bad = || format!("\"{}\" {NUMBER_HINT}", shown(t));
+    let (neg, digits) = match (t.strip_prefix('-'), t.strip_prefix('+')) {
+        (Some(rest), _) => (true, rest),
+        (None, Some(rest)) => (false, rest),
+        (None, None) => (false, t),
+    };
+    let (int, frac) = match digits.split_once('.') {
+        Some((i, f)) => (i, f),
+        None => (digits, ""),
+    };
+    let all_digits = |s: &str| s.bytes().all(|b| b.is_ascii_digit());
+    if (int.is_empty() && frac.is_empty()) || !all_digits(int) || !all_digits(frac) {
+        return Err(bad());
+    }
+    if frac.len() > 3 {
+        return Err(format!(
+            "\"{}\" has more than 3 decimals (the resolution is 0.001)",
+            shown(t)
+        ));
+    }
+    let range = || {
+        format!(
+            "\"{}\" is out of range (-2147483.648 to 2147483.647)",
+            shown(t)
+        )
+    };
+    let int = int.trim_start_matches('0');
+    if int.len() > 10 {
+        return Err(range());
+    }
+    let whole: i64 = if int.is_empty() {
+        0
+    } else {
+        int.parse().map_err(|_| bad())?
+    };
+    let mut part: i64 = if frac.is_empty() {
+        0
+    } else {
+        frac.parse().map_err(|_| bad())?
+    };
+    for _ in frac.len()..3 {
+        part *= 10;
+    }
+    let v = whole * 1000 + part;
+    let v = if neg { -v } else { v };
+    i32::try_from(v).map_err(|_| range())
+}
+
+fn parse_frame(text: &str, what: &str, max: u8) -> Result<u8, String> {
+    let t = text.trim();
+    if t.is_empty() || !t.bytes().all(|b| b.is_ascii_digit()) {
+        return Err(format!(
+            "\"{}\" is not a {what} coordinate system number (0-{max})",
+            shown(t)
+        ));
+    }
+    match t.parse::<u32>() {
+        Ok(v) if v <= u32::from(max) => Ok(v as u8),
+        _ => Err(format!(
+            "{what} coordinate system \"{}\" is out of range (0-{max})",
+            shown(t)
+        )),
+    }
+}
+
+fn json_error(e: serde_json::Error) -> FileError {
+    let full = e.to_string();
+    let line = e.line().max(1);
+    let suffix = format!(" at line {} column {}", e.line(), e.column());
+    let msg = full.strip_suffix(&suffix).unwrap_or(&full);
+    let (field, msg) = match msg.strip_prefix("field ").and_then(|m| m.split_once(": ")) {
+        Some((f, m)) if !f.contains(' ') => (Some(f), m),
+        _ => (None, msg),
+    };
+    let msg = if e.line() > 0 {
+        format!("{msg} (column {})", e.column())
+    } else {
+        msg.to_owned()
+    };
+    FileError::new(line, field, msg)
+}
+
+/// The JSON form of one point, checked into a [`TeachPoint`]. Wide integers so that an
+/// out-of-range value gets our message.
+#[derive(Deserialize)]
+pub(super) struct PointRepr {
+    name: String,
+    pose: [i64; 4],
+    #[serde(with = "super::teach::arm_text")]
+    arm: ArmSystem,
+    work: i64,
+    tool: i64,
+}
+
+impl TryFrom<PointRepr> for TeachPoint {
+    type Error = String;
+
+    fn try_from(r: PointRepr) -> Result<TeachPoint, String> {
+        let mut pose = [0i32; 4];
+        for (slot, v) in pose.iter_mut().zip(r.pose) {
+            *slot = i32::try_from(v).map_err(|_| {
+                format!("field pose: {v} is out of range (-2147483648 to 2147483647)")
+            })?;
+        }
+        let work = u8::try_from(r.work)
+            .ok()
+            .filter(|w| *w <= 31)
+            .ok_or_else(|| format!("field work: {} is out of range (0-31)", r.work))?;
+        let tool = u8::try_from(r.tool)
+            .ok()
+            .filter(|t| *t <= 127)
+            .ok_or_else(|| format!("field tool: {} is out of range (0-127)", r.tool))?;
+        TeachPoint {
+            name: r.name,
+            pose,
+            arm: r.arm,
+            work,
+            tool,
+        }
+        .checked()
+        .map_err(|e: TeachError| match e.field() {
+            Some(f) => format!("field {f}: {e}"),
+            None => e.to_string(),
+        })
+    }
+}
+
+/// Deserialises the points of a [`TeachList`], refusing a duplicate name where it occurs.
+pub(super) fn de_points<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<TeachPoint>, D::Error> {
+    struct Points;
+    impl<'de> Visitor<'de> for Points {
+        type Value = Vec<TeachPoint>;
+
+        fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+            f.write_str("a list of teach points")
+        }
+
+        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
+            let mut names: HashMap<String, usize> = HashMap::new();
+            let mut points = Vec::new();
+            while let Some(p) = seq.next_element::<TeachPoint>()? {
+                if let Some(first) = names.get(&p.name) {
+                    return Err(A::Error::custom(format!(
+                        "field name: \"{}\" is already used by point {}",
+                        shown(&p.name),
+                        first + 1
+                    )));
+                }
+                names.insert(p.name.clone(), points.len());
+                points.push(p);
+            }
+            Ok(points)
+        }
+    }
+    d.deserialize_seq(Points)
+}
