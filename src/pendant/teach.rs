@@ -31,20 +31,27 @@ pub struct TaughtPose {
     pub tool: u8,
 }
 
-/// One named point of the teach list.
+/// One named point of the teach list. Deserialising checks every field (name, range of
+/// work and tool), so a loaded point is as valid as a recorded one.
 #[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(try_from = "super::teach_file::PointRepr")]
 pub struct TeachPoint {
     /// Unique within its list, trimmed, 1 to 32 characters, no control characters.
+    #[serde(deserialize_with = "super::teach_file::de_name")]
     pub name: String,
     /// Work X, Y, Z in 0.001 mm and R in 0.001 deg (wire units).
+    #[serde(deserialize_with = "super::teach_file::de_pose")]
     pub pose: [i32; 4],
-    /// The arm system the point was taught in.
-    #[serde(with = "arm_text")]
+    /// The arm system the point was taught in (`right`, `left`, `undetermined` in files).
+    #[serde(
+        serialize_with = "super::teach_file::ser_arm",
+        deserialize_with = "super::teach_file::de_arm"
+    )]
     pub arm: ArmSystem,
     /// The work coordinate system number it was taught in (0-31).
+    #[serde(deserialize_with = "super::teach_file::de_work")]
     pub work: u8,
     /// The tool coordinate system number it was taught in (0-127).
+    #[serde(deserialize_with = "super::teach_file::de_tool")]
     pub tool: u8,
 }
 
@@ -434,27 +441,6 @@ pub fn parse_arm_word(word: &str) -> Option<ArmSystem> {
     [ArmSystem::Right, ArmSystem::Left, ArmSystem::Undetermined]
         .into_iter()
         .find(|a| arm_word(*a).eq_ignore_ascii_case(w))
-}
-
-/// Serde for [`ArmSystem`] as its file word (`protocol` has no serde).
-pub(super) mod arm_text {
-    use serde::{Deserialize, Deserializer, Serializer, de::Error};
-
-    use crate::protocol::ArmSystem;
-
-    pub fn serialize<S: Serializer>(arm: &ArmSystem, s: S) -> Result<S::Ok, S::Error> {
-        s.serialize_str(super::arm_word(*arm))
-    }
-
-    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<ArmSystem, D::Error> {
-        let w = String::deserialize(d)?;
-        super::parse_arm_word(&w).ok_or_else(|| {
-            D::Error::custom(format!(
-                "field arm: \"{}\" is not an arm system (use right, left or undetermined)",
-                super::super::teach_file::shown(&w)
-            ))
-        })
-    }
 }
 
 #[cfg(test)]
