@@ -993,6 +993,31 @@ mod tests {
         );
     }
 
+    #[test]
+    fn the_derived_serde_form_checks_too() {
+        // What eframe persistence uses: the plain Deserialize of TeachList.
+        let l = sample();
+        let v: TeachList = serde_json::from_str(&l.to_json()).unwrap();
+        assert_eq!(v, l);
+        assert_eq!(
+            serde_json::from_str::<TeachList>("{}").unwrap(),
+            TeachList::new()
+        );
+        let p = |n: &str, w: u8| {
+            format!(
+                "{{\"name\":\"{n}\",\"pose\":[0,0,0,0],\"arm\":\"right\",\"work\":{w},\"tool\":0}}"
+            )
+        };
+        let dup = format!("{{\"points\":[{},{}]}}", p("A", 0), p(" A", 0));
+        let e = serde_json::from_str::<TeachList>(&dup).unwrap_err();
+        assert!(e.to_string().contains("already used by point 1"), "{e}");
+        let bad = format!("{{\"points\":[{}]}}", p("A", 32));
+        assert!(serde_json::from_str::<TeachList>(&bad).is_err());
+        let trimmed = format!("{{\"points\":[{}]}}", p(" A ", 0));
+        let t: TeachList = serde_json::from_str(&trimmed).unwrap();
+        assert_eq!(t.get(0).map(|p| p.name.as_str()), Some("A"));
+    }
+
     fn arb_arm() -> impl Strategy<Value = ArmSystem> {
         prop_oneof![
             Just(ArmSystem::Right),
