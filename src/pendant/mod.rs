@@ -7,6 +7,8 @@ pub mod connection;
 pub mod jog;
 pub mod readiness;
 pub mod state;
+pub mod teach;
+pub mod teach_file;
 
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
