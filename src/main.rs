@@ -22,6 +22,7 @@ fn main() -> ExitCode {
     let options = StartOptions {
         connection: named.then(|| args.connection_settings()),
         fresh: false,
+        offline: false,
     };
     match run_window(options) {
         Ok(()) => ExitCode::SUCCESS,

@@ -22,6 +22,7 @@ fn app<'a>() -> Harness<'a, PendantApp> {
                 StartOptions {
                     connection: None,
                     fresh: true,
+                    offline: false,
                 },
             )
         })

@@ -154,3 +154,38 @@ impl fmt::Display for LineState {
         }
     }
 }
+
+/// What to do about a line that could not be opened, when the reason says (missing port,
+/// busy port, permission), for the message beside the connection.
+pub fn open_hint(reason: &crate::link::LineDownReason) -> Option<&'static str> {
+    use std::io::ErrorKind;
+    let crate::link::LineDownReason::OpenFailed(e) = reason else {
+        return None;
+    };
+    let detail = e.detail.to_ascii_lowercase();
+    if e.kind == ErrorKind::PermissionDenied || detail.contains("permission denied") {
+        return Some(if cfg!(target_os = "linux") {
+            "no permission to use the port: add your user to the dialout group \
+             (sudo usermod -aG dialout $USER), then log in again"
+        } else {
+            "no permission to use the port: check who may open it"
+        });
+    }
+    if detail.contains("busy") || detail.contains("access is denied") || detail.contains("lock") {
+        return Some("another program holds the port: close it (or its terminal) and reconnect");
+    }
+    if e.kind == ErrorKind::NotFound
+        || detail.contains("no such file")
+        || detail.contains("not found")
+    {
+        return Some(
+            "the port does not exist: check the cable and the name (Refresh lists the ports)",
+        );
+    }
+    if e.kind == ErrorKind::ConnectionRefused || e.kind == ErrorKind::TimedOut {
+        return Some(
+            "nothing answers at that address: check the bridge's address and that it is on",
+        );
+    }
+    None
+}

@@ -3,14 +3,15 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::teach::{TeachPoint, go_command};
 use crate::protocol::{
     ArmPolicy as WirePolicy, Axis, AxisPattern, CentiG, Command, Direction, Jog,
     JogFrame as WireFrame, JogMotion, MmPerSec, PerAxis, Percent, ScaraMotion, ScaraMove, Thou,
 };
 use crate::robot::{
-    ArmPolicy, ArmSystem, CoordSystem, CpMove, CpParams, DEFAULT_CHECK_SPACING_MM, JogFrame,
-    Joints, Move, MoveError, Pose, PtpMove, PtpParams, RelativeTo, RobotModel, Scara,
-    jog_delta_to_work, tip_in_work,
+    ArmSystem, CoordSystem, CpMove, CpParams, DEFAULT_CHECK_SPACING_MM, JogFrame, Joints, Move,
+    MoveError, Pose, PtpMove, PtpParams, RelativeTo, RobotModel, Scara, jog_delta_to_work,
+    tip_in_work,
 };
 
 /// The step ladder, mm (or deg for R and the rotary joints).
@@ -182,9 +183,6 @@ impl ArmChoice {
             ArmChoice::Right => WirePolicy::Right,
             ArmChoice::Left => WirePolicy::Left,
         }
-    }
-    fn robot(self) -> ArmPolicy {
-        self.wire().into()
     }
 }
 
@@ -364,7 +362,44 @@ pub fn plan_step(
         actual.z + f64::from(distance[2]) / 1000.0,
         actual.r + f64::from(distance[3]) / 1000.0,
     );
-    let end_tip = now.work.work_to_base(&end_work);
+    let checked = check_move(model, kin, settings, settings.arm.wire(), &end_work, now)?;
+    let motion = checked.motion;
+    Ok(checked.into_plan(Command::ScaraMoveRelative(ScaraMove { motion, targets })))
+}
+
+/// A move to `end_work` that passed every check, with its motion field and profile.
+struct CheckedMove {
+    motion: ScaraMotion,
+    end_work: Pose,
+    profile: Move,
+    line: Option<(Pose, Pose)>,
+    flips_arm: bool,
+}
+
+impl CheckedMove {
+    fn into_plan(self, command: Command) -> PlannedStep {
+        PlannedStep {
+            command,
+            end: self.profile.end(),
+            end_work: self.end_work,
+            line: self.line,
+            flips_arm: self.flips_arm,
+            profile: self.profile,
+        }
+    }
+}
+
+/// Checks a move of the tool tip to `end_work` (work frame) as the controller would run
+/// it: PTP under `policy` (reach, joint limits, arm system), or CP along the whole line.
+fn check_move(
+    model: &RobotModel,
+    kin: &Scara,
+    settings: &JogSettings,
+    policy: WirePolicy,
+    end_work: &Pose,
+    now: &ArmNow,
+) -> Result<CheckedMove, Refusal> {
+    let end_tip = now.work.work_to_base(end_work);
     let (motion, profile, line, flips_arm) = match settings.interpolation {
         Interpolation::Ptp => {
             let params = PtpParams::from_command(
@@ -374,14 +409,14 @@ pub fn plan_step(
                 settings.ptp_speed_pct,
             );
             let flange = now.tool.tip_to_flange(&end_tip);
-            let m = PtpMove::to_pose(kin, now.joints, &flange, settings.arm.robot(), &params)?;
+            let m = PtpMove::to_pose(kin, now.joints, &flange, policy.into(), &params)?;
             let flips = arm_of(kin, &m.end()) != arm_of(kin, &now.joints)
                 && arm_of(kin, &now.joints) != ArmSystem::Undetermined;
             let motion = ScaraMotion::Ptp {
                 acc: Percent(settings.ptp_accel_pct),
                 dec: Percent(settings.ptp_decel_pct),
                 speed: Percent(settings.ptp_speed_pct),
-                arm: settings.arm.wire(),
+                arm: policy,
             };
             (motion, Move::Ptp(m), None, flips)
         }
@@ -409,14 +444,29 @@ pub fn plan_step(
             (motion, Move::Cp(Box::new(m)), line, false)
         }
     };
-    Ok(PlannedStep {
-        command: Command::ScaraMoveRelative(ScaraMove { motion, targets }),
-        end: profile.end(),
-        end_work,
+    Ok(CheckedMove {
+        motion,
+        end_work: *end_work,
+        profile,
         line,
         flips_arm,
-        profile,
     })
+}
+
+/// Plans a move to a taught point with 2D4H (absolute, selected work frame): PTP with
+/// the point's own arm system, or CP, at the jog panel's rates, after the same checks
+/// as a step.
+pub fn plan_go(
+    model: &RobotModel,
+    kin: &Scara,
+    settings: &JogSettings,
+    point: &TeachPoint,
+    now: &ArmNow,
+) -> Result<PlannedStep, Refusal> {
+    let end_work = Pose::from_wire(point.pose);
+    let checked = check_move(model, kin, settings, point.arm_policy(), &end_work, now)?;
+    let command = go_command(point, checked.motion);
+    Ok(checked.into_plan(command))
 }
 
 fn arm_of(kin: &Scara, j: &Joints) -> ArmSystem {

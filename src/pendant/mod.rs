@@ -5,7 +5,9 @@
 
 pub mod connection;
 pub mod jog;
+mod moving;
 pub mod readiness;
+pub mod script;
 pub mod state;
 pub mod teach;
 pub mod teach_file;
@@ -18,7 +20,7 @@ use serde::{Deserialize, Serialize};
 use crate::link::LinkEvent;
 use crate::link::health::LinkHealth;
 use crate::protocol::{AxisPattern, Command, CoordKind, Direction, Home, MmPerSec, Reply, Servo};
-use crate::robot::{Joints, Move, RobotModel, Scara, in_position};
+use crate::robot::{Joints, RobotModel, Scara};
 pub use connection::{ConnectionSettings, LineKind, LineState, ParityChoice};
 pub use jog::{
     ArmChoice, Interpolation, JogAxis, JogMode, JogSettings, PlannedStep, Refusal, StepBase,
@@ -38,6 +40,8 @@ const KEEP_MESSAGES: usize = 200;
 pub struct Settings {
     pub connection: ConnectionSettings,
     pub jog: JogSettings,
+    /// Taught points, kept with the settings so a closed window loses none.
+    pub teach: teach::TeachList,
     /// Light theme (the default is dark).
     pub light_theme: bool,
 }
@@ -228,7 +232,10 @@ impl Pendant {
                 self.requests.push(Request::ReadTable(CoordKind::Work));
             }
             LinkEvent::Disconnected { reason } => {
-                let reason = reason.to_string();
+                let reason = match connection::open_hint(&reason) {
+                    Some(hint) => format!("{reason}. {hint}"),
+                    None => reason.to_string(),
+                };
                 self.say(Level::Error, format!("line down: {reason}"), now);
                 self.line = LineState::Down { reason, since: now };
                 self.line_gone(now);
@@ -408,169 +415,6 @@ impl Pendant {
             f.stopped = true;
         }
         self.jog_says(Level::Info, "STOP sent", now);
-    }
-
-    // ---- jog ----
-
-    /// What a step of `axis` in `dir` would do now, without sending it.
-    pub fn preview_step(
-        &self,
-        axis: JogAxis,
-        dir: Direction,
-        now: Instant,
-    ) -> Result<PlannedStep, Refusal> {
-        let _ = now;
-        let joints = self
-            .controller
-            .joint_position()
-            .ok_or(Refusal::NoPosition)?;
-        let work = self
-            .controller
-            .work_frame()
-            .ok_or(Refusal::NoTable("work"))?;
-        let tool = self
-            .controller
-            .tool_frame()
-            .ok_or(Refusal::NoTable("tool"))?;
-        let target = self.followed.as_ref().and_then(|f| {
-            let t = now.saturating_duration_since(f.accepted?).as_secs_f64();
-            Some(f.plan.profile.sample(t).joints)
-        });
-        let arm = jog::ArmNow {
-            joints,
-            command: self.command_position,
-            target,
-            work,
-            tool,
-        };
-        jog::plan_step(&self.model, &self.kin, &self.settings.jog, axis, dir, &arm)
-    }
-
-    /// A click on a jog button in step mode: plan, check, send (or refuse, or ask to
-    /// confirm an arm flip).
-    pub fn jog_step(&mut self, axis: JogAxis, dir: Direction, now: Instant) {
-        if let Err(why) = self.motion_ready(now) {
-            return self.jog_says(Level::Warning, format!("not sent: {why}"), now);
-        }
-        if self.followed.as_ref().is_some_and(|f| f.accepted.is_none()) {
-            return self.jog_says(
-                Level::Warning,
-                "not sent: the previous step is still waiting for its reply",
-                now,
-            );
-        }
-        let plan = match self.preview_step(axis, dir, now) {
-            Ok(plan) => plan,
-            Err(why) => return self.jog_says(Level::Warning, format!("refused: {why}"), now),
-        };
-        let confirmed = self.confirm.take().is_some_and(|(a, d, at)| {
-            a == axis && d == dir && now.duration_since(at) < CONFIRM_FOR
-        });
-        if plan.flips_arm && !confirmed {
-            self.confirm = Some((axis, dir, now));
-            return self.jog_says(
-                Level::Warning,
-                format!(
-                    "{}{} flips the arm system: press again within {} s to confirm",
-                    axis.name(),
-                    if dir == Direction::Positive { "+" } else { "-" },
-                    CONFIRM_FOR.as_secs()
-                ),
-                now,
-            );
-        }
-        self.requests.push(Request::Submit(plan.command));
-        self.jog_says(
-            Level::Info,
-            format!(
-                "{}{} {} {}: sent",
-                axis.name(),
-                if dir == Direction::Positive { "+" } else { "-" },
-                self.settings.jog.step,
-                axis.unit()
-            ),
-            now,
-        );
-        self.followed = Some(Followed {
-            plan,
-            accepted: None,
-            stopped: false,
-        });
-    }
-
-    /// A jog button pressed in continuous mode: 236H until released.
-    pub fn jog_press(&mut self, axis: JogAxis, dir: Direction, source: HoldSource, now: Instant) {
-        if let Err(why) = self.motion_ready(now) {
-            return self.jog_says(Level::Warning, format!("not sent: {why}"), now);
-        }
-        self.requests.push(Request::Submit(jog::continuous_jog(
-            &self.settings.jog,
-            axis,
-            dir,
-        )));
-        self.held = Some(HeldJog {
-            axis,
-            direction: dir,
-            source,
-            since: now,
-        });
-        self.followed = None;
-        self.command_position = None;
-        self.jog_says(Level::Info, format!("jogging {}", axis.name()), now);
-    }
-
-    /// Called every frame while the button or key is still held: renews the lease.
-    pub fn jog_held(&mut self) {
-        if self.held.is_some() {
-            self.requests.push(Request::RenewJogLease);
-        }
-    }
-
-    /// The button or key was released, or the window lost focus: 238H.
-    pub fn jog_release(&mut self, now: Instant) {
-        if self.held.take().is_some() {
-            self.requests.push(Request::Stop);
-            self.jog_says(Level::Info, "jog released: STOP sent", now);
-        }
-    }
-
-    pub fn held_jog(&self) -> Option<HeldJog> {
-        self.held
-    }
-
-    /// The motion phase of the move being followed.
-    pub fn motion_phase(&self, now: Instant) -> MotionPhase {
-        if self.held.is_some() {
-            return MotionPhase::Jogging;
-        }
-        let Some(f) = &self.followed else {
-            return MotionPhase::Idle;
-        };
-        if f.stopped {
-            return MotionPhase::Stopped;
-        }
-        let Some(at) = f.accepted else {
-            return MotionPhase::Idle;
-        };
-        let t = now.saturating_duration_since(at).as_secs_f64();
-        match f.plan.profile.sample(t).phase {
-            crate::robot::Phase::Accel => MotionPhase::Accelerating,
-            crate::robot::Phase::ConstantVelocity => MotionPhase::Constant,
-            crate::robot::Phase::Decel => MotionPhase::Decelerating,
-            crate::robot::Phase::Complete => MotionPhase::Done,
-        }
-    }
-
-    /// The polled joints within the model's positioning band of the command position.
-    pub fn in_position(&self) -> Option<bool> {
-        let actual = self.controller.joint_position()?;
-        let command = self.command_position.unwrap_or(actual);
-        Some(in_position(&actual, &command, &self.model.in_position))
-    }
-
-    /// The planned move being followed, for the arm view's ghost.
-    pub fn followed_move(&self) -> Option<&Move> {
-        self.followed.as_ref().map(|f| &f.plan.profile)
     }
 }
 

@@ -5,9 +5,8 @@ use std::time::{Duration, Instant};
 use super::*;
 use crate::link::{LinkEvent, Origin, RequestId};
 use crate::protocol::{
-    ArmPolicy as WirePolicy, ArmSystem, Axis, AxisState, AxisStatus, CommonStatus, CoordKind,
-    Direction, HomeState, JogMotion, PerAxis, PositionSystem, ScaraMotion, ScaraStatus, SystemMode,
-    SystemStatus, SystemStatus1, SystemStatus3, Thou,
+    ArmPolicy as WirePolicy, Axis, CoordKind, Direction, JogMotion, PerAxis, PositionSystem,
+    ScaraMotion, SystemMode, SystemStatus, SystemStatus1, Thou,
 };
 use crate::robot::{Joints, Pose, RobotModel, Scara};
 
@@ -19,89 +18,18 @@ fn pendant() -> Pendant {
     Pendant::new(Settings::default(), RobotModel::default_model())
 }
 
-fn ready_system() -> SystemStatus {
-    SystemStatus {
-        mode: SystemMode::AUTO,
-        status3: SystemStatus3::default().with_ready(true),
-        ..SystemStatus::default()
-    }
-}
-
-fn scara(system: PositionSystem, values: [f64; 4], servo: bool, homed: bool) -> ScaraStatus {
-    let status = AxisStatus::default()
-        .with_servo_on(servo)
-        .with_home_state(if homed {
-            HomeState::Done
-        } else {
-            HomeState::NotDone
-        });
-    let axes = PerAxis::from_fn(crate::protocol::AxisPattern::SCARA_1, |a: Axis| AxisState {
-        status,
-        position: Thou((values[a.index()] * 1000.0).round() as i32),
-        ..AxisState::default()
-    });
-    ScaraStatus {
-        work: 0,
-        tool: 0,
-        common: CommonStatus {
-            arm: ArmSystem::Right,
-            system,
-        },
-        axes,
-    }
-}
-
-fn reply(command: Command, reply: Reply) -> LinkEvent {
-    LinkEvent::Reply {
-        id: RequestId(1),
-        origin: Origin::Poll,
-        command,
-        reply,
-        round_trip: Duration::from_millis(3),
-    }
-}
+use super::script::{poll_reply as reply, ready_system, scara_status as scara};
 
 /// A pendant connected to a ready, homed controller whose arm is at `joints` (work 0 and
 /// tool 0 all zeros, so work = base = the flange).
 fn ready_at(joints: Joints, now: Instant) -> Pendant {
     let mut p = pendant();
-    feed_ready(&mut p, joints, now);
-    p
-}
-
-fn feed_ready(p: &mut Pendant, joints: Joints, now: Instant) {
-    p.handle_event(
-        now,
-        LinkEvent::Connected {
-            line: "test".into(),
-        },
-    );
     let kin = Scara::new(&p.model);
-    let tip = kin.forward(&joints).to_array();
-    let polls = state::poll_commands();
-    p.handle_event(now, reply(polls[1], Reply::SystemStatus(ready_system())));
-    for (cmd, system, values) in [
-        (polls[0], PositionSystem::Work, tip),
-        (polls[2], PositionSystem::Joint, joints.to_array()),
-        (polls[3], PositionSystem::Base, tip),
-    ] {
-        p.handle_event(
-            now,
-            reply(cmd, Reply::ScaraStatus(scara(system, values, true, true))),
-        );
-    }
-    for kind in [CoordKind::Work, CoordKind::Tool] {
-        p.handle_event(
-            now,
-            LinkEvent::TableDone {
-                kind,
-                axes: crate::protocol::AxisPattern::SCARA_1,
-                records: vec![Some(PerAxis::new()); 4],
-                missing: vec![],
-            },
-        );
+    for event in super::script::ready_controller(&kin, joints) {
+        p.handle_event(now, event);
     }
     p.take_requests();
+    p
 }
 
 fn start() -> Joints {
@@ -405,4 +333,75 @@ fn steps_relative_to_command_chain_without_drift() {
     };
     assert_eq!(m.targets.get(Axis::A1), Some(Thou(2000)));
     let _ = Pose::new(0.0, 0.0, 0.0, 0.0);
+}
+
+#[test]
+fn a_port_that_fails_to_open_says_why_and_what_to_do() {
+    use crate::link::{IoFailure, LineDownReason};
+    let now = t0();
+    let mut p = pendant();
+    let failed = |kind, detail: &str| LinkEvent::Disconnected {
+        reason: LineDownReason::OpenFailed(IoFailure {
+            kind,
+            detail: detail.into(),
+        }),
+    };
+    p.handle_event(
+        now,
+        failed(std::io::ErrorKind::PermissionDenied, "Permission denied"),
+    );
+    let LineState::Down { reason, .. } = &p.line else {
+        panic!("{:?}", p.line)
+    };
+    assert!(
+        reason.contains("Permission denied") && reason.contains("no permission"),
+        "{reason}"
+    );
+    #[cfg(target_os = "linux")]
+    assert!(reason.contains("dialout"), "{reason}");
+    p.handle_event(
+        now,
+        failed(std::io::ErrorKind::NotFound, "No such file or directory"),
+    );
+    assert!(p.line.to_string().contains("does not exist"), "{}", p.line);
+    p.handle_event(
+        now,
+        failed(std::io::ErrorKind::Other, "Device or resource busy"),
+    );
+    assert!(p.line.to_string().contains("another program"), "{}", p.line);
+}
+
+#[test]
+fn a_recorded_point_is_gone_to_with_2d4h_in_its_own_frame() {
+    let now = t0();
+    let mut p = ready_at(start(), now);
+    p.teach_record("", now);
+    assert_eq!(p.settings.teach.len(), 1);
+    assert_eq!(p.settings.teach.get(0).unwrap().name, "P1");
+    // Away from the point, "Go" sends one 2D4H to the recorded pose.
+    let mut p2 = ready_at(Joints::new(20.0, 70.0, 40.0, 10.0), now);
+    p2.settings.teach = p.settings.teach.clone();
+    p2.teach_go(0, now);
+    let sent = submitted(&mut p2);
+    let Some(Command::ScaraMoveAbsolute(m)) = sent.first() else {
+        panic!("no 2D4H: {:?}", p2.jog_feedback);
+    };
+    let pose = p.settings.teach.get(0).unwrap().pose;
+    for (i, axis) in [Axis::A1, Axis::A2, Axis::A3, Axis::A4]
+        .into_iter()
+        .enumerate()
+    {
+        assert_eq!(m.targets.get(axis), Some(Thou(pose[i])));
+    }
+    // Taught in another work frame: refused, nothing sent.
+    let mut other = p.settings.teach.clone();
+    let mut point = other.remove(0).unwrap();
+    point.work = 3;
+    other.insert(0, point).unwrap();
+    p2.settings.teach = other;
+    p2.take_requests();
+    p2.followed = None;
+    p2.teach_go(0, now);
+    assert!(submitted(&mut p2).is_empty());
+    assert!(p2.jog_feedback.unwrap().text.contains("work frame 3"));
 }

@@ -7,7 +7,9 @@ use std::time::{Duration, Instant};
 use egui::{Panel, Theme};
 
 use super::connection::ConnectionPanel;
-use super::{jog, keys, messages, readout, status, top_bar};
+use super::layout::{self, Tab, Tabs};
+use super::teach::TeachPanel;
+use super::{jog, keys, top_bar};
 use crate::link::{Priority, TableRequest};
 use crate::pendant::{ConnectionSettings, Pendant, Request, Settings};
 use crate::protocol::{AxisPattern, CoordKind};
@@ -18,6 +20,7 @@ use crate::sim::SimHandle;
 /// The storage key and window title.
 pub const APP_ID: &str = "xsel-pendant";
 const SETTINGS_KEY: &str = "settings";
+const LAYOUT_KEY: &str = "layout";
 /// Most time spent applying link events in one frame.
 const EVENT_BUDGET: Duration = Duration::from_millis(4);
 /// The window repaints at least this often while connected (polls arrive at 10 Hz).
@@ -32,12 +35,16 @@ pub struct StartOptions {
     pub connection: Option<ConnectionSettings>,
     /// Ignore saved settings (tests, a clean start).
     pub fresh: bool,
+    /// Open no line at start (image tests drive the pendant with scripted events).
+    pub offline: bool,
 }
 
 pub struct PendantApp {
     pendant: Pendant,
     session: Option<Session>,
     connection: ConnectionPanel,
+    teach: TeachPanel,
+    dock: egui_tiles::Tree<Tab>,
     started: Instant,
     help_open: bool,
     applied_theme: Option<bool>,
@@ -49,6 +56,11 @@ impl PendantApp {
             None
         } else {
             cc.storage.and_then(|s| eframe::get_value(s, SETTINGS_KEY))
+        };
+        let saved_layout = if options.fresh {
+            None
+        } else {
+            cc.storage.and_then(|s| eframe::get_value(s, LAYOUT_KEY))
         };
         let mut settings = saved.unwrap_or_default();
         match options.connection {
@@ -64,13 +76,15 @@ impl PendantApp {
         let mut pendant = Pendant::new(settings, model);
         if let Some(e) = problem {
             pendant.connect_failed(e, now);
-        } else {
+        } else if !options.offline {
             pendant.connect(now);
         }
         let mut app = Self {
             pendant,
             session: None,
             connection: ConnectionPanel::default(),
+            teach: TeachPanel::default(),
+            dock: layout::checked_layout(saved_layout),
             started: now,
             help_open: false,
             applied_theme: None,
@@ -82,6 +96,16 @@ impl PendantApp {
     /// The pendant model (tests and benches read it).
     pub fn pendant(&self) -> &Pendant {
         &self.pendant
+    }
+
+    /// The pendant model, for scripted events (image tests).
+    pub fn pendant_mut(&mut self) -> &mut Pendant {
+        &mut self.pendant
+    }
+
+    /// When the window started (the messages' times count from here).
+    pub fn started(&self) -> Instant {
+        self.started
     }
 
     /// The embedded simulator, when the line is the built-in one.
@@ -219,24 +243,22 @@ impl eframe::App for PendantApp {
                     }
                 });
             });
-        Panel::right("status")
-            .resizable(true)
-            .default_size(360.0)
-            .show(ui, |ui| {
-                ui.heading("Status");
-                status::show(ui, &mut self.pendant, now);
-            });
-        Panel::bottom("messages")
-            .resizable(true)
-            .default_size(140.0)
-            .show(ui, |ui| messages::show(ui, &self.pendant, self.started));
-        egui::CentralPanel::default().show(ui, |ui| readout::show(ui, &self.pendant, now));
+        egui::CentralPanel::default().show(ui, |ui| {
+            let mut tabs = Tabs {
+                pendant: &mut self.pendant,
+                teach: &mut self.teach,
+                now,
+                started: self.started,
+            };
+            layout::show(ui, &mut self.dock, &mut tabs);
+        });
         keys::help(&ctx, &mut self.help_open);
         self.run_requests(&ctx, now);
     }
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
         eframe::set_value(storage, SETTINGS_KEY, &self.pendant.settings);
+        eframe::set_value(storage, LAYOUT_KEY, &self.dock);
     }
 
     fn on_exit(&mut self) {

@@ -5,6 +5,7 @@ use std::time::Instant;
 
 use egui::{ComboBox, RichText, Ui};
 
+use super::detect::Detect;
 use super::ports::PortList;
 use super::widgets::{AMBER, RED};
 use crate::link::line::STANDARD_BAUDS;
@@ -15,6 +16,7 @@ use crate::robot::BUILTIN_MODELS;
 #[derive(Default)]
 pub struct ConnectionPanel {
     pub ports: PortList,
+    detect: Detect,
     station_text: Option<String>,
 }
 
@@ -25,6 +27,10 @@ impl ConnectionPanel {
             let ctx = ui.ctx().clone();
             self.ports.refresh(move || ctx.request_repaint());
         }
+        let line_busy = !matches!(
+            pendant.line,
+            crate::pendant::LineState::Closed | crate::pendant::LineState::Down { .. }
+        );
         let s = &mut pendant.settings.connection;
         ui.horizontal(|ui| {
             for kind in [LineKind::Simulator, LineKind::Serial, LineKind::Tcp] {
@@ -82,6 +88,18 @@ impl ConnectionPanel {
                             ui.label(RichText::new(&p.detail).small());
                             ui.end_row();
                         }
+                        ui.label("");
+                        let allowed = if line_busy && s.kind == LineKind::Serial {
+                            Err("disconnect first: the connection holds the port")
+                        } else {
+                            Ok(())
+                        };
+                        ui.vertical(|ui| {
+                            if self.detect.show(ui, s, allowed) {
+                                self.station_text = None;
+                            }
+                        });
+                        ui.end_row();
                         if let Some(e) = &self.ports.error {
                             ui.label("");
                             ui.label(RichText::new(e).color(RED));

@@ -4,13 +4,16 @@
 
 pub mod app;
 mod connection;
+mod detect;
 mod jog;
 mod keys;
+mod layout;
 mod messages;
 mod ports;
 mod readout;
 mod run;
 mod status;
+mod teach;
 mod top_bar;
 mod widgets;
 

@@ -1,5 +1,5 @@
-//! The centre until the arm view lands: the position in work, base and joint coordinates,
-//! large and readable, marked stale when the status is old.
+//! The position readout (until the arm view lands): work, base and joint coordinates
+//! side by side, large and readable, marked stale when the status is old.
 
 use std::time::Instant;
 
@@ -8,54 +8,56 @@ use egui::{RichText, Ui};
 use super::widgets::AMBER;
 use crate::pendant::Pendant;
 
-/// One line of the readout: its name, the four values, their labels and units.
-type Row<'a> = (&'a str, Option<[f64; 4]>, [&'a str; 4], [&'a str; 4]);
+const ROWS: [(&str, &str, &str, &str); 4] = [
+    ("X", "J1", "mm", "deg"),
+    ("Y", "J2", "mm", "deg"),
+    ("Z", "J3 (Z)", "mm", "mm"),
+    ("R", "J4", "deg", "deg"),
+];
 
 pub fn show(ui: &mut Ui, pendant: &Pendant, now: Instant) {
-    ui.heading("Position");
     let stale = pendant.controller.is_stale(now);
     if stale && pendant.line.is_up() {
         ui.label(RichText::new("out of date: no fresh status from the controller").color(AMBER));
     }
     let c = &pendant.controller;
-    let rows: [Row<'_>; 3] = [
-        (
-            "Work",
-            c.work_position().map(|p| p.to_array()),
-            ["X", "Y", "Z", "R"],
-            ["mm", "mm", "mm", "deg"],
-        ),
-        (
-            "Base",
-            c.base_position().map(|p| p.to_array()),
-            ["X", "Y", "Z", "R"],
-            ["mm", "mm", "mm", "deg"],
-        ),
-        (
-            "Joints",
-            c.joint_position().map(|j| j.to_array()),
-            ["J1", "J2", "J3", "J4"],
-            ["deg", "deg", "mm", "deg"],
-        ),
+    let columns = [
+        c.work_position().map(|p| p.to_array()),
+        c.base_position().map(|p| p.to_array()),
+        c.joint_position().map(|j| j.to_array()),
     ];
+    let value = |v: Option<[f64; 4]>, i: usize| {
+        let text = v.map_or_else(|| "-".to_owned(), |v| format!("{:9.3}", v[i]));
+        let rich = RichText::new(text).monospace().size(17.0);
+        if stale { rich.color(AMBER) } else { rich }
+    };
     egui::Grid::new("position-readout")
-        .num_columns(5)
-        .spacing([24.0, 8.0])
+        .num_columns(7)
+        .spacing([10.0, 8.0])
         .show(ui, |ui| {
-            for (name, values, labels, units) in rows {
-                ui.label(RichText::new(name).size(18.0).strong());
-                for i in 0..4 {
-                    let text = values.map_or_else(
-                        || format!("{} -", labels[i]),
-                        |v| format!("{} {:>10.3} {}", labels[i], v[i], units[i]),
-                    );
-                    let mut rich = RichText::new(text).monospace().size(20.0);
-                    if stale {
-                        rich = rich.color(AMBER);
-                    }
-                    ui.label(rich);
-                }
+            ui.label("");
+            for head in ["Work", "", "Base", "", "Joints", ""] {
+                ui.label(RichText::new(head).strong());
+            }
+            ui.end_row();
+            for (i, (axis, joint, unit, joint_unit)) in ROWS.iter().enumerate() {
+                ui.label(RichText::new(*axis).size(18.0).strong());
+                ui.label(value(columns[0], i));
+                ui.label(*unit);
+                ui.label(value(columns[1], i));
+                ui.label(*unit);
+                ui.horizontal(|ui| {
+                    ui.label(RichText::new(*joint).size(14.0));
+                    ui.label(value(columns[2], i));
+                });
+                ui.label(*joint_unit);
                 ui.end_row();
             }
         });
+    if let Some(w) = pendant.controller.work.map(|s| s.value) {
+        ui.label(format!(
+            "{}, work No. {}, tool No. {}",
+            w.common.arm, w.work, w.tool
+        ));
+    }
 }

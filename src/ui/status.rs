@@ -44,29 +44,40 @@ pub fn show(ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
         ));
     }
     axis_grid(ui, pendant);
-    ui.horizontal_wrapped(|ui| {
-        let phase = pendant.motion_phase(now);
-        let inpos = pendant.in_position().unwrap_or(false);
-        lamp(ui, inpos, GREEN, "In position");
-        for (p, label) in [
-            (MotionPhase::Accelerating, "Accel"),
-            (MotionPhase::Constant, "Constant"),
-            (MotionPhase::Decelerating, "Decel"),
-            (MotionPhase::Done, "Done"),
-            (MotionPhase::Jogging, "Jogging"),
-            (MotionPhase::Stopped, "Stopped"),
-        ] {
-            lamp(
-                ui,
-                phase == p,
-                if p == MotionPhase::Stopped {
+    let phase = pendant.motion_phase(now);
+    let inpos = pendant.in_position().unwrap_or(false);
+    let lamps = |ui: &mut Ui, set: &[(MotionPhase, &str)]| {
+        ui.horizontal(|ui| {
+            for &(p, label) in set {
+                let color = if p == MotionPhase::Stopped {
                     RED
                 } else {
                     GREEN
-                },
-                label,
+                };
+                lamp(ui, phase == p, color, label);
+            }
+        });
+    };
+    ui.vertical(|ui| {
+        ui.horizontal(|ui| {
+            lamp(ui, inpos, GREEN, "In position");
+            lamps(
+                ui,
+                &[
+                    (MotionPhase::Done, "Done"),
+                    (MotionPhase::Stopped, "Stopped"),
+                ],
             );
-        }
+        });
+        lamps(
+            ui,
+            &[
+                (MotionPhase::Accelerating, "Accel"),
+                (MotionPhase::Constant, "Constant"),
+                (MotionPhase::Decelerating, "Decel"),
+                (MotionPhase::Jogging, "Jogging"),
+            ],
+        );
     })
     .response
     .on_hover_text(

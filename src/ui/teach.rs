@@ -1,0 +1,197 @@
+//! The teach list: record the current pose under a name, go there (2D4H), rename,
+//! reorder, delete, and save or load the list as CSV or JSON.
+
+use std::path::Path;
+use std::time::Instant;
+
+use egui::{Button, RichText, TextEdit, Ui};
+
+use super::widgets::{RED, reason};
+use crate::pendant::Pendant;
+use crate::pendant::teach::arm_word;
+
+/// The panel's own state: the name being typed, the selected row, the file path.
+#[derive(Default)]
+pub struct TeachPanel {
+    name: String,
+    selected: Option<usize>,
+    rename: String,
+    path: String,
+    file_message: Option<(bool, String)>,
+}
+
+impl TeachPanel {
+    pub fn show(&mut self, ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
+        ui.horizontal(|ui| {
+            let label = ui.label("Name");
+            ui.add(
+                TextEdit::singleline(&mut self.name)
+                    .desired_width(120.0)
+                    .hint_text("P1, P2..."),
+            )
+            .labelled_by(label.id);
+            let can_record = pendant.controller.work.is_some() && pendant.line.is_up();
+            if ui
+                .add_enabled(can_record, Button::new("Record"))
+                .on_hover_text("Store the current work position, arm system, work and tool numbers")
+                .on_disabled_hover_text("No position read from the controller")
+                .clicked()
+            {
+                pendant.teach_record(&self.name, now);
+                self.name.clear();
+            }
+        });
+        self.rows(ui, pendant);
+        self.actions(ui, pendant, now);
+        ui.separator();
+        self.files(ui, pendant);
+    }
+
+    fn rows(&mut self, ui: &mut Ui, pendant: &Pendant) {
+        let list = &pendant.settings.teach;
+        if list.is_empty() {
+            ui.label("No points taught yet.");
+            return;
+        }
+        egui::ScrollArea::vertical()
+            .max_height(220.0)
+            .show(ui, |ui| {
+                egui::Grid::new("teach-list")
+                    .striped(true)
+                    .num_columns(4)
+                    .show(ui, |ui| {
+                        for h in ["Name", "X / Y / Z / R (work)", "Arm", "Work / Tool"] {
+                            ui.label(RichText::new(h).strong());
+                        }
+                        ui.end_row();
+                        for (i, p) in list.iter().enumerate() {
+                            let selected = self.selected == Some(i);
+                            if ui.selectable_label(selected, &p.name).clicked() {
+                                self.selected = Some(i);
+                                self.rename = p.name.clone();
+                            }
+                            let [x, y, z, r] = p.pose.map(|v| f64::from(v) / 1000.0);
+                            ui.monospace(format!("{x:.3} / {y:.3} / {z:.3} / {r:.3}"));
+                            ui.label(arm_word(p.arm));
+                            ui.label(format!("{} / {}", p.work, p.tool));
+                            ui.end_row();
+                        }
+                    });
+            });
+    }
+
+    fn actions(&mut self, ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
+        let Some(i) = self.selected.filter(|&i| i < pendant.settings.teach.len()) else {
+            return;
+        };
+        let ready = pendant.motion_ready(now);
+        ui.horizontal_wrapped(|ui| {
+            if ui
+                .add_enabled(ready.is_ok(), Button::new("Go"))
+                .on_hover_text("Move there with 2D4H (PTP or CP as chosen in the jog panel)")
+                .clicked()
+            {
+                pendant.teach_go(i, now);
+            }
+            let list = &mut pendant.settings.teach;
+            if ui.button("Up").clicked() {
+                self.selected = list.move_up(i).ok();
+            }
+            if ui.button("Down").clicked() {
+                self.selected = list.move_down(i).ok();
+            }
+            if ui.button("Delete").clicked() {
+                let _ = list.remove(i);
+                self.selected = None;
+            }
+        });
+        if let Err(why) = ready {
+            reason(ui, why);
+        }
+        ui.horizontal(|ui| {
+            let label = ui.label("Rename");
+            ui.add(TextEdit::singleline(&mut self.rename).desired_width(120.0))
+                .labelled_by(label.id);
+            if ui.button("Apply").clicked()
+                && let Err(e) = pendant.settings.teach.rename(i, &self.rename)
+            {
+                self.file_message = Some((false, e.to_string()));
+            }
+        });
+    }
+
+    fn files(&mut self, ui: &mut Ui, pendant: &mut Pendant) {
+        ui.horizontal(|ui| {
+            let label = ui.label("File");
+            ui.add(
+                TextEdit::singleline(&mut self.path)
+                    .desired_width(170.0)
+                    .hint_text("points.csv or .json"),
+            )
+            .labelled_by(label.id);
+        });
+        ui.horizontal(|ui| {
+            if ui.button("Save").clicked() {
+                self.file_message = Some(save(&self.path, pendant));
+            }
+            if ui
+                .button("Load")
+                .on_hover_text("Replaces the list; a file with an error changes nothing")
+                .clicked()
+            {
+                self.file_message = Some(load(&self.path, pendant));
+                self.selected = None;
+            }
+        });
+        if let Some((ok, text)) = &self.file_message {
+            let color = if *ok { ui.visuals().text_color() } else { RED };
+            ui.label(RichText::new(text).color(color));
+        }
+    }
+}
+
+fn is_json(path: &str) -> bool {
+    Path::new(path)
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+}
+
+/// Writes the list; the message says where, or why not.
+fn save(path: &str, pendant: &Pendant) -> (bool, String) {
+    let path = path.trim();
+    if path.is_empty() {
+        return (false, "enter a file name first".into());
+    }
+    let list = &pendant.settings.teach;
+    let text = if is_json(path) {
+        list.to_json()
+    } else {
+        list.to_csv()
+    };
+    match std::fs::write(path, text) {
+        Ok(()) => (true, format!("saved {} points to {path}", list.len())),
+        Err(e) => (false, format!("cannot write {path}: {e}")),
+    }
+}
+
+/// Reads a list; on any error the list in the window is left as it was.
+fn load(path: &str, pendant: &mut Pendant) -> (bool, String) {
+    let path = path.trim();
+    if path.is_empty() {
+        return (false, "enter a file name first".into());
+    }
+    let bytes = match std::fs::read(path) {
+        Ok(b) => b,
+        Err(e) => return (false, format!("cannot read {path}: {e}")),
+    };
+    let list = &mut pendant.settings.teach;
+    let result = if is_json(path) {
+        list.load_json(&bytes)
+    } else {
+        list.load_csv(&bytes)
+    };
+    match result {
+        Ok(()) => (true, format!("loaded {} points from {path}", list.len())),
+        Err(e) => (false, format!("{path}: {e} (nothing changed)")),
+    }
+}
