@@ -52,8 +52,8 @@ fn every_bad_line_flag_exits_2_with_one_line_naming_it_whatever_the_line() {
 fn a_line_that_cannot_be_opened_is_reported_at_once() {
     let tcp = refused_addr();
     for args in [
-        vec!["--port", MISSING_PORT],
-        vec!["--tcp", &tcp],
+        vec!["--headless", "--port", MISSING_PORT],
+        vec!["--headless", "--tcp", &tcp],
         vec!["--tcp", &tcp, "--watch"],
     ] {
         let run = run(PENDANT, &args, Duration::from_secs(20));
@@ -68,6 +68,23 @@ fn a_line_that_cannot_be_opened_is_reported_at_once() {
             "{args:?}: boilerplate after a failed open: {}",
             run.stdout
         );
+    }
+}
+
+#[test]
+fn with_no_display_the_window_says_to_use_headless() {
+    for args in [vec![], vec!["--sim", "--baud", "9600"]] {
+        let run = run(PENDANT, &args, Duration::from_secs(20));
+        let status = run.status.expect("exits by itself");
+        assert_eq!(status.code(), Some(2), "{args:?}");
+        let err: Vec<&str> = run.stderr.lines().collect();
+        assert_eq!(err.len(), 1, "{args:?}: {}", run.stderr);
+        assert!(
+            err[0].contains("no display") && err[0].contains("--headless"),
+            "{}",
+            err[0]
+        );
+        assert_no_panic(&run.stderr);
     }
 }
 
