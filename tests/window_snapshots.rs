@@ -10,9 +10,10 @@ use xsel_pendant::pendant::script::ready_controller;
 use xsel_pendant::robot::Joints;
 use xsel_pendant::ui::{PendantApp, StartOptions};
 
-fn window(light: bool) -> Harness<'static, PendantApp> {
+fn window(light: bool, pixels_per_point: f32) -> Harness<'static, PendantApp> {
     let mut h = Harness::builder()
         .with_size([1280.0, 800.0])
+        .with_pixels_per_point(pixels_per_point)
         .wgpu()
         .build_eframe(|cc| {
             PendantApp::new(
@@ -47,10 +48,16 @@ fn window(light: bool) -> Harness<'static, PendantApp> {
 
 #[test]
 fn main_window_dark() {
-    window(false).snapshot("main_window_dark");
+    window(false, 1.0).snapshot("main_window_dark");
 }
 
 #[test]
 fn main_window_light() {
-    window(true).snapshot("main_window_light");
+    window(true, 1.0).snapshot("main_window_light");
+}
+
+/// A HiDPI screen (2 physical pixels per point): the same layout, sharper.
+#[test]
+fn main_window_hidpi() {
+    window(false, 2.0).snapshot("main_window_hidpi");
 }

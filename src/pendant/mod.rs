@@ -125,6 +125,8 @@ pub struct Pendant {
     pub line: LineState,
     pub controller: ControllerState,
     pub health: Option<LinkHealth>,
+    /// Time-out and error counts of the health reports of the last minute.
+    health_window: VecDeque<(Instant, u64, u64)>,
     pub messages: VecDeque<Message>,
     /// The last word on a jog button: the refusal or the controller's answer.
     pub jog_feedback: Option<Message>,
@@ -145,6 +147,7 @@ impl Pendant {
             line: LineState::Closed,
             controller: ControllerState::default(),
             health: None,
+            health_window: VecDeque::new(),
             messages: VecDeque::new(),
             jog_feedback: None,
             held: None,
@@ -228,6 +231,7 @@ impl Pendant {
             LinkEvent::Connected { line } | LinkEvent::Reconnected { line } => {
                 self.say(Level::Info, format!("connected: {line}"), now);
                 self.line = LineState::Up { line, since: now };
+                self.health_window.clear();
                 self.requests.push(Request::Submit(state::version_query()));
                 self.requests.push(Request::ReadTable(CoordKind::Work));
             }
@@ -314,7 +318,16 @@ impl Pendant {
             LinkEvent::ShutDown(report) if !report.is_clean() => {
                 self.say(Level::Error, format!("link closed: {report}"), now);
             }
-            LinkEvent::Health(h) => self.health = Some(h),
+            LinkEvent::Health(h) => {
+                let errors = h.bad_frames + h.error_replies;
+                self.health_window.push_back((now, h.timeouts, errors));
+                while self.health_window.front().is_some_and(|(at, ..)| {
+                    now.saturating_duration_since(*at) > Duration::from_secs(60)
+                }) {
+                    self.health_window.pop_front();
+                }
+                self.health = Some(h);
+            }
             _ => {}
         }
     }
@@ -350,6 +363,14 @@ impl Pendant {
             },
             _ => {}
         }
+    }
+
+    /// Time-outs and errors (bad frames and refusals) counted over the last minute of
+    /// health reports (less while the line has been up for less than a minute).
+    pub fn faults_last_minute(&self) -> Option<(u64, u64)> {
+        let (_, t0, e0) = self.health_window.front()?;
+        let (_, t1, e1) = self.health_window.back()?;
+        Some((t1.saturating_sub(*t0), e1.saturating_sub(*e0)))
     }
 
     // ---- readiness ----

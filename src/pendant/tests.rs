@@ -405,3 +405,23 @@ fn a_recorded_point_is_gone_to_with_2d4h_in_its_own_frame() {
     assert!(submitted(&mut p2).is_empty());
     assert!(p2.jog_feedback.unwrap().text.contains("work frame 3"));
 }
+
+#[test]
+fn link_health_counts_faults_over_the_last_minute() {
+    use crate::link::health::LinkHealth;
+    let now = t0();
+    let mut p = pendant();
+    let health = |timeouts, bad_frames| {
+        LinkEvent::Health(LinkHealth {
+            timeouts,
+            bad_frames,
+            ..LinkHealth::default()
+        })
+    };
+    p.handle_event(now, health(2, 1));
+    p.handle_event(now + Duration::from_secs(30), health(5, 1));
+    assert_eq!(p.faults_last_minute(), Some((3, 0)));
+    // A minute later the early reports have left the window.
+    p.handle_event(now + Duration::from_secs(95), health(6, 4));
+    assert_eq!(p.faults_last_minute(), Some((1, 3)));
+}

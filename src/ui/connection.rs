@@ -227,16 +227,23 @@ fn health(ui: &mut Ui, pendant: &Pendant) {
         h.polls_per_second,
         h.line_busy * 100.0
     ));
-    let color = if h.timeouts + h.bad_frames + h.error_replies > 0 {
+    let (timeouts, errors) = pendant.faults_last_minute().unwrap_or((0, 0));
+    let color = if timeouts + errors > 0 {
         AMBER
     } else {
         ui.visuals().text_color()
     };
     ui.label(
         RichText::new(format!(
-            "{} transactions, {} timeouts, {} bad frames, {} refusals",
-            h.transactions, h.timeouts, h.bad_frames, h.error_replies
+            "last minute: {timeouts} time-outs, {errors} errors (bad frames, refusals)"
         ))
         .color(color),
     );
+    ui.label(format!(
+        "since connected: {} transactions, {} time-outs, {} bad frames, {} refusals",
+        h.transactions, h.timeouts, h.bad_frames, h.error_replies
+    ));
+    if h.polling_paused {
+        ui.label(RichText::new("polling paused: the window fell behind the link").color(AMBER));
+    }
 }

@@ -20,6 +20,7 @@ pub fn show(ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
         reason(ui, why);
     }
     let enabled = ready.is_ok();
+    let why = ready.err().map(|e| e.to_string()).unwrap_or_default();
     ui.label(
         RichText::new(format!(
             "Cartesian ({} frame)",
@@ -27,9 +28,9 @@ pub fn show(ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
         ))
         .strong(),
     );
-    buttons(ui, pendant, &JogAxis::CARTESIAN, enabled, now);
+    buttons(ui, pendant, &JogAxis::CARTESIAN, enabled, &why, now);
     ui.label(RichText::new("Joints").strong());
-    buttons(ui, pendant, &JogAxis::JOINTS, enabled, now);
+    buttons(ui, pendant, &JogAxis::JOINTS, enabled, &why, now);
     if let Some(m) = &pendant.jog_feedback {
         message(ui, m.level, &m.text);
     }
@@ -170,7 +171,14 @@ fn settings(ui: &mut Ui, pendant: &mut Pendant) {
     }
 }
 
-fn buttons(ui: &mut Ui, pendant: &mut Pendant, axes: &[JogAxis], enabled: bool, now: Instant) {
+fn buttons(
+    ui: &mut Ui,
+    pendant: &mut Pendant,
+    axes: &[JogAxis],
+    enabled: bool,
+    why: &str,
+    now: Instant,
+) {
     ui.horizontal_wrapped(|ui| {
         for &axis in axes {
             for dir in [Direction::Negative, Direction::Positive] {
@@ -182,7 +190,9 @@ fn buttons(ui: &mut Ui, pendant: &mut Pendant, axes: &[JogAxis], enabled: bool, 
                 let button = Button::new(RichText::new(&label).size(16.0))
                     .min_size(vec2(44.0, 30.0))
                     .selected(held_here);
-                let resp = ui.add_enabled(enabled || held_here, button);
+                let resp = ui
+                    .add_enabled(enabled || held_here, button)
+                    .on_disabled_hover_text(why);
                 match pendant.settings.jog.mode {
                     JogMode::Step => {
                         if resp.clicked() {

@@ -13,17 +13,34 @@ const AXIS_NAMES: [&str; 4] = ["1 (J1 / X)", "2 (J2 / Y)", "3 (Z)", "4 (R)"];
 
 pub fn show(ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
     let ready = pendant.controller_ready(now);
+    let why = ready
+        .as_ref()
+        .err()
+        .map(|e| e.to_string())
+        .unwrap_or_default();
     ui.horizontal(|ui| {
         let on = ui.add_enabled(ready.is_ok(), Button::new("Servo ON"));
-        if on.on_hover_text("232H servo on, SCARA axes").clicked() {
+        if on
+            .on_hover_text("232H servo on, SCARA axes")
+            .on_disabled_hover_text(&why)
+            .clicked()
+        {
             pendant.servo(true, now);
         }
         let off = ui.add_enabled(ready.is_ok(), Button::new("Servo OFF"));
-        if off.on_hover_text("232H servo off, SCARA axes").clicked() {
+        if off
+            .on_hover_text("232H servo off, SCARA axes")
+            .on_disabled_hover_text(&why)
+            .clicked()
+        {
             pendant.servo(false, now);
         }
         let home = ui.add_enabled(ready.is_ok(), Button::new("Home"));
-        if home.on_hover_text("233H home return, SCARA axes").clicked() {
+        if home
+            .on_hover_text("233H home return, SCARA axes")
+            .on_disabled_hover_text(&why)
+            .clicked()
+        {
             pendant.home(now);
         }
     });
