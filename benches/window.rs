@@ -115,17 +115,17 @@ fn step_ended(a: &PendantApp) -> bool {
 }
 
 /// The first 2D5H the simulator received at or after `since`, as an `Instant`, with its
-/// length in bytes.
+/// bytes.
 fn first_2d5h_since(
     traffic: &[TrafficEntry],
     started: Instant,
     since: Instant,
-) -> Option<(Instant, usize)> {
+) -> Option<(Instant, Vec<u8>)> {
     traffic
         .iter()
         .filter(|t| t.dir == Dir::In && t.bytes.get(3..6) == Some(b"2D5".as_slice()))
-        .map(|t| (started + t.at, t.bytes.len()))
-        .find(|&(at, _)| at >= since)
+        .find(|t| started + t.at >= since)
+        .map(|t| (started + t.at, t.bytes.clone()))
 }
 
 /// Figure 1: click to 2D5H on the line.
@@ -140,7 +140,8 @@ fn click_to_2d5h(h: &mut Harness<'_, PendantApp>, n: usize) {
     let mut whole = Vec::with_capacity(n);
     let mut first_byte = Vec::with_capacity(n);
     let mut click_frame = Vec::with_capacity(n);
-    let mut frame_len = 0;
+    let mut frame = Vec::new();
+    let mut lens = std::collections::BTreeSet::new();
     for i in 0..n {
         let label = if i % 2 == 0 { "X+" } else { "X-" };
         // Pointer move and press first; the release (the click) gets a frame of its own,
@@ -163,7 +164,7 @@ fn click_to_2d5h(h: &mut Harness<'_, PendantApp>, n: usize) {
         // simulator threads work meanwhile.
         let sim = h.state().sim().expect("the embedded simulator").watch();
         let end = Instant::now() + DEADLINE;
-        let (at, len) = loop {
+        let (at, bytes) = loop {
             if let Some(found) = first_2d5h_since(&sim.traffic(), sim_started, clicked) {
                 break found;
             }
@@ -174,7 +175,9 @@ fn click_to_2d5h(h: &mut Harness<'_, PendantApp>, n: usize) {
             );
             std::thread::sleep(Duration::from_micros(200));
         };
-        frame_len = len;
+        let len = bytes.len();
+        lens.insert(len);
+        frame = bytes;
         let latency = at.saturating_duration_since(clicked);
         whole.push(latency);
         first_byte.push(latency.saturating_sub(line.wire_time(len)));
@@ -185,8 +188,11 @@ fn click_to_2d5h(h: &mut Harness<'_, PendantApp>, n: usize) {
     report("   click frame (step() of the release)", &mut click_frame);
     report("   click to whole 2D5H at the sim", &mut whole);
     println!(
-        "   (includes the {} ms wire time of the {frame_len}-byte frame)",
-        ms(line.wire_time(frame_len))
+        "   (includes each frame's wire time: {} ms for {} bytes; lengths seen {lens:?}; \
+         the last frame: {})",
+        ms(line.wire_time(frame.len())),
+        frame.len(),
+        String::from_utf8_lossy(&frame).trim_end()
     );
     report("   click to first byte (less wire time)", &mut first_byte);
 }
@@ -198,6 +204,7 @@ fn frame_time(h: &mut Harness<'_, PendantApp>, n: usize) {
     let mut cpu_tess = Vec::with_capacity(n);
     let mut wall_total = Vec::with_capacity(n);
     let mut primitives = 0;
+    let mut repaint_now = 0;
     // A few frames to settle (fonts, first layout) before measuring.
     h.run_steps(10);
     let polls_before = frames_received(h.state());
@@ -209,6 +216,12 @@ fn frame_time(h: &mut Harness<'_, PendantApp>, n: usize) {
         // The copy is left out: eframe moves the shapes into the tessellator.
         let shapes = h.output().shapes.clone();
         let ppp = h.output().pixels_per_point;
+        let immediate = h
+            .output()
+            .viewport_output
+            .get(&egui::ViewportId::ROOT)
+            .is_some_and(|v| v.repaint_delay.is_zero());
+        repaint_now += usize::from(immediate);
         let (c1, w1) = (cpu_time::ThreadTime::now(), Instant::now());
         let clipped = h.ctx.tessellate(shapes, ppp);
         let c_tess = c1.elapsed();
@@ -239,6 +252,7 @@ fn frame_time(h: &mut Harness<'_, PendantApp>, n: usize) {
     report("   thread CPU: tessellate", &mut cpu_tess);
     report("   wall: step + tessellate", &mut wall_total);
     println!("   slowest frames (CPU): {}", slowest.join(", "));
+    println!("   frames asking for another frame at once: {repaint_now} of {n}");
 }
 
 /// Frames the simulator has received so far (polls, mostly, on an idle window).
