@@ -64,6 +64,12 @@ impl SimCore {
         self.started.elapsed()
     }
 
+    /// When the simulator's clock started: [`TrafficEntry::at`] counts from here, so
+    /// `started() + entry.at` is the entry's `Instant` (benches compare it with clicks).
+    pub fn started(&self) -> Instant {
+        self.started
+    }
+
     fn record(&mut self, entry: TrafficEntry) {
         if self.traffic.len() >= TRAFFIC_KEEP {
             self.traffic.pop_front();

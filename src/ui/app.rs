@@ -254,6 +254,7 @@ impl eframe::App for PendantApp {
         });
         keys::help(&ctx, &mut self.help_open);
         self.run_requests(&ctx, now);
+        first_frame_probe(&ctx, self.started);
     }
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
@@ -265,5 +266,28 @@ impl eframe::App for PendantApp {
         // Dropping the session shuts the link down: queued STOPs, and a STOP of its own
         // when a jog or move may still run, go out before the line closes.
         self.close();
+    }
+}
+
+/// Opt-in start-up probe for `benches/window_startup.sh`; does nothing unless its
+/// variables are set to `1`. `XSEL_PENDANT_FIRST_FRAME` prints
+/// `first frame unix_us=<wall clock, µs since the Unix epoch> app_us=<µs since the app was
+/// created>` on stderr once, at the end of the first `ui()` call (layout done; that frame
+/// is then tessellated and painted). `XSEL_PENDANT_EXIT_AFTER_FIRST_FRAME` then closes
+/// the window.
+fn first_frame_probe(ctx: &egui::Context, app_started: Instant) {
+    if ctx.cumulative_frame_nr() != 0 {
+        return;
+    }
+    let on = |name: &str| std::env::var_os(name).is_some_and(|v| v == "1");
+    if on("XSEL_PENDANT_FIRST_FRAME") {
+        let unix_us = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_micros());
+        let app_us = app_started.elapsed().as_micros();
+        eprintln!("first frame unix_us={unix_us} app_us={app_us}");
+    }
+    if on("XSEL_PENDANT_EXIT_AFTER_FIRST_FRAME") {
+        ctx.send_viewport_cmd(egui::ViewportCommand::Close);
     }
 }
