@@ -340,15 +340,19 @@ pub fn plan_step(
     );
     let (_, end_work) =
         crate::robot::relative_move(settings.relative_to.robot(), &positions, delta_work);
-    // [inferred] The controller adds a 2D5H distance to its own current position, which
-    // the polled actual position stands for; PROTOCOL.md 3.20 does not say which of its
-    // positions it uses. The distance sent is therefore the chosen end minus actual.
+    // [inferred] The controller adds a 2D5H distance to its command position (where its
+    // last move ends, where the arm stands once in position); PROTOCOL.md 3.20 does not
+    // say which of its positions it uses. The pendant's estimate of it is the end of the
+    // last move it saw accepted, else the polled position. The distance sent is the
+    // chosen end minus that estimate, so steps relative to the command position carry
+    // exactly the step, and a stale or quantised poll never creeps into them.
+    let reference = positions.command;
     let wire = |v: f64| crate::robot::round_wire(v * 1000.0);
     let distance = [
-        wire(end_work.x - actual.x),
-        wire(end_work.y - actual.y),
-        wire(end_work.z - actual.z),
-        wire(end_work.r - actual.r),
+        wire(end_work.x - reference.x),
+        wire(end_work.y - reference.y),
+        wire(end_work.z - reference.z),
+        wire(end_work.r - reference.r),
     ];
     let mut targets = PerAxis::new();
     for (i, d) in distance.iter().enumerate() {
@@ -357,10 +361,10 @@ pub fn plan_step(
         }
     }
     let end_work = Pose::new(
-        actual.x + f64::from(distance[0]) / 1000.0,
-        actual.y + f64::from(distance[1]) / 1000.0,
-        actual.z + f64::from(distance[2]) / 1000.0,
-        actual.r + f64::from(distance[3]) / 1000.0,
+        reference.x + f64::from(distance[0]) / 1000.0,
+        reference.y + f64::from(distance[1]) / 1000.0,
+        reference.z + f64::from(distance[2]) / 1000.0,
+        reference.r + f64::from(distance[3]) / 1000.0,
     );
     let checked = check_move(model, kin, settings, settings.arm.wire(), &end_work, now)?;
     let motion = checked.motion;

@@ -325,14 +325,51 @@ fn steps_relative_to_command_chain_without_drift() {
             round_trip: Duration::from_millis(2),
         },
     );
-    // The arm has not moved yet (polls still say the start): the next step relative to
-    // the command position asks for 2 mm from where the arm is.
+    // The polls still say the start (the arm has not moved yet): the next step relative
+    // to the command position still carries exactly 1 mm, added by the controller to
+    // where the first step ends, and the plan ends 2 mm from the start.
+    p.jog_step(JogAxis::X, Direction::Positive, now);
+    let plan = p.followed_move().map(|m| m.end());
+    let Command::ScaraMoveRelative(m) = submitted(&mut p)[0] else {
+        panic!()
+    };
+    assert_eq!(m.targets.get(Axis::A1), Some(Thou(1000)));
+    assert_eq!(
+        m.targets.pattern(),
+        crate::protocol::AxisPattern(0x01),
+        "no drift"
+    );
+    let kin = Scara::new(&p.model);
+    let x = |j: Joints| kin.forward(&j).x;
+    let moved = x(plan.unwrap()) - x(start());
+    assert!((moved - 2.0).abs() < 1e-6, "{moved}");
+}
+
+#[test]
+fn a_step_relative_to_actual_follows_the_polled_arm() {
+    let now = t0();
+    let mut p = ready_at(start(), now);
+    p.settings.jog.step = 1.0;
+    p.jog_step(JogAxis::X, Direction::Positive, now);
+    let first = submitted(&mut p)[0];
+    p.handle_event(
+        now,
+        LinkEvent::Reply {
+            id: RequestId(9),
+            origin: Origin::User,
+            command: first,
+            reply: Reply::Ack(first.id()),
+            round_trip: Duration::from_millis(2),
+        },
+    );
+    // Relative to actual, with the arm still at the start: 1 mm from where it stands,
+    // which is 1 mm short of where the controller's first step ends.
+    p.settings.jog.relative_to = StepBase::Actual;
     p.jog_step(JogAxis::X, Direction::Positive, now);
     let Command::ScaraMoveRelative(m) = submitted(&mut p)[0] else {
         panic!()
     };
-    assert_eq!(m.targets.get(Axis::A1), Some(Thou(2000)));
-    let _ = Pose::new(0.0, 0.0, 0.0, 0.0);
+    assert_eq!(m.targets.get(Axis::A1), Some(Thou(0)));
 }
 
 #[test]

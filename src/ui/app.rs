@@ -25,6 +25,11 @@ const LAYOUT_KEY: &str = "layout";
 const EVENT_BUDGET: Duration = Duration::from_millis(4);
 /// The window repaints at least this often while connected (polls arrive at 10 Hz).
 const REFRESH: Duration = Duration::from_millis(100);
+/// The longest a link event waits to be drawn.
+const LINK_REPAINT: Duration = Duration::from_millis(100);
+/// While a continuous jog is held the window runs at least this often, renewing the
+/// link's jog lease (250 ms) several times over.
+const HELD_REFRESH: Duration = Duration::from_millis(40);
 /// The controller's reply buffer assumed for table reads (PROTOCOL.md 1.7).
 const REPLY_BUFFER: usize = 2048;
 
@@ -179,8 +184,10 @@ impl PendantApp {
             Err(e) => return self.pendant.connect_failed(e, now),
         };
         self.pendant.set_model(model.clone());
+        // Link events wake the window at most every LINK_REPAINT: polls alone bring ~40
+        // events a second, and a repaint each would keep a software renderer busy.
         let repaint_ctx = ctx.clone();
-        let repaint = std::sync::Arc::new(move || repaint_ctx.request_repaint());
+        let repaint = std::sync::Arc::new(move || repaint_ctx.request_repaint_after(LINK_REPAINT));
         match Session::open(&settings, &model, repaint) {
             Ok(session) => self.session = Some(session),
             Err(e) => self.pendant.connect_failed(e, now),
@@ -205,7 +212,9 @@ impl eframe::App for PendantApp {
             self.pendant.jog_release(now);
         }
         self.run_requests(ctx, now);
-        if self.session.is_some() {
+        if self.pendant.held_jog().is_some() {
+            ctx.request_repaint_after(HELD_REFRESH);
+        } else if self.session.is_some() {
             ctx.request_repaint_after(REFRESH);
         }
     }
