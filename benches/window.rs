@@ -56,6 +56,7 @@ fn app<'a>() -> Harness<'a, PendantApp> {
                 StartOptions {
                     connection: None,
                     fresh: true,
+                    offline: false,
                 },
             )
         })

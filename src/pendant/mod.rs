@@ -31,6 +31,8 @@ pub use state::ControllerState;
 
 /// How long a "press again to confirm" for an arm flip stays armed.
 const CONFIRM_FOR: Duration = Duration::from_secs(5);
+/// The span of the link-health fault counts.
+const MINUTE: Duration = Duration::from_secs(60);
 /// Messages kept for the operator.
 const KEEP_MESSAGES: usize = 200;
 
@@ -321,9 +323,13 @@ impl Pendant {
             LinkEvent::Health(h) => {
                 let errors = h.bad_frames + h.error_replies;
                 self.health_window.push_back((now, h.timeouts, errors));
-                while self.health_window.front().is_some_and(|(at, ..)| {
-                    now.saturating_duration_since(*at) > Duration::from_secs(60)
-                }) {
+                // The newest report a minute old or more stays as the baseline.
+                let minute_old = |at: &Instant| now.saturating_duration_since(*at) >= MINUTE;
+                while self
+                    .health_window
+                    .get(1)
+                    .is_some_and(|(at, ..)| minute_old(at))
+                {
                     self.health_window.pop_front();
                 }
                 self.health = Some(h);

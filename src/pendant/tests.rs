@@ -8,7 +8,7 @@ use crate::protocol::{
     ArmPolicy as WirePolicy, Axis, CoordKind, Direction, JogMotion, PerAxis, PositionSystem,
     ScaraMotion, SystemMode, SystemStatus, SystemStatus1, Thou,
 };
-use crate::robot::{Joints, Pose, RobotModel, Scara};
+use crate::robot::{Joints, RobotModel, Scara};
 
 fn t0() -> Instant {
     Instant::now()
