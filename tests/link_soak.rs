@@ -37,6 +37,9 @@ fn ten_thousand_transactions_with_ten_percent_faults() {
                 system: PositionSystem::Work,
             })],
         },
+        // This test counts every fault's event: the reader must never be left behind
+        // (backpressure has its own test in link_backlog.rs).
+        event_backlog: 1 << 22,
         ..LinkConfig::default()
     };
     config.timing.margin = Duration::from_millis(15);
@@ -94,6 +97,7 @@ fn ten_thousand_transactions_with_ten_percent_faults() {
                 );
             }
             LinkEvent::Disconnected { reason } => panic!("the line was lost: {reason}"),
+            LinkEvent::Dropped { frames } => panic!("{frames} traffic events were left out"),
             _ => {}
         }
         if let LinkEvent::Reply { id, .. }
@@ -105,12 +109,14 @@ fn ten_thousand_transactions_with_ten_percent_faults() {
             motion_resolved.insert(*id);
         }
     }
-    // Let the last replies land before counting: polls off, the line drains.
+    // Let the last replies land before counting: polls off, then shut the link down (the
+    // transaction in flight ends first) and read every event it left, to the last.
     link.set_polling(Polling {
         interval: None,
         commands: Vec::new(),
     });
-    while let Ok(event) = events.recv_timeout(Duration::from_millis(300)) {
+    let _report = link.shutdown();
+    for event in events.iter() {
         match &event {
             LinkEvent::Timeout { .. } => timeouts += 1,
             LinkEvent::Garbage { error, .. } => {
@@ -119,10 +125,10 @@ fn ten_thousand_transactions_with_ten_percent_faults() {
                     checksum_errors += 1;
                 }
             }
+            LinkEvent::Dropped { frames } => panic!("{frames} traffic events were left out"),
             _ => {}
         }
     }
-    drop(link);
     let injected = sim.fault_counts();
     let counters = sim.counters();
     eprintln!(

@@ -110,6 +110,17 @@ fn click(h: &mut Harness<'_, PendantApp>, label: &str) {
     h.step();
 }
 
+/// The `n`-th 2D5H has reached the simulator, its move has run to its end there, and the
+/// pendant has seen it end (the polled status alone may predate the move).
+fn step_ended(n: usize) -> impl Fn(&PendantApp) -> bool {
+    move |a| {
+        sim_in_frames(a, "2D5").len() == n
+            && !sim_busy(a)
+            && a.pendant().motion_phase(Instant::now()) == MotionPhase::Done
+            && a.pendant().motion_ready(Instant::now()).is_ok()
+    }
+}
+
 fn refused(a: &PendantApp) -> bool {
     a.pendant()
         .jog_feedback
@@ -149,9 +160,7 @@ fn cp_and_arm_policies_change_the_operation_type_on_the_line() {
     let cp = sim_in_frames(h.state(), "2D5").remove(0);
     assert_eq!(&cp[20..22], "03", "CP, work frame: {cp}");
     click(&mut h, "PTP");
-    step_until(&mut h, "the CP step to end", |a| {
-        all_axes(a, |s| !s.status.in_use())
-    });
+    step_until(&mut h, "the CP step to end", step_ended(1));
     click(&mut h, "X-");
     step_until(&mut h, "a PTP 2D5H", |a| sim_in_frames(a, "2D5").len() == 2);
     let ptp = sim_in_frames(h.state(), "2D5").remove(1);
@@ -167,10 +176,7 @@ fn a_step_beyond_reach_is_refused_beside_the_button_and_nothing_is_sent() {
     for n in 1..=20 {
         click(&mut h, "X+");
         step_until(&mut h, "the step to end or be refused", |a| {
-            refused(a)
-                || (sim_in_frames(a, "2D5").len() == n
-                    && a.pendant().motion_phase(Instant::now()) == MotionPhase::Done
-                    && all_axes(a, |s| !s.status.in_use()))
+            refused(a) || step_ended(n)(a)
         });
         if refused(h.state()) {
             break;
@@ -194,9 +200,7 @@ fn stop_during_a_long_move_ends_it_short() {
     let x0 = sim_x(h.state());
     click(&mut h, "1");
     click(&mut h, "Y-");
-    step_until(&mut h, "a small step to end", |a| {
-        all_axes(a, |s| !s.status.in_use())
-    });
+    step_until(&mut h, "a small step to end", step_ended(1));
     click(&mut h, "50");
     click(&mut h, "X-");
     step_until(&mut h, "the move to start", |a| {
