@@ -53,8 +53,14 @@ fn ask(peer: &mut TcpStream) -> Result<String, String> {
         match peer.read(&mut buf) {
             Ok(0) => return Err("closed".into()),
             Ok(n) => got.extend_from_slice(&buf[..n]),
-            Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => {}
-            Err(e) if e.kind() == std::io::ErrorKind::TimedOut => {}
+            // Nothing yet, or a signal (another test's child ending) cut the wait short.
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    std::io::ErrorKind::WouldBlock
+                        | std::io::ErrorKind::TimedOut
+                        | std::io::ErrorKind::Interrupted
+                ) => {}
             Err(e) => return Err(e.to_string()),
         }
     }
