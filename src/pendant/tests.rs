@@ -32,6 +32,17 @@ fn ready_at(joints: Joints, now: Instant) -> Pendant {
     p
 }
 
+/// The controller's acknowledge of a command the user sent.
+fn accepted(command: Command) -> LinkEvent {
+    LinkEvent::Reply {
+        id: RequestId(9),
+        origin: Origin::User,
+        command,
+        reply: Reply::Ack(command.id()),
+        round_trip: Duration::from_millis(2),
+    }
+}
+
 fn start() -> Joints {
     Joints::new(30.0, 60.0, 50.0, 0.0)
 }
@@ -315,16 +326,7 @@ fn steps_relative_to_command_chain_without_drift() {
     p.settings.jog.step = 1.0;
     p.jog_step(JogAxis::X, Direction::Positive, now);
     let first = submitted(&mut p)[0];
-    p.handle_event(
-        now,
-        LinkEvent::Reply {
-            id: RequestId(9),
-            origin: Origin::User,
-            command: first,
-            reply: Reply::Ack(first.id()),
-            round_trip: Duration::from_millis(2),
-        },
-    );
+    p.handle_event(now, accepted(first));
     // The polls still say the start (the arm has not moved yet): the next step relative
     // to the command position still carries exactly 1 mm, added by the controller to
     // where the first step ends, and the plan ends 2 mm from the start.
@@ -352,16 +354,7 @@ fn a_step_relative_to_actual_follows_the_polled_arm() {
     p.settings.jog.step = 1.0;
     p.jog_step(JogAxis::X, Direction::Positive, now);
     let first = submitted(&mut p)[0];
-    p.handle_event(
-        now,
-        LinkEvent::Reply {
-            id: RequestId(9),
-            origin: Origin::User,
-            command: first,
-            reply: Reply::Ack(first.id()),
-            round_trip: Duration::from_millis(2),
-        },
-    );
+    p.handle_event(now, accepted(first));
     // Relative to actual, with the arm still at the start: 1 mm from where it stands,
     // which is 1 mm short of where the controller's first step ends.
     p.settings.jog.relative_to = StepBase::Actual;
