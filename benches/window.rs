@@ -50,16 +50,7 @@ fn env_count(name: &str, default: usize) -> usize {
 fn app<'a>() -> Harness<'a, PendantApp> {
     Harness::builder()
         .with_size([1280.0, 800.0])
-        .build_eframe(|cc| {
-            PendantApp::new(
-                cc,
-                StartOptions {
-                    connection: None,
-                    fresh: true,
-                    offline: false,
-                },
-            )
-        })
+        .build_eframe(|cc| PendantApp::new(cc, StartOptions::fresh_simulator()))
 }
 
 /// Steps the window until `done` holds; panics naming `what` after the deadline.

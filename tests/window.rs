@@ -16,16 +16,7 @@ const DEADLINE: Duration = Duration::from_secs(20);
 fn app<'a>() -> Harness<'a, PendantApp> {
     Harness::builder()
         .with_size([1280.0, 800.0])
-        .build_eframe(|cc| {
-            PendantApp::new(
-                cc,
-                StartOptions {
-                    connection: None,
-                    fresh: true,
-                    offline: false,
-                },
-            )
-        })
+        .build_eframe(|cc| PendantApp::new(cc, StartOptions::fresh_simulator()))
 }
 
 /// Steps the window until `done` holds, or fails naming `what` after the deadline.

@@ -15,16 +15,7 @@ fn window(light: bool, pixels_per_point: f32) -> Harness<'static, PendantApp> {
         .with_size([1280.0, 800.0])
         .with_pixels_per_point(pixels_per_point)
         .wgpu()
-        .build_eframe(|cc| {
-            PendantApp::new(
-                cc,
-                StartOptions {
-                    connection: None,
-                    fresh: true,
-                    offline: true,
-                },
-            )
-        });
+        .build_eframe(|cc| PendantApp::new(cc, StartOptions::fresh_offline()));
     h.state_mut().pendant_mut().settings.light_theme = light;
     // The statuses are stamped just before each frame, so none is ever drawn as stale
     // however slow the machine; the one message is stamped at the start ("0.000 s").

@@ -44,6 +44,25 @@ pub struct StartOptions {
     pub offline: bool,
 }
 
+impl StartOptions {
+    /// A clean start on the built-in simulator, ignoring saved settings (tests, benches).
+    pub fn fresh_simulator() -> Self {
+        Self {
+            connection: None,
+            fresh: true,
+            offline: false,
+        }
+    }
+
+    /// A clean start with no line at all, for scripted events (image tests).
+    pub fn fresh_offline() -> Self {
+        Self {
+            offline: true,
+            ..Self::fresh_simulator()
+        }
+    }
+}
+
 pub struct PendantApp {
     pendant: Pendant,
     session: Option<Session>,
