@@ -218,6 +218,22 @@ impl Scara {
         Ok(Joints::new(j1, j2, z, j4))
     }
 
+    /// Joint pose putting the flange at `p` with the Cartesian R taken as given: J1 is
+    /// chosen as in [`Scara::inverse`], but J4 is exactly `p.r - J1 - J2`, never another
+    /// 360° multiple, so the flange's R after the move reads `p.r` and a move turns R the
+    /// way and the distance its target names. Beyond the R joint's limits it is refused
+    /// (a relative R of +300° from J4 = 0 turns +300°, never -60°).
+    pub fn inverse_exact_r(&self, p: &Pose, arm: Arm, near: &Joints) -> Result<Joints, IkError> {
+        if !p.is_finite() {
+            return Err(IkError::NotFinite);
+        }
+        let (j1_raw, j2) = self.planar(p.x, p.y, arm)?;
+        let j1 = wrap_nearest(j1_raw, near.j1, &self.j1, Joint::J1)?;
+        let z = check(p.z, &self.z, Joint::Z)?;
+        let j4 = check(p.r - j1 - j2, &self.r, Joint::R)?;
+        Ok(Joints::new(j1, j2, z, j4))
+    }
+
     /// The planar part of IK: `(J1 in -180..=180, J2)` for the flange at (x, y), with the
     /// reach, band and J2-limit checks. J1's limits are not checked here.
     pub fn planar(&self, x: f64, y: f64, arm: Arm) -> Result<(f64, f64), IkError> {
@@ -382,6 +398,32 @@ mod tests {
         let near = Joints::new(0.0, 90.0, 0.0, 300.0);
         let j = k.inverse(&p, Arm::Right, &near).unwrap();
         assert!((j.j4 - 350.0).abs() < 1e-9, "{j:?}");
+    }
+
+    #[test]
+    fn exact_r_keeps_the_angle_asked_for() {
+        let k = scara();
+        let near = Joints::default();
+        // Raw J4 = 350: kept, not wrapped to -10.
+        let j = k
+            .inverse_exact_r(
+                &Pose::new(250.0, 250.0, 0.0, 90.0 + 350.0),
+                Arm::Right,
+                &near,
+            )
+            .unwrap();
+        assert!((j.j4 - 350.0).abs() < 1e-9, "{j:?}");
+        // J4 = 361 is beyond the limit: refused, not turned to 1.
+        match k.inverse_exact_r(
+            &Pose::new(250.0, 250.0, 0.0, 90.0 + 361.0),
+            Arm::Right,
+            &near,
+        ) {
+            Err(IkError::JointLimit {
+                joint: Joint::R, ..
+            }) => {}
+            other => panic!("{other:?}"),
+        }
     }
 
     #[test]

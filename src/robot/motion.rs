@@ -69,8 +69,10 @@ pub enum ArmPolicy {
     Left,
 }
 
-/// The joints for a PTP move's flange target (base frame) under an arm policy. J1 and J4
-/// are chosen nearest the current joints. With the current arm undetermined (J2 inside
+/// The joints for a PTP move's flange target (base frame) under an arm policy. J1 is
+/// chosen nearest the current joints; J4 puts the flange at exactly the target's R
+/// ([`Scara::inverse_exact_r`]): a move turns R the way and distance it names, or is
+/// refused at the R joint's limits, never wrapped by 360°. With the current arm undetermined (J2 inside
 /// the singular band), policies 0 and 1 take whichever arm reaches with the smaller J1+J2
 /// travel `[inferred: the spec does not say]`.
 pub fn solve_arm_policy(
@@ -80,7 +82,7 @@ pub fn solve_arm_policy(
     policy: ArmPolicy,
 ) -> Result<Joints, MoveError> {
     let fixed = |arm: Arm| {
-        k.inverse(flange_target, arm, current)
+        k.inverse_exact_r(flange_target, arm, current)
             .map_err(|reason| MoveError::NotReachableWithArm { arm, reason })
     };
     let arm = match (policy, k.arm_system(current)) {
@@ -91,8 +93,8 @@ pub fn solve_arm_policy(
         (_, ArmSystem::Undetermined) => {
             let travel = |j: &Joints| (j.j1 - current.j1).abs() + (j.j2 - current.j2).abs();
             return match (
-                k.inverse(flange_target, Arm::Right, current),
-                k.inverse(flange_target, Arm::Left, current),
+                k.inverse_exact_r(flange_target, Arm::Right, current),
+                k.inverse_exact_r(flange_target, Arm::Left, current),
             ) {
                 (Ok(r), Ok(l)) => Ok(if travel(&l) < travel(&r) { l } else { r }),
                 (Ok(j), Err(_)) | (Err(_), Ok(j)) => Ok(j),
@@ -100,9 +102,9 @@ pub fn solve_arm_policy(
             };
         }
     };
-    match k.inverse(flange_target, arm, current) {
+    match k.inverse_exact_r(flange_target, arm, current) {
         Ok(j) => Ok(j),
-        Err(reason) => match k.inverse(flange_target, arm.other(), current) {
+        Err(reason) => match k.inverse_exact_r(flange_target, arm.other(), current) {
             Ok(j) if policy == ArmPolicy::CurrentMaySwitch => Ok(j),
             Ok(_) => Err(MoveError::ArmSwitchNotAllowed { arm, reason }),
             Err(_) => Err(MoveError::Unreachable(reason)),

@@ -87,6 +87,7 @@ impl Controller {
             self.axes[usize::from(a - 1)].error = code;
         }
         self.latest_error = code;
+        self.last_error = Some(alarm.clone());
         self.history.insert(0, alarm.clone());
         self.history.truncate(ALARM_HISTORY);
         self.alarm = Some(alarm);

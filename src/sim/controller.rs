@@ -97,6 +97,8 @@ pub struct Controller {
     pub(crate) alarm: Option<Alarm>,
     pub(crate) history: Vec<Alarm>,
     pub(crate) latest_error: u16,
+    /// The last refusal (`&` reply) or alarm, newest wins: what 216H reports.
+    pub(crate) last_error: Option<Alarm>,
     pub(crate) rebooting_until: Option<Duration>,
     pub(crate) now: Duration,
     pub(crate) counters: Counters,
@@ -125,6 +127,7 @@ impl Controller {
             alarm: None,
             history: Vec::new(),
             latest_error: 0,
+            last_error: None,
             rebooting_until: None,
             now: Duration::ZERO,
             counters: Counters::default(),
@@ -271,6 +274,11 @@ impl Controller {
                 if motion {
                     self.counters.motion_refused += 1;
                 }
+                self.last_error = Some(Alarm {
+                    code: e.code(),
+                    axis: None,
+                    message: e.text().to_owned(),
+                });
                 Reply::Error(ErrorCode(e.code()))
                     .encode_into(station, out)
                     .map_err(|_| Silence::Unencodable)?;

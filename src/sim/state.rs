@@ -139,6 +139,9 @@ impl Counters {
     }
 }
 
+/// Default servo switch time, ms.
+pub const DEFAULT_SERVO_SWITCH_MS: u64 = 50;
+
 /// Everything the controller needs at start (no file IO: loading is done by the caller).
 #[derive(Debug, Clone)]
 pub struct SimConfig {
@@ -148,7 +151,9 @@ pub struct SimConfig {
     pub reply_delay: Duration,
     /// Reply buffer in bytes: 2048, or 1024 for a J/K/TT model setting (PROTOCOL.md 1.7).
     pub reply_buffer: usize,
-    /// Time a servo takes to switch on or off.
+    /// Time a servo takes to switch on or off (`xsel-sim --servo-on-ms`). Published hosts
+    /// wait 100 ms after the 232H reply before moving, or move at once and poll 212H
+    /// `[observed]`: the default of 50 ms serves both.
     pub servo_switch_time: Duration,
     /// Time a home return takes.
     pub homing_time: Duration,
@@ -172,7 +177,7 @@ impl Default for SimConfig {
             station: 0x99,
             reply_delay: Duration::from_millis(2),
             reply_buffer: 2048,
-            servo_switch_time: Duration::from_millis(150),
+            servo_switch_time: Duration::from_millis(DEFAULT_SERVO_SWITCH_MS),
             homing_time: Duration::from_millis(800),
             reset_replies: true,
             reboot_time: Duration::from_millis(1500),

@@ -175,7 +175,8 @@ impl Controller {
         self.linear_move(pattern, to, rates, MotionKind::Move)
     }
 
-    /// 236H jog (distance 0: until 238H) or inching (PROTOCOL.md 3.10).
+    /// 236H jog (distance 0: until 238H) or inching (PROTOCOL.md 3.10). In the each-axis
+    /// system (and on linear axes) allowed before homing; Cartesian jogs need it (B02).
     pub(crate) fn msg_jog(&mut self, j: &Jog) -> Result<(), SimError> {
         let pattern = j.axes.0;
         self.check_pattern(pattern)?;
@@ -194,7 +195,8 @@ impl Controller {
             let frame = codes::jog_frame(&j.motion);
             self.scara_jog(pattern, [speed, accel, decel], distance, positive, frame)?;
         } else {
-            self.check_ready_to_move(pattern)?;
+            // A linear axis jogs in its own (each-axis) system: no homing needed.
+            self.check_ready_to_jog_joint(pattern)?;
             let i = pattern.trailing_zeros() as usize;
             let (lo, hi) = self.axis_range(i);
             let mut to = self.values;

@@ -56,6 +56,16 @@ impl Controller {
 
     /// Axes about to move: servo on, homed, not busy.
     pub(crate) fn check_ready_to_move(&self, pattern: u8) -> Result<(), SimError> {
+        self.check_ready(pattern, true)
+    }
+
+    /// Axes about to jog or inch in the each-axis system: servo on, not busy. A relative
+    /// joint move needs no reference, so no homing `[inferred, PROTOCOL.md 3.7]`.
+    pub(crate) fn check_ready_to_jog_joint(&self, pattern: u8) -> Result<(), SimError> {
+        self.check_ready(pattern, false)
+    }
+
+    fn check_ready(&self, pattern: u8, homed: bool) -> Result<(), SimError> {
         self.check_can_act()?;
         let in_use = self.busy_axes();
         for i in 0..8 {
@@ -69,7 +79,7 @@ impl Controller {
             if !a.servo {
                 return Err(SimError::ServoOff);
             }
-            if !a.is_homed() {
+            if homed && !a.is_homed() {
                 return Err(SimError::NotHomed);
             }
         }

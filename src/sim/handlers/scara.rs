@@ -195,7 +195,12 @@ impl Controller {
         positive: bool,
         frame: Option<JogFrame>,
     ) -> Result<(), SimError> {
-        self.check_ready_to_move(SCARA)?;
+        // Each-axis jogs and inching need no homing; Cartesian ones do (B02).
+        if frame.is_some() {
+            self.check_ready_to_move(SCARA)?;
+        } else {
+            self.check_ready_to_jog_joint(SCARA)?;
+        }
         // "Only while no servo axis is operating" (PROTOCOL.md 3.10): the linear axes too.
         if self.in_use() & LINEAR != 0 {
             return Err(SimError::AxisBusy);

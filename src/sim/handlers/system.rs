@@ -62,13 +62,19 @@ impl Controller {
         })
     }
 
-    /// 216H error detail (PROTOCOL.md 3.5): the pending or latest alarm, an axis's error,
+    /// 216H error detail (PROTOCOL.md 3.5): the pending alarm or the last refusal or
+    /// alarm, an axis's error,
     /// or a record of the alarm history (newest = record 1).
     pub(crate) fn msg_error_detail(&mut self, q: ErrorDetailQuery) -> Result<Reply, SimError> {
         let nth = |record: usize| record.checked_sub(1).and_then(|i| self.history.get(i));
         let alarm = match q {
-            ErrorDetailQuery::System { latest: false } => self.alarm.as_ref(),
-            ErrorDetailQuery::System { latest: true } => self.history.first(),
+            // The pending alarm, else the last refusal or alarm; "latest" the last
+            // refusal (`&` reply) or alarm, so a host asking after a refusal learns why
+            // `[inferred: the spec names the types, not which errors they cover]`.
+            ErrorDetailQuery::System { latest: false } => {
+                self.alarm.as_ref().or(self.last_error.as_ref())
+            }
+            ErrorDetailQuery::System { latest: true } => self.last_error.as_ref(),
             ErrorDetailQuery::Axis { axis } => {
                 if axis == 0 || usize::from(axis) > self.axis_count() {
                     return Err(SimError::BadAxis);
@@ -100,6 +106,7 @@ impl Controller {
     /// 252H alarm reset: clears the pending alarm and axis error codes.
     pub(crate) fn msg_alarm_reset(&mut self) -> Result<(), SimError> {
         self.alarm = None;
+        self.last_error = None;
         for a in self.axes.iter_mut() {
             a.error = 0;
         }
