@@ -12,10 +12,12 @@ use xsel_pendant::cli::parse_or_exit;
 use xsel_pendant::line::byte_time_8n1;
 use xsel_pendant::protocol::Station;
 use xsel_pendant::robot::RobotModel;
-use xsel_pendant::sim::SimHandle;
+use xsel_pendant::sim::console::{self, OperatorAction, parse_code};
 use xsel_pendant::sim::errors::code_table_text;
 use xsel_pendant::sim::runner::{RunOptions, SimCore, format_entry, start_tcp};
+use xsel_pendant::sim::state::DEFAULT_SERVO_SWITCH_MS;
 use xsel_pendant::sim::{Controller, FaultSpec, SimSetup, coords_file};
+use xsel_pendant::sim::{Mode, SimHandle, SimWatch};
 
 const AFTER_HELP: &str = "\
 Every frame in and out is logged to stderr with the time since start, e.g.
@@ -25,6 +27,25 @@ A frame that gets no reply (also a run without '!' header, logged at its LF) say
 If stderr is closed (e.g. `2>&1 | head`), the simulator keeps serving with logging off.
 A bad option ends it with exit code 2 and one line on stderr naming the option.
 
+One client at a time: on TCP a second client is refused at once (its connection is
+closed) with a log line, and served once the first has left. A pty client that does not
+read slows the simulator down; no input is ever dropped (a line that fails mid-reply is
+logged with what was lost). With --baud, TCP replies go out whole, each when its last
+byte would have left a serial line (one segment a reply); a pty gets them byte by byte.
+
+Units: 212H reports SCARA axes 1-4 in each-axis units, joint angles J1, J2 and R (axis
+4) in 0.001 deg and Z in 0.001 mm (2A1H/2A3H give base, work or joint positions).
+234H/235H move the linear axes 5-6 only; on SCARA axes they answer A04 (use 2D4H/2D5H,
+or 236H in the each-axis system). 236H jog and inching in the each-axis system (op
+type bits 1-2 = 3) work before homing; Cartesian jogs and 2D4H/2D5H/2D6H answer B02
+until 233H has homed. Relative moves turn R the way and distance they name, or are
+refused at the R joint's limits (C74), never wrapped by 360 deg. 216H reports the last
+refusal or alarm.
+
+Operator console: while running, type on stdin (off with --no-console):
+  estop on|off, mode manual|auto, cutoff on|off, alarm CODE [AXIS], alarm clear,
+  status, help, quit. --estop, --mode, --drive-cut-off and --alarm set the start state.
+
 Replies: '#' normal, '&' + 3-hex-digit error code. The simulator's error codes
 (also in the README, section \"Simulator\"; `--codes` prints them):
 ";
@@ -32,8 +53,9 @@ Replies: '#' normal, '&' + 3-hex-digit error code. The simulator's error codes
 /// The simulated X-SEL SCARA controller (Format B slave).
 ///
 /// Serves one client at a time on a pseudo-terminal (--pty: its path is the first line of
-/// stdout) or a TCP port (--tcp). The robot starts with servos off and not homed, in AUTO
-/// mode: send 232H (servo on), 233H (home), then move.
+/// stdout) or a TCP port (--tcp; a second client is refused at once). The robot starts
+/// with servos off and not homed, in AUTO mode: send 232H (servo on), 233H (home), then
+/// move. Operator states (E-stop, mode, cut-off, alarms) are typed on stdin.
 #[derive(Parser, Debug)]
 #[command(version, after_help = format!("{AFTER_HELP}{}", code_table_text()))]
 struct Args {
@@ -71,6 +93,26 @@ struct Args {
     /// Start with servos on and axes homed.
     #[arg(long)]
     ready: bool,
+    /// Time a servo takes to switch on or off (232H), ms, 0 to 10000; moves meanwhile
+    /// answer B03.
+    #[arg(long, value_name = "MS", default_value_t = DEFAULT_SERVO_SWITCH_MS,
+          value_parser = clap::value_parser!(u64).range(0..=10_000))]
+    servo_on_ms: u64,
+    /// Start with the emergency stop pressed (console: `estop off` releases it).
+    #[arg(long)]
+    estop: bool,
+    /// Start with the MODE switch at auto or manual.
+    #[arg(long, value_name = "MODE", default_value = "auto", value_parser = ["auto", "manual"])]
+    mode: String,
+    /// Start with the drive source cut off.
+    #[arg(long)]
+    drive_cut_off: bool,
+    /// Start with this alarm pending, 3 hex digits (e.g. C74); 252H clears it.
+    #[arg(long, value_name = "CODE", value_parser = parse_code)]
+    alarm: Option<u16>,
+    /// No operator console on stdin.
+    #[arg(long)]
+    no_console: bool,
     /// Reply buffer size: 2048, or 1024 for a J/K/TT model setting (the longest command
     /// received is then 2051 or 1023 bytes).
     #[arg(long, default_value_t = 2048, value_parser = parse_reply_buffer)]
@@ -166,10 +208,12 @@ fn run(args: Args) -> Result<(), Failure> {
     setup.config.linear_axes = args.linear_axes;
     setup.config.start_ready = args.ready;
     setup.config.reply_buffer = args.reply_buffer;
-    let core = SimCore::new(
-        Controller::new(setup),
-        args.faults.clone().unwrap_or_default(),
-    );
+    setup.config.servo_switch_time = Duration::from_millis(args.servo_on_ms);
+    let mut controller = Controller::new(setup);
+    for action in start_state(&args) {
+        action.apply(&mut controller);
+    }
+    let core = SimCore::new(controller, args.faults.clone().unwrap_or_default());
     // Logging stops for good when stderr is closed; serving goes on.
     let logging = Arc::new(AtomicBool::new(!args.quiet));
     let log_on = logging.clone();
@@ -179,6 +223,9 @@ fn run(args: Args) -> Result<(), Failure> {
             if log_on.load(Ordering::Relaxed) && !say(&format_entry(entry)) {
                 log_on.store(false, Ordering::Relaxed);
             }
+        })),
+        notice: Some(Arc::new(|line: &str| {
+            say(&format!("xsel-sim: {line}"));
         })),
         ..RunOptions::default()
     };
@@ -200,10 +247,20 @@ fn run(args: Args) -> Result<(), Failure> {
         server.handle
     };
     let status = format!(
-        "xsel-sim: station {}, faults: {}; Ctrl-C to stop",
+        "xsel-sim: station {}, faults: {}, servo switch {} ms; {}Ctrl-C to stop",
         args.station,
-        args.faults.map_or("none".to_owned(), |f| f.to_string())
+        args.faults.map_or("none".to_owned(), |f| f.to_string()),
+        args.servo_on_ms,
+        if args.no_console {
+            ""
+        } else {
+            "console on stdin (`help`); "
+        }
     );
+    if !args.no_console {
+        let (watch, stop) = (handle.watch(), stop.clone());
+        std::thread::spawn(move || console_loop(&watch, &stop));
+    }
     if !say(&status) {
         logging.store(false, Ordering::Relaxed);
     }
@@ -224,6 +281,43 @@ fn run(args: Args) -> Result<(), Failure> {
         faults.total()
     ));
     Ok(())
+}
+
+/// The operator states asked for on the command line, in the order they apply.
+fn start_state(args: &Args) -> Vec<OperatorAction> {
+    let mut actions = Vec::new();
+    if args.mode == "manual" {
+        actions.push(OperatorAction::Mode(Mode::Manual));
+    }
+    if args.estop {
+        actions.push(OperatorAction::EmergencyStop(true));
+    }
+    if args.drive_cut_off {
+        actions.push(OperatorAction::DriveCutOff(true));
+    }
+    if let Some(code) = args.alarm {
+        actions.push(OperatorAction::Alarm { code, axis: None });
+    }
+    actions
+}
+
+/// Reads operator commands from stdin until it closes (or `quit`); answers on stdout.
+fn console_loop(watch: &SimWatch, stop: &AtomicBool) {
+    use std::io::BufRead;
+    for line in std::io::stdin().lock().lines() {
+        let Ok(line) = line else { break };
+        if line.trim().is_empty() {
+            continue;
+        }
+        let (text, quit) = watch.with(|c| console::run_line(&line, c));
+        let mut out = std::io::stdout();
+        let _ = writeln!(out, "{text}");
+        let _ = out.flush();
+        if quit {
+            stop.store(true, Ordering::Relaxed);
+            break;
+        }
+    }
 }
 
 /// Serves a pseudo-terminal and prints its path.

@@ -94,6 +94,15 @@ impl Controller {
         self.halt_all();
     }
 
+    /// Clears the pending alarm and the axes' error codes, as 252H does.
+    pub fn reset_alarm(&mut self) {
+        self.alarm = None;
+        self.last_error = None;
+        for a in self.axes.iter_mut() {
+            a.error = 0;
+        }
+    }
+
     /// Stops everything at once (E-stop, cut-off, alarm): positions freeze, servos off.
     fn halt_all(&mut self) {
         let now = self.now;

@@ -224,6 +224,13 @@ impl Controller {
         self.count_silence(reason);
     }
 
+    /// Replies the line could not deliver and input bytes read but never served, when
+    /// the line failed in the middle (counted, never silently dropped).
+    pub fn note_lost(&mut self, replies: u64, input_bytes: u64) {
+        self.counters.lost_replies += replies;
+        self.counters.input_lost_bytes += input_bytes;
+    }
+
     fn count_silence(&mut self, silence: Silence) {
         let c = &mut self.counters;
         match silence {

@@ -140,6 +140,11 @@ impl Assembler {
         })
     }
 
+    /// How many bytes of an unfinished run are waiting.
+    pub fn pending_len(&self) -> usize {
+        self.runs.pending()
+    }
+
     /// Bytes of an unfinished run are waiting.
     pub fn pending(&self) -> bool {
         self.skipping || self.runs.pending() > 0

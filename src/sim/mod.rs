@@ -4,7 +4,9 @@
 //! - [`start_embedded`]: the simulator on its own thread behind an in-memory pipe.
 //! - [`runner::start_pty`] / [`runner::start_tcp`]: serving a pseudo-terminal or TCP port.
 //! - [`errors::CODE_TABLE`]: the error codes of `&` replies.
+//! - [`console`]: operator states (E-stop, mode, cut-off, alarms) from outside the protocol.
 
+pub mod console;
 mod control;
 pub mod controller;
 pub mod coords_file;
@@ -15,6 +17,7 @@ mod handlers;
 pub mod motion;
 pub mod pipe;
 pub mod runner;
+mod servers;
 pub mod state;
 
 #[cfg(test)]

@@ -1,5 +1,6 @@
 //! The simulator's IO thread: reads frames from a line (embedded pipe, pty, TCP), lets
 //! the controller answer, applies the reply delay, faults and pacing, logs the traffic.
+//! The pty and TCP servers live in [`super::servers`] (re-exported here).
 
 use std::collections::VecDeque;
 use std::io;
@@ -15,6 +16,10 @@ use super::pipe::{PipeConfig, PipeEnd, duplex};
 use super::state::{Counters, Mode};
 use super::{SimSetup, describe_frame};
 use crate::line::{Line, is_timeout, sleep_until, write_paced};
+
+#[cfg(unix)]
+pub use super::servers::{PtyServer, start_pty};
+pub use super::servers::{TcpServer, start_tcp};
 
 /// Direction of a logged frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -81,6 +86,10 @@ impl SimCore {
 /// Receives every frame in and out as it happens (the standalone binary prints them).
 pub type LogFn = Box<dyn FnMut(&TrafficEntry) + Send>;
 
+/// Receives one line about the line itself (clients, a full line, lost input); shared
+/// with the line wrappers that notice such things.
+pub type NoticeFn = Arc<dyn Fn(&str) + Send + Sync>;
+
 /// How the runner treats its line.
 pub struct RunOptions {
     /// Pace reply bytes at this time per byte (pty/TCP); `None` for the embedded pipe,
@@ -90,6 +99,12 @@ pub struct RunOptions {
     pub tick: Duration,
     /// Called for every frame in and out.
     pub log: Option<LogFn>,
+    /// Called with one line for what happens to the line itself: a client connects,
+    /// leaves or is refused, the line is full, input is lost.
+    pub notice: Option<NoticeFn>,
+    /// With pacing: write each reply piece whole when its last byte is due (TCP: one
+    /// segment a reply, as serial-to-Ethernet bridges send lines) instead of byte by byte.
+    pub coalesce: bool,
 }
 
 impl Default for RunOptions {
@@ -98,6 +113,17 @@ impl Default for RunOptions {
             pacing: None,
             tick: Duration::from_millis(2),
             log: None,
+            notice: None,
+            coalesce: false,
+        }
+    }
+}
+
+impl RunOptions {
+    /// Passes one line to the notice sink, if any.
+    pub fn notify(&self, line: &str) {
+        if let Some(n) = &self.notice {
+            n(line);
         }
     }
 }
@@ -113,7 +139,7 @@ pub enum ServeEnd {
     Failed(io::Error),
 }
 
-fn lock(shared: &Mutex<SimCore>) -> MutexGuard<'_, SimCore> {
+pub(crate) fn lock(shared: &Mutex<SimCore>) -> MutexGuard<'_, SimCore> {
     // The core holds plain data; a panic while holding it leaves it usable.
     shared.lock().unwrap_or_else(|p| p.into_inner())
 }
@@ -140,11 +166,13 @@ pub fn serve(
             Err(e) => return ServeEnd::Failed(e),
         };
         let arrived = Instant::now();
-        for &byte in &buf[..n] {
+        for (k, &byte) in buf[..n].iter().enumerate() {
             match assembler.push(byte) {
                 None => {}
                 Some(Received::Frame(frame)) => {
                     if let Err(e) = answer(line, shared, frame, arrived, &mut reply, opts) {
+                        let unread = n - k - 1 + assembler.pending_len();
+                        lost(shared, opts, &e, unread);
                         return ServeEnd::Failed(e);
                     }
                 }
@@ -159,6 +187,16 @@ pub fn serve(
             core.controller.advance(now);
         }
     }
+}
+
+/// Logs and counts what a failed write leaves unserved: the reply, and the input
+/// already read after its frame (it is never answered: the line is gone).
+fn lost(shared: &Mutex<SimCore>, opts: &RunOptions, e: &io::Error, unread: usize) {
+    lock(shared).controller.note_lost(1, unread as u64);
+    opts.notify(&format!(
+        "line failed while sending a reply ({e}): that reply and {unread} bytes of input \
+         already read are lost"
+    ));
 }
 
 /// Logs and counts a run the assembler dropped: it never reaches the controller's parser.
@@ -220,6 +258,12 @@ fn answer(
         start += piece.pause;
         sleep_until(start);
         match opts.pacing {
+            Some(bt) if opts.coalesce => {
+                // The whole piece leaves when its last byte would have left the wire.
+                start += bt.saturating_mul(piece.bytes.len() as u32);
+                sleep_until(start);
+                line.write_all_bytes(&piece.bytes)?;
+            }
             Some(bt) => {
                 write_paced(line, &piece.bytes, bt, start)?;
                 start += bt.saturating_mul(piece.bytes.len() as u32);
@@ -460,95 +504,4 @@ impl Drop for SimHandle {
     fn drop(&mut self) {
         self.stop_and_join();
     }
-}
-
-/// A pseudo-terminal served by the simulator: clients open [`PtyServer::path`].
-#[cfg(unix)]
-pub struct PtyServer {
-    pub path: String,
-    pub handle: SimHandle,
-}
-
-/// The master side of the simulator's pseudo-terminal.
-#[cfg(unix)]
-struct PtyMaster(Box<dyn serialport::SerialPort>);
-
-#[cfg(unix)]
-impl Line for PtyMaster {
-    fn read_timeout(&mut self, buf: &mut [u8], timeout: Duration) -> io::Result<usize> {
-        match self.0.read_timeout(buf, timeout) {
-            // A pty master reads EIO while no client has the slave open on some systems;
-            // treat it as "nothing yet".
-            Err(e) if e.raw_os_error() == Some(5) => {
-                std::thread::sleep(timeout);
-                Err(io::Error::new(io::ErrorKind::TimedOut, "no client"))
-            }
-            other => other,
-        }
-    }
-
-    fn write_all_bytes(&mut self, bytes: &[u8]) -> io::Result<()> {
-        self.0.write_all_bytes(bytes)
-    }
-}
-
-/// Creates a pseudo-terminal and serves it on a new thread (Unix only; TCP works
-/// everywhere).
-#[cfg(unix)]
-pub fn start_pty(core: SimCore, mut opts: RunOptions) -> io::Result<PtyServer> {
-    let (master, slave) = serialport::TTYPort::pair().map_err(io::Error::other)?;
-    use serialport::SerialPort;
-    let path = slave
-        .name()
-        .ok_or_else(|| io::Error::other("the pseudo-terminal has no name"))?;
-    let mut master = PtyMaster(Box::new(master));
-    let handle = SimHandle::spawn(core, move |shared, stop| {
-        // The slave stays open here so the path stays valid and the master never sees a
-        // hang-up between clients.
-        let _slave = slave;
-        while !stop.load(Ordering::Relaxed) {
-            match serve(&mut master, shared, stop, &mut opts) {
-                ServeEnd::Stopped => break,
-                ServeEnd::Closed | ServeEnd::Failed(_) => {
-                    std::thread::sleep(Duration::from_millis(20))
-                }
-            }
-        }
-    });
-    Ok(PtyServer { path, handle })
-}
-
-/// A TCP port served by the simulator, one client at a time.
-pub struct TcpServer {
-    pub addr: std::net::SocketAddr,
-    pub handle: SimHandle,
-}
-
-/// Binds `addr` and serves clients one after the other on a new thread.
-pub fn start_tcp(core: SimCore, addr: &str, mut opts: RunOptions) -> io::Result<TcpServer> {
-    let listener = std::net::TcpListener::bind(addr)?;
-    listener.set_nonblocking(true)?;
-    let local = listener.local_addr()?;
-    let handle = SimHandle::spawn(core, move |shared, stop| {
-        while !stop.load(Ordering::Relaxed) {
-            match listener.accept() {
-                Ok((mut stream, _)) => {
-                    let _ = stream.set_nonblocking(false);
-                    let _ = stream.set_nodelay(true);
-                    serve(&mut stream, shared, stop, &mut opts);
-                }
-                Err(_) => {
-                    let mut core = lock(shared);
-                    let now = core.now();
-                    core.controller.advance(now);
-                    drop(core);
-                    std::thread::sleep(Duration::from_millis(10));
-                }
-            }
-        }
-    });
-    Ok(TcpServer {
-        addr: local,
-        handle,
-    })
 }

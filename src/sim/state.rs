@@ -125,6 +125,10 @@ pub struct Counters {
     pub servo_commands: u64,
     /// 25BH software resets performed.
     pub resets: u64,
+    /// Replies produced but not delivered because the line failed while sending them.
+    pub lost_replies: u64,
+    /// Input bytes read but never served because the line failed before their turn.
+    pub input_lost_bytes: u64,
 }
 
 impl Counters {

@@ -8,6 +8,7 @@ use egui::{Panel, Theme};
 
 use super::connection::ConnectionPanel;
 use super::layout::{self, Tab, Tabs};
+use super::simulator::{SimState, SimulatorPanel};
 use super::teach::TeachPanel;
 use super::{jog, keys, top_bar};
 use crate::link::{Priority, TableRequest};
@@ -68,6 +69,7 @@ pub struct PendantApp {
     session: Option<Session>,
     connection: ConnectionPanel,
     teach: TeachPanel,
+    simulator: SimulatorPanel,
     dock: egui_tiles::Tree<Tab>,
     started: Instant,
     help_open: bool,
@@ -108,6 +110,7 @@ impl PendantApp {
             session: None,
             connection: ConnectionPanel::default(),
             teach: TeachPanel::default(),
+            simulator: SimulatorPanel::default(),
             dock: layout::checked_layout(saved_layout),
             started: now,
             help_open: false,
@@ -135,6 +138,21 @@ impl PendantApp {
     /// The embedded simulator, when the line is the built-in one.
     pub fn sim(&self) -> Option<&SimHandle> {
         self.session.as_ref().and_then(|s| s.sim.as_ref())
+    }
+
+    /// The operator states of the embedded simulator, when the line is the built-in one.
+    fn sim_state(&self) -> Option<SimState> {
+        self.sim().map(|sim| {
+            sim.with(|c| {
+                let s = c.snapshot();
+                SimState {
+                    emergency_stop: s.emergency_stop,
+                    mode: s.mode,
+                    drive_cut_off: s.drive_cut_off,
+                    alarm: s.alarm.map(|a| a.code),
+                }
+            })
+        })
     }
 
     /// Closes the session as the window does on exit: the link stops any jog or move.
@@ -255,6 +273,7 @@ impl eframe::App for PendantApp {
             self.pendant.stop(now);
             self.run_requests(&ctx, now);
         }
+        let mut sim_action = None;
         Panel::left("left")
             .resizable(true)
             .default_size(370.0)
@@ -266,6 +285,13 @@ impl eframe::App for PendantApp {
                     egui::CollapsingHeader::new("Jog")
                         .default_open(true)
                         .show(ui, |ui| jog::show(ui, &mut self.pendant, now));
+                    if let Some(state) = self.sim_state() {
+                        egui::CollapsingHeader::new("Simulator")
+                            .default_open(true)
+                            .show(ui, |ui| {
+                                sim_action = self.simulator.show(ui, &state);
+                            });
+                    }
                     if ui.button("Keyboard (F1)").clicked() {
                         self.help_open = !self.help_open;
                     }
@@ -281,6 +307,12 @@ impl eframe::App for PendantApp {
             layout::show(ui, &mut self.dock, &mut tabs);
         });
         keys::help(&ctx, &mut self.help_open);
+        if let Some(action) = sim_action
+            && let Some(sim) = self.sim()
+        {
+            let text = sim.with(|c| action.apply(c));
+            self.simulator.done(format!("Simulator: {text}"));
+        }
         self.run_requests(&ctx, now);
         first_frame_probe(&ctx, self.started);
     }

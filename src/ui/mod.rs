@@ -12,6 +12,7 @@ mod messages;
 mod ports;
 mod readout;
 mod run;
+mod simulator;
 mod status;
 mod teach;
 mod top_bar;

@@ -105,11 +105,7 @@ impl Controller {
 
     /// 252H alarm reset: clears the pending alarm and axis error codes.
     pub(crate) fn msg_alarm_reset(&mut self) -> Result<(), SimError> {
-        self.alarm = None;
-        self.last_error = None;
-        for a in self.axes.iter_mut() {
-            a.error = 0;
-        }
+        self.reset_alarm();
         Ok(())
     }
 

@@ -1,0 +1,212 @@
+//! The standalone simulator's lines: a pseudo-terminal (Unix) and a TCP port serving one
+//! client at a time (a second one is refused at once, with a log line).
+
+use std::io::{self, Write};
+use std::net::{SocketAddr, TcpListener, TcpStream};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+#[cfg(unix)]
+use std::time::Instant;
+
+use super::runner::{RunOptions, ServeEnd, SimCore, SimHandle, lock, serve};
+use crate::line::Line;
+
+#[cfg(unix)]
+/// How long one blocked write waits before checking the stop flag again.
+const WRITE_SLICE: Duration = Duration::from_millis(50);
+#[cfg(unix)]
+/// A line that accepts no byte for this long is reported (once per reply).
+const FULL_REPORT: Duration = Duration::from_secs(1);
+
+/// A pseudo-terminal served by the simulator: clients open [`PtyServer::path`].
+#[cfg(unix)]
+pub struct PtyServer {
+    pub path: String,
+    pub handle: SimHandle,
+}
+
+/// The master side of the simulator's pseudo-terminal. A full pty (the client does not
+/// read) slows the simulator down: a write waits for room, never gives up on a reply or
+/// the input behind it. Only the stop flag ends the wait.
+#[cfg(unix)]
+struct PtyMaster<'a> {
+    port: &'a mut serialport::TTYPort,
+    stop: &'a AtomicBool,
+    opts_notice: Option<super::runner::NoticeFn>,
+}
+
+#[cfg(unix)]
+impl Line for PtyMaster<'_> {
+    fn read_timeout(&mut self, buf: &mut [u8], timeout: Duration) -> io::Result<usize> {
+        use serialport::SerialPort;
+        use std::io::Read;
+        self.port
+            .set_timeout(timeout.max(Duration::from_micros(100)))?;
+        match self.port.read(buf) {
+            // A pty master reads EIO while no client has the slave open on some systems;
+            // treat it as "nothing yet".
+            Err(e) if e.raw_os_error() == Some(5) => {
+                std::thread::sleep(timeout);
+                Err(io::Error::new(io::ErrorKind::TimedOut, "no client"))
+            }
+            other => other,
+        }
+    }
+
+    fn write_all_bytes(&mut self, bytes: &[u8]) -> io::Result<()> {
+        use serialport::SerialPort;
+        self.port.set_timeout(WRITE_SLICE)?;
+        let started = Instant::now();
+        let mut reported = false;
+        let mut sent = 0;
+        while sent < bytes.len() {
+            match self.port.write(&bytes[sent..]) {
+                Ok(0) => return Err(io::ErrorKind::WriteZero.into()),
+                Ok(n) => sent += n,
+                Err(e) if crate::line::is_timeout(&e) => {
+                    if self.stop.load(Ordering::Relaxed) {
+                        return Err(io::Error::new(io::ErrorKind::Interrupted, "stopping"));
+                    }
+                    if !reported && started.elapsed() >= FULL_REPORT {
+                        reported = true;
+                        if let Some(n) = &self.opts_notice {
+                            n("pty full for 1 s: the client is not reading; waiting for \
+                               room (no input is dropped)");
+                        }
+                    }
+                }
+                Err(e) => return Err(e),
+            }
+        }
+        if reported && let Some(n) = &self.opts_notice {
+            n("pty has room again: serving");
+        }
+        self.port.flush()
+    }
+}
+
+/// Creates a pseudo-terminal and serves it on a new thread (Unix only; TCP works
+/// everywhere).
+#[cfg(unix)]
+pub fn start_pty(core: SimCore, mut opts: RunOptions) -> io::Result<PtyServer> {
+    use serialport::SerialPort;
+    let (mut master, slave) = serialport::TTYPort::pair().map_err(io::Error::other)?;
+    let path = slave
+        .name()
+        .ok_or_else(|| io::Error::other("the pseudo-terminal has no name"))?;
+    let handle = SimHandle::spawn(core, move |shared, stop| {
+        // The slave stays open here so the path stays valid and the master never sees a
+        // hang-up between clients.
+        let _slave = slave;
+        let mut line = PtyMaster {
+            port: &mut master,
+            stop,
+            opts_notice: opts.notice.clone(),
+        };
+        while !stop.load(Ordering::Relaxed) {
+            match serve(&mut line, shared, stop, &mut opts) {
+                ServeEnd::Stopped => break,
+                ServeEnd::Closed | ServeEnd::Failed(_) => {
+                    std::thread::sleep(Duration::from_millis(20))
+                }
+            }
+        }
+    });
+    Ok(PtyServer { path, handle })
+}
+
+/// A TCP port served by the simulator, one client at a time.
+pub struct TcpServer {
+    pub addr: SocketAddr,
+    pub handle: SimHandle,
+}
+
+/// The client being served; a client that connects meanwhile is refused at once (its
+/// connection closed, one notice line), as a serial port has one user.
+struct TcpClient<'a> {
+    stream: TcpStream,
+    peer: SocketAddr,
+    listener: &'a TcpListener,
+    opts_notice: Option<super::runner::NoticeFn>,
+}
+
+impl TcpClient<'_> {
+    fn refuse_newcomers(&self) {
+        while let Ok((other, addr)) = self.listener.accept() {
+            let _ = other.shutdown(std::net::Shutdown::Both);
+            drop(other);
+            if let Some(n) = &self.opts_notice {
+                n(&format!(
+                    "refused a second client from {addr}: one client at a time, serving {}",
+                    self.peer
+                ));
+            }
+        }
+    }
+}
+
+impl Line for TcpClient<'_> {
+    fn read_timeout(&mut self, buf: &mut [u8], timeout: Duration) -> io::Result<usize> {
+        // Read first: a client that has just left is seen gone (its FIN came before the
+        // next client's connect) before anyone waiting is refused.
+        let got = Line::read_timeout(&mut self.stream, buf, timeout);
+        match &got {
+            Ok(0) => {}
+            Ok(_) => self.refuse_newcomers(),
+            Err(e) if crate::line::is_timeout(e) => self.refuse_newcomers(),
+            Err(_) => {}
+        }
+        got
+    }
+
+    fn write_all_bytes(&mut self, bytes: &[u8]) -> io::Result<()> {
+        self.stream.write_all(bytes)
+    }
+}
+
+/// Binds `addr` and serves one client at a time on a new thread; clients that connect
+/// while one is served are refused at once. Paced replies are written whole, each when
+/// its last byte is due (one segment a reply).
+pub fn start_tcp(core: SimCore, addr: &str, mut opts: RunOptions) -> io::Result<TcpServer> {
+    let listener = TcpListener::bind(addr)?;
+    listener.set_nonblocking(true)?;
+    let local = listener.local_addr()?;
+    opts.coalesce = true;
+    let handle = SimHandle::spawn(core, move |shared, stop| {
+        while !stop.load(Ordering::Relaxed) {
+            match listener.accept() {
+                Ok((stream, peer)) => {
+                    let _ = stream.set_nonblocking(false);
+                    let _ = stream.set_nodelay(true);
+                    opts.notify(&format!("client {peer} connected"));
+                    let mut client = TcpClient {
+                        stream,
+                        peer,
+                        listener: &listener,
+                        opts_notice: opts.notice.clone(),
+                    };
+                    let end = serve(&mut client, shared, stop, &mut opts);
+                    match end {
+                        ServeEnd::Failed(e) => {
+                            opts.notify(&format!("client {peer} lost: {e}"));
+                        }
+                        ServeEnd::Closed | ServeEnd::Stopped => {
+                            opts.notify(&format!("client {peer} left"));
+                        }
+                    }
+                }
+                Err(_) => {
+                    let mut core = lock(shared);
+                    let now = core.now();
+                    core.controller.advance(now);
+                    drop(core);
+                    std::thread::sleep(Duration::from_millis(10));
+                }
+            }
+        }
+    });
+    Ok(TcpServer {
+        addr: local,
+        handle,
+    })
+}

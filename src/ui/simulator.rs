@@ -1,0 +1,118 @@
+//! The Simulator panel (only on the built-in simulator): the operator states a real
+//! controller takes from its front panel and wiring (E-stop, MODE switch, drive cut-off,
+//! alarms), so an operator can rehearse them without a robot. Returns the action; the
+//! app applies it to the simulator after drawing.
+
+use egui::{RichText, Ui};
+
+use super::widgets::{AMBER, GREEN, RED, lamp};
+use crate::sim::Mode;
+use crate::sim::console::{OperatorAction, parse_code};
+
+/// What the panel shows of the simulator (read once a frame).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SimState {
+    pub emergency_stop: bool,
+    pub mode: Mode,
+    pub drive_cut_off: bool,
+    pub alarm: Option<u16>,
+}
+
+/// The panel's own input: the alarm code being typed and what was last done.
+#[derive(Default)]
+pub struct SimulatorPanel {
+    code: String,
+    feedback: Option<(bool, String)>,
+}
+
+impl SimulatorPanel {
+    /// Draws the panel; the action clicked, if any.
+    pub fn show(&mut self, ui: &mut Ui, state: &SimState) -> Option<OperatorAction> {
+        let mut action = None;
+        ui.label(
+            RichText::new("Operator states of the built-in simulator (not sent on the line)")
+                .small(),
+        );
+        ui.horizontal(|ui| {
+            lamp(ui, state.emergency_stop, RED, "E-stop");
+            let (text, hover) = if state.emergency_stop {
+                ("Release E-stop", "Release the emergency stop button")
+            } else {
+                (
+                    "Press E-stop",
+                    "Press the emergency stop button: servos drop, moves stop",
+                )
+            };
+            if ui.button(text).on_hover_text(hover).clicked() {
+                action = Some(OperatorAction::EmergencyStop(!state.emergency_stop));
+            }
+        });
+        ui.horizontal(|ui| {
+            let manual = state.mode == Mode::Manual;
+            lamp(ui, manual, AMBER, if manual { "MANUAL" } else { "AUTO" });
+            let (text, to) = if manual {
+                ("Switch to AUTO", Mode::Auto)
+            } else {
+                ("Switch to MANUAL", Mode::Manual)
+            };
+            if ui
+                .button(text)
+                .on_hover_text("The controller's MODE switch: MANUAL refuses commands that act")
+                .clicked()
+            {
+                action = Some(OperatorAction::Mode(to));
+            }
+        });
+        ui.horizontal(|ui| {
+            lamp(ui, state.drive_cut_off, RED, "Drive cut off");
+            let text = if state.drive_cut_off {
+                "Restore drive source"
+            } else {
+                "Cut drive source"
+            };
+            if ui.button(text).clicked() {
+                action = Some(OperatorAction::DriveCutOff(!state.drive_cut_off));
+            }
+        });
+        ui.horizontal(|ui| {
+            match state.alarm {
+                Some(code) => lamp(ui, true, RED, &format!("Alarm {code:03X}")),
+                None => lamp(ui, false, GREEN, "No alarm"),
+            }
+            let label = ui.label("Code");
+            ui.add(
+                egui::TextEdit::singleline(&mut self.code)
+                    .desired_width(40.0)
+                    .hint_text("C74"),
+            )
+            .labelled_by(label.id);
+            if ui
+                .button("Raise alarm")
+                .on_hover_text("Raise an alarm with this 3-hex-digit code: servos off")
+                .clicked()
+            {
+                match parse_code(&self.code) {
+                    Ok(code) => action = Some(OperatorAction::Alarm { code, axis: None }),
+                    Err(e) => self.feedback = Some((false, e)),
+                }
+            }
+            if ui
+                .add_enabled(state.alarm.is_some(), egui::Button::new("Clear alarm"))
+                .on_hover_text("Clear the alarm as 252H would")
+                .clicked()
+            {
+                action = Some(OperatorAction::ClearAlarm);
+            }
+        });
+        if let Some((ok, text)) = &self.feedback {
+            let color = if *ok { GREEN } else { AMBER };
+            ui.label(RichText::new(text).color(color));
+        }
+        action
+    }
+
+    /// Shows what an applied action did.
+    pub fn done(&mut self, text: String) {
+        self.feedback = Some((true, text));
+    }
+}
