@@ -22,6 +22,10 @@ fn every_bad_option_exits_2_with_one_line_naming_it() {
         ("--linear-axes", "3"),
         ("--robot", "no-such-robot.toml"),
         ("--coords", "no-such-coords.toml"),
+        ("--servo-on-ms", "10001"),
+        ("--mode", "fast"),
+        ("--alarm", "000"),
+        ("--alarm", "C7"),
     ] {
         let run = run(
             SIM,
@@ -108,4 +112,89 @@ fn closed_stdout_and_stderr_leave_it_serving_with_logging_off() {
         still, None,
         "the simulator ended when its output was closed"
     );
+}
+
+/// Sends one frame (`@@` as SC) and reads the reply up to its LF.
+fn send(peer: &mut TcpStream, body: &str) -> String {
+    peer.write_all(format!("{body}@@\r\n").as_bytes())
+        .expect("write");
+    let deadline = Instant::now() + Duration::from_secs(10);
+    let mut got = Vec::new();
+    let mut buf = [0u8; 1];
+    while !got.ends_with(b"\n") && Instant::now() < deadline {
+        if let Ok(1) = peer.read(&mut buf) {
+            got.push(buf[0]);
+        }
+    }
+    String::from_utf8_lossy(&got).trim_end().to_owned()
+}
+
+#[test]
+fn the_operator_console_and_start_flags_set_e_stop_mode_and_alarms() {
+    let mut sim = Command::new(SIM)
+        .args(["--tcp", "127.0.0.1:0", "--estop", "--servo-on-ms", "5"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("starts");
+    let mut console = sim.stdin.take().expect("stdin");
+    let out = lines_of(sim.stdout.take().expect("stdout"));
+    let err = lines_of(sim.stderr.take().expect("stderr"));
+    let addr = out.recv_timeout(Duration::from_secs(20)).expect("address");
+    let mut peer = TcpStream::connect(&addr).expect("connects");
+    peer.set_read_timeout(Some(Duration::from_millis(200)))
+        .expect("timeout");
+    // Started with the E-stop pressed: servo on is refused (B04).
+    assert!(send(&mut peer, "!992320F1").starts_with("&99B04"));
+    let mut type_line = |line: &str, want: &str| {
+        writeln!(console, "{line}").expect("console");
+        let got = wait_line(&out, |l| l.contains(want), Duration::from_secs(20));
+        assert!(got.is_ok(), "`{line}`: no `{want}` on stdout: {got:?}");
+    };
+    type_line("estop off", "E-stop off");
+    assert!(send(&mut peer, "!992320F1").starts_with("#99232"));
+    type_line("mode manual", "mode MANUAL");
+    assert!(send(&mut peer, "!992330F000000").starts_with("&99B05"));
+    type_line("mode auto", "mode AUTO");
+    type_line("alarm C74 4", "alarm C74 on axis 4");
+    assert!(send(&mut peer, "!992320F1").starts_with("&99B07"));
+    // 216H names the alarm.
+    assert_eq!(send(&mut peer, "!99216000000").get(6..9), Some("C74"));
+    type_line("status", "alarm C74");
+    type_line("frobnicate", "unknown command");
+    // A second TCP client is refused at once, and the log says so.
+    let mut second = TcpStream::connect(&addr).expect("connects");
+    second
+        .set_read_timeout(Some(Duration::from_secs(5)))
+        .expect("timeout");
+    let mut buf = [0u8; 8];
+    assert!(!matches!(second.read(&mut buf), Ok(n) if n > 0));
+    let refused = wait_line(
+        &err,
+        |l| l.contains("refused a second client"),
+        Duration::from_secs(20),
+    );
+    assert!(refused.is_ok(), "no log line: {refused:?}");
+    type_line("quit", "stopping");
+    let status = wait_exit(&mut sim, Duration::from_secs(20));
+    assert!(
+        status.is_some_and(|s| s.success()),
+        "quit ends it: {status:?}"
+    );
+}
+
+#[test]
+fn help_states_the_client_rule_units_and_console() {
+    let run = run(SIM, &["--help"], Duration::from_secs(20));
+    for want in [
+        "second client is refused at once",
+        "0.001 deg",
+        "234H/235H move the linear axes 5-6 only",
+        "--servo-on-ms",
+        "estop on|off",
+        "before homing",
+    ] {
+        assert!(run.stdout.contains(want), "--help lacks `{want}`");
+    }
 }

@@ -1,0 +1,106 @@
+//! The window's Simulator panel: an operator rehearses an E-stop on the built-in
+//! simulator, and the window shows it and disables motion. Waits have deadlines.
+
+use std::time::{Duration, Instant};
+
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use xsel_pendant::pendant::NotReady;
+use xsel_pendant::ui::{PendantApp, StartOptions};
+
+const DEADLINE: Duration = Duration::from_secs(20);
+
+fn step_until(h: &mut Harness<'_, PendantApp>, what: &str, done: impl Fn(&PendantApp) -> bool) {
+    let end = Instant::now() + DEADLINE;
+    while !done(h.state()) {
+        assert!(Instant::now() < end, "timed out waiting for: {what}");
+        h.step();
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    h.step();
+}
+
+fn click(h: &mut Harness<'_, PendantApp>, label: &str) {
+    h.get_by_role_and_label(egui::accesskit::Role::Button, label)
+        .click();
+    h.step();
+    h.step();
+}
+
+#[test]
+fn pressing_e_stop_in_the_simulator_panel_shows_e_stop_and_disables_motion() {
+    let mut h = Harness::builder()
+        .with_size([1280.0, 900.0])
+        .build_eframe(|cc| PendantApp::new(cc, StartOptions::fresh_simulator()));
+    step_until(&mut h, "the controller to accept commands", |a| {
+        a.pendant().controller_ready(Instant::now()).is_ok()
+    });
+    assert!(h.query_by_label("E-stop off").is_some());
+    click(&mut h, "Press E-stop");
+    step_until(&mut h, "the pendant to see the E-stop", |a| {
+        a.pendant().controller_ready(Instant::now()) == Err(NotReady::EmergencyStop)
+    });
+    assert!(
+        h.state()
+            .sim()
+            .is_some_and(|s| s.with(|c| c.snapshot().emergency_stop)),
+        "the simulator's E-stop is pressed"
+    );
+    assert!(
+        h.query_by_label("E-STOP ACTIVE").is_some(),
+        "top bar shows it"
+    );
+    assert_eq!(
+        h.state().pendant().motion_ready(Instant::now()),
+        Err(NotReady::EmergencyStop),
+        "motion is disabled for the E-stop"
+    );
+    // The servo button refuses, and nothing reaches the line.
+    let servo_before = h.state().sim().map(|s| s.counters().servo_commands);
+    click(&mut h, "Servo ON");
+    assert_eq!(
+        h.state().sim().map(|s| s.counters().servo_commands),
+        servo_before
+    );
+    // Released: the window sees it gone.
+    click(&mut h, "Release E-stop");
+    step_until(&mut h, "the E-stop to clear", |a| {
+        a.pendant().controller_ready(Instant::now()).is_ok()
+    });
+    assert!(h.query_by_label("E-stop off").is_some());
+}
+
+#[test]
+fn an_alarm_raised_in_the_simulator_panel_reaches_the_top_bar() {
+    let mut h = Harness::builder()
+        .with_size([1280.0, 900.0])
+        .build_eframe(|cc| PendantApp::new(cc, StartOptions::fresh_simulator()));
+    step_until(&mut h, "the controller to accept commands", |a| {
+        a.pendant().controller_ready(Instant::now()).is_ok()
+    });
+    h.get_by_label("Code").focus();
+    h.step();
+    h.step();
+    h.get_by_label("Code").type_text("C74");
+    h.step();
+    h.step();
+    assert_eq!(h.get_by_label("Code").value().as_deref(), Some("C74"));
+    click(&mut h, "Raise alarm");
+    let critical = |a: &PendantApp| {
+        a.pendant()
+            .controller
+            .system
+            .map(|s| s.value.critical_error.0)
+    };
+    step_until(&mut h, "the pendant to see the alarm", |a| {
+        critical(a) == Some(0xC74)
+    });
+    // The top bar (from the polled 215H) and the panel both show it.
+    assert_eq!(h.query_all_by_label_contains("Alarm C74").count(), 2);
+    assert_eq!(
+        h.state().pendant().motion_ready(Instant::now()),
+        Err(NotReady::Alarm)
+    );
+    click(&mut h, "Clear alarm");
+    step_until(&mut h, "the alarm to clear", |a| critical(a) == Some(0));
+}
