@@ -373,3 +373,33 @@ fn relative_steps_chain_without_drift_relative_to_the_command_position() {
         (at.target, Joints::new(24.0, 0.0, 0.0, 0.0))
     );
 }
+
+/// A PTP target's R is the Cartesian R the flange ends at: a step of R +300 deg from
+/// J4 = 0 plans J4 = +300 (not -60), and one beyond the R joint's limits is refused;
+/// base- and tool-frame steps pass R through unchanged.
+#[test]
+fn ptp_targets_turn_r_the_way_and_distance_named() {
+    use xsel_pendant::robot::{CoordSystem, JogFrame, jog_delta_to_work};
+    let m = RobotModel::default_model();
+    let k = Scara::new(&m);
+    let start = Joints::new(0.0, 90.0, 0.0, 0.0);
+    let here = k.forward(&start);
+    for turn in [179.0, -179.0, 181.0, -181.0, 300.0, -300.0, 360.0] {
+        let target = Pose::new(here.x, here.y, here.z, here.r + turn);
+        let j = solve_arm_policy(&k, &target, &start, ArmPolicy::CurrentNoSwitch).unwrap();
+        assert!((j.j4 - turn).abs() < 1e-9, "R {turn:+}: J4 {}", j.j4);
+    }
+    for turn in [361.0, 1000.0] {
+        let target = Pose::new(here.x, here.y, here.z, here.r + turn);
+        assert!(
+            solve_arm_policy(&k, &target, &start, ArmPolicy::CurrentNoSwitch).is_err(),
+            "R {turn:+} is beyond the limit"
+        );
+    }
+    let work = CoordSystem::from_wire([10_000, 0, 0, 30_000]);
+    let tool = CoordSystem::from_wire([0, 50_000, 0, 90_000]);
+    for frame in [JogFrame::Base, JogFrame::Work, JogFrame::Tool] {
+        let d = jog_delta_to_work(&Pose::new(0.0, 0.0, 0.0, 300.0), frame, &work, &tool, 45.0);
+        assert_eq!(d.r, 300.0, "{frame:?}");
+    }
+}

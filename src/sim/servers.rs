@@ -210,3 +210,55 @@ pub fn start_tcp(core: SimCore, addr: &str, mut opts: RunOptions) -> io::Result<
         handle,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use std::sync::{Arc, Mutex};
+
+    use super::*;
+    use crate::sim::{Controller, FaultSpec, SimSetup};
+
+    /// A line that delivers one burst of input, then fails every write.
+    struct FailingWrites(Option<Vec<u8>>);
+
+    impl Line for FailingWrites {
+        fn read_timeout(&mut self, buf: &mut [u8], _: Duration) -> io::Result<usize> {
+            match self.0.take() {
+                Some(v) => {
+                    buf[..v.len()].copy_from_slice(&v);
+                    Ok(v.len())
+                }
+                None => Ok(0),
+            }
+        }
+        fn write_all_bytes(&mut self, _: &[u8]) -> io::Result<()> {
+            Err(io::ErrorKind::BrokenPipe.into())
+        }
+    }
+
+    #[test]
+    fn a_line_that_fails_mid_reply_logs_and_counts_what_is_lost() {
+        let mut setup = SimSetup::default();
+        setup.config.reply_delay = Duration::ZERO;
+        let shared = Mutex::new(SimCore::new(Controller::new(setup), FaultSpec::none()));
+        let seen = Arc::new(Mutex::new(Vec::<String>::new()));
+        let sink = seen.clone();
+        let mut opts = RunOptions {
+            notice: Some(Arc::new(move |l: &str| {
+                sink.lock().unwrap().push(l.to_owned())
+            })),
+            ..RunOptions::default()
+        };
+        // Two whole frames and the start of a third: the first reply fails.
+        let mut line = FailingWrites(Some(b"!99215@@\r\n!99215@@\r\n!992".to_vec()));
+        let end = serve(&mut line, &shared, &AtomicBool::new(false), &mut opts);
+        assert!(matches!(end, ServeEnd::Failed(_)), "{end:?}");
+        let n = *lock(&shared).controller.counters();
+        assert_eq!((n.lost_replies, n.input_lost_bytes), (1, 14));
+        let seen = seen.lock().unwrap();
+        assert!(
+            seen.iter().any(|l| l.contains("14 bytes of input")),
+            "{seen:?}"
+        );
+    }
+}
