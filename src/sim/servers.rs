@@ -3,7 +3,9 @@
 
 use std::io::{self, Write};
 use std::net::{SocketAddr, TcpListener, TcpStream};
-use std::sync::atomic::{AtomicBool, Ordering};
+#[cfg(unix)]
+use std::sync::atomic::AtomicBool;
+use std::sync::atomic::Ordering;
 use std::time::Duration;
 #[cfg(unix)]
 use std::time::Instant;
@@ -213,6 +215,7 @@ pub fn start_tcp(core: SimCore, addr: &str, mut opts: RunOptions) -> io::Result<
 
 #[cfg(test)]
 mod tests {
+    use std::sync::atomic::AtomicBool;
     use std::sync::{Arc, Mutex};
 
     use super::*;
