@@ -133,7 +133,27 @@ struct TcpClient<'a> {
 }
 
 impl TcpClient<'_> {
+    /// The client being served has closed its end (its FIN is waiting to be read).
+    fn client_gone(&self) -> bool {
+        let mut b = [0u8; 1];
+        if self.stream.set_nonblocking(true).is_err() {
+            return false;
+        }
+        let gone = match self.stream.peek(&mut b) {
+            Ok(0) => true,
+            Ok(_) => false,
+            Err(e) => !crate::line::is_timeout(&e),
+        };
+        let _ = self.stream.set_nonblocking(false);
+        gone
+    }
+
     fn refuse_newcomers(&self) {
+        // A client that connects just after the served one left is served next, not
+        // refused: the next read ends this one.
+        if self.client_gone() {
+            return;
+        }
         while let Ok((other, addr)) = self.listener.accept() {
             let _ = other.shutdown(std::net::Shutdown::Both);
             drop(other);
