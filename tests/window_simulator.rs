@@ -103,4 +103,9 @@ fn an_alarm_raised_in_the_simulator_panel_reaches_the_top_bar() {
     );
     click(&mut h, "Clear alarm");
     step_until(&mut h, "the alarm to clear", |a| critical(a) == Some(0));
+    h.step();
+    // A cleared alarm is no longer shown as one; 215H's latest error stays as history.
+    assert_eq!(h.query_all_by_label_contains("Alarm C74").count(), 0);
+    assert!(h.query_by_label_contains("last error C74").is_some());
+    assert!(h.state().pendant().controller_ready(Instant::now()).is_ok());
 }

@@ -92,15 +92,20 @@ fn system_lamps(ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
             }
         });
         ui.horizontal(|ui| {
-            let alarm = system.filter(|s| s.critical_error.0 != 0 || s.latest_error.0 != 0);
-            match alarm {
-                Some(s) => {
-                    let code = if s.critical_error.0 != 0 {
-                        s.critical_error
+            // 215H carries two codes [spec p.30]: the critical-level error, which holds
+            // motion until 252H, and the latest error, which the simulator keeps after a
+            // reset as history (whether a controller clears it on 252H is not known). Only
+            // the first is an alarm; the second is shown as the last error.
+            let pending = system.map(|s| (s.critical_error, s.latest_error));
+            match pending {
+                Some((critical, latest)) if critical.0 != 0 || latest.0 != 0 => {
+                    if critical.0 != 0 {
+                        lamp(ui, true, RED, &format!("Alarm {critical}"));
                     } else {
-                        s.latest_error
-                    };
-                    lamp(ui, true, RED, &format!("Alarm {code}"));
+                        lamp(ui, false, RED, "No alarm");
+                        ui.label(RichText::new(format!("last error {latest}")).color(AMBER))
+                            .on_hover_text("215H latest system error: history, not holding motion");
+                    }
                     if ui
                         .add_enabled(pendant.line.is_up(), Button::new("Reset alarm"))
                         .on_hover_text("252H alarm reset")
@@ -109,7 +114,7 @@ fn system_lamps(ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
                         pendant.reset_alarm(now);
                     }
                 }
-                None => lamp(ui, false, RED, "No alarm"),
+                _ => lamp(ui, false, RED, "No alarm"),
             }
         });
     });
