@@ -7,10 +7,12 @@ use std::time::{Duration, Instant};
 use egui::{Panel, Theme};
 
 use super::connection::ConnectionPanel;
+use super::coords::CoordsPanel;
 use super::layout::{self, Tab, Tabs};
 use super::teach::TeachPanel;
 use super::{jog, keys, top_bar};
 use crate::link::{Priority, TableRequest};
+use crate::pendant::coords::SavedDrafts;
 use crate::pendant::{ConnectionSettings, Pendant, Request, Settings};
 use crate::protocol::{AxisPattern, CoordKind};
 use crate::robot::RobotModel;
@@ -32,6 +34,8 @@ const LINK_REPAINT: Duration = Duration::from_millis(100);
 const HELD_REFRESH: Duration = Duration::from_millis(40);
 /// The controller's reply buffer assumed for table reads (PROTOCOL.md 1.7).
 const REPLY_BUFFER: usize = 2048;
+/// The coordinate-table drafts, autosaved on every change beside eframe's settings.
+const DRAFTS_FILE: &str = "coords-drafts.json";
 
 /// How the window starts.
 #[derive(Clone, Debug, Default)]
@@ -68,6 +72,11 @@ pub struct PendantApp {
     session: Option<Session>,
     connection: ConnectionPanel,
     teach: TeachPanel,
+    coords: CoordsPanel,
+    /// Where the drafts are autosaved (none in a fresh start: tests leave the user's
+    /// drafts alone), and the revision last written.
+    drafts_file: Option<std::path::PathBuf>,
+    drafts_saved: u64,
     dock: egui_tiles::Tree<Tab>,
     started: Instant,
     help_open: bool,
@@ -108,13 +117,64 @@ impl PendantApp {
             session: None,
             connection: ConnectionPanel::default(),
             teach: TeachPanel::default(),
+            coords: CoordsPanel::default(),
+            drafts_file: None,
+            drafts_saved: 0,
             dock: layout::checked_layout(saved_layout),
             started: now,
             help_open: false,
             applied_theme: None,
         };
+        if !options.fresh {
+            app.drafts_file = eframe::storage_dir(APP_ID).map(|d| d.join(DRAFTS_FILE));
+            app.restore_drafts(now);
+        }
         app.run_requests(&cc.egui_ctx, now);
         app
+    }
+
+    /// Takes back the drafts autosaved by the last run, if any.
+    fn restore_drafts(&mut self, now: Instant) {
+        let Some(path) = &self.drafts_file else {
+            return;
+        };
+        let Ok(text) = std::fs::read_to_string(path) else {
+            return;
+        };
+        match serde_json::from_str::<SavedDrafts>(&text) {
+            Ok(saved) if self.pendant.coords.restore(&saved) => {
+                self.pendant.note("coordinate-table drafts restored from the last run", now);
+            }
+            _ => self.pendant.note(
+                format!("the saved drafts in {} could not be read; they are kept there until the next edit", path.display()),
+                now,
+            ),
+        }
+        self.drafts_saved = self.pendant.coords.revision();
+    }
+
+    /// Writes the drafts when they changed since the last write (a new file renamed over
+    /// the old, so a crash mid-write leaves the previous one).
+    fn autosave_drafts(&mut self, now: Instant) {
+        let revision = self.pendant.coords.revision();
+        if revision == self.drafts_saved {
+            return;
+        }
+        self.drafts_saved = revision;
+        let Some(path) = &self.drafts_file else {
+            return;
+        };
+        let text = serde_json::to_string(&self.pendant.coords.saved()).unwrap_or_default();
+        let tmp = path.with_extension("json.new");
+        let written = path
+            .parent()
+            .map_or(Ok(()), std::fs::create_dir_all)
+            .and_then(|()| std::fs::write(&tmp, text))
+            .and_then(|()| std::fs::rename(&tmp, path));
+        if let Err(e) = written {
+            let text = format!("drafts not autosaved to {}: {e}", path.display());
+            self.pendant.note(text, now);
+        }
     }
 
     /// The pendant model (tests and benches read it).
@@ -175,22 +235,43 @@ impl PendantApp {
                     }
                 }
                 Request::ReadTable(kind) => {
+                    let records = match kind {
+                        CoordKind::Work => self.pendant.model.work_table_size,
+                        CoordKind::Tool => self.pendant.model.tool_table_size,
+                    };
+                    self.read_records(kind, 0..records.min(256) as u16);
+                }
+                Request::ReadRecords(kind, range) => self.read_records(kind, range),
+                Request::CancelTableRead => {
                     if let Some(s) = &self.session {
-                        let records = match kind {
-                            CoordKind::Work => self.pendant.model.work_table_size,
-                            CoordKind::Tool => self.pendant.model.tool_table_size,
-                        };
-                        s.link.download_table(TableRequest {
-                            kind,
-                            axes: AxisPattern::SCARA_1,
-                            records: records.min(256) as u16,
-                            reply_buffer: REPLY_BUFFER,
-                        });
+                        s.link.cancel_table();
                     }
+                }
+                Request::SimulatorTables(tables) => {
+                    let text = match self.sim() {
+                        Some(sim) => {
+                            sim.set_coords(tables);
+                            "the simulator now answers 2A4H with the draft (unread rows as zeros)"
+                        }
+                        None => "no built-in simulator on this line: the draft was not given",
+                    };
+                    self.pendant.note(text, now);
                 }
                 Request::Connect => self.open_session(ctx, now),
                 Request::Disconnect => self.session = None,
             }
+        }
+    }
+
+    fn read_records(&self, kind: CoordKind, range: std::ops::Range<u16>) {
+        if let Some(s) = &self.session {
+            s.link.download_table(TableRequest {
+                kind,
+                axes: AxisPattern::SCARA_1,
+                first: range.start,
+                records: range.end.saturating_sub(range.start),
+                reply_buffer: REPLY_BUFFER,
+            });
         }
     }
 
@@ -275,6 +356,7 @@ impl eframe::App for PendantApp {
             let mut tabs = Tabs {
                 pendant: &mut self.pendant,
                 teach: &mut self.teach,
+                coords: &mut self.coords,
                 now,
                 started: self.started,
             };
@@ -282,6 +364,7 @@ impl eframe::App for PendantApp {
         });
         keys::help(&ctx, &mut self.help_open);
         self.run_requests(&ctx, now);
+        self.autosave_drafts(now);
         first_frame_probe(&ctx, self.started);
     }
 
