@@ -181,11 +181,11 @@ fn value_cell(
             .interactive(!read_only)
             .hint_text(RichText::new("unread").color(GREY)),
     );
-    r.widget_info(|| WidgetInfo::text_edit(true, text.clone(), text.clone(), &label));
+    // The tooltip is also the cell's accessible name (screen readers, tests).
     let r = if read_only {
-        r.on_hover_text(cell::READ_ONLY)
+        r.on_hover_text(format!("{label}: {}", cell::READ_ONLY))
     } else {
-        r
+        r.on_hover_text(label)
     };
     if r.changed() || (r.gained_focus() && editing.is_none()) {
         panel.edit = Some(CellEdit {

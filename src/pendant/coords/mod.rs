@@ -189,7 +189,12 @@ impl Pendant {
             );
         }
         self.coords.retries.clear();
-        self.coords.reading = None;
+        let total = self.coords.draft(frame_kind(kind)).rows().len() as u16;
+        self.coords.reading = Some(Reading {
+            kind,
+            received: 0,
+            total,
+        });
         self.requests.push(Request::ReadTable(kind));
     }
 
