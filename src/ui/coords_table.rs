@@ -49,17 +49,34 @@ pub fn table(ui: &mut Ui, panel: &mut CoordsPanel, pendant: &mut Pendant) {
             })
             .collect()
     };
+    // A narrow pane scrolls the columns sideways; the rows scroll inside the table.
+    egui::ScrollArea::horizontal()
+        .id_salt(("coords-table-sideways", kind))
+        .show(ui, |ui| {
+            rows_table(ui, panel, pendant, &controller, in_use, &rows)
+        });
+}
+
+fn rows_table(
+    ui: &mut Ui,
+    panel: &mut CoordsPanel,
+    pendant: &mut Pendant,
+    controller: &[Option<CoordSystem>],
+    in_use: Option<usize>,
+    rows: &[usize],
+) {
+    let kind = panel.kind;
     let mut builder = TableBuilder::new(ui)
         .id_salt(("coords-table", kind))
         .striped(true)
         .cell_layout(egui::Layout::left_to_right(egui::Align::Center))
-        .column(Col::exact(44.0))
-        .column(Col::exact(40.0))
-        .columns(Col::initial(86.0).at_least(60.0), 4);
+        .column(Col::exact(34.0))
+        .column(Col::exact(30.0))
+        .columns(Col::initial(74.0).at_least(60.0), 4);
     if panel.show_diff {
-        builder = builder.columns(Col::initial(80.0).at_least(60.0), 4);
+        builder = builder.columns(Col::initial(74.0).at_least(60.0), 4);
     }
-    builder = builder.column(Col::remainder().at_least(60.0));
+    builder = builder.column(Col::auto().at_least(90.0));
     builder
         .header(ROW_HEIGHT, |mut h| {
             h.col(|ui| {
@@ -111,7 +128,7 @@ pub fn table(ui: &mut Ui, panel: &mut CoordsPanel, pendant: &mut Pendant) {
                     }
                 });
                 for column in Column::ALL {
-                    row.col(|ui| value_cell(ui, panel, pendant, &controller, n, column));
+                    row.col(|ui| value_cell(ui, panel, pendant, controller, n, column));
                 }
                 if panel.show_diff {
                     for column in Column::ALL {
