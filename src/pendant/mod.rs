@@ -242,6 +242,7 @@ impl Pendant {
 
     fn line_gone(&mut self, _now: Instant) {
         self.controller.line_lost();
+        self.coords.line_gone();
         self.held = None;
         self.followed = None;
         self.command_position = None;

@@ -135,6 +135,12 @@ impl CoordEditor {
         }
     }
 
+    /// The line is gone: no read is running any more (the link reports none).
+    pub(super) fn line_gone(&mut self) {
+        self.reading = None;
+        self.retries.clear();
+    }
+
     /// Both drafts, as files take them.
     pub fn tables(&self) -> TablePair {
         TablePair {

@@ -296,3 +296,18 @@ proptest! {
         prop_assert_eq!(&file::from_json(json.as_bytes(), 32, 128).unwrap(), &t);
     }
 }
+
+#[test]
+fn a_read_cut_short_by_a_lost_line_leaves_no_progress_bar() {
+    let now = Instant::now();
+    let mut p = pendant();
+    p.line = crate::pendant::LineState::Up {
+        line: "test".into(),
+        since: now,
+    };
+    p.reload_table(CoordKind::Tool, now);
+    assert!(p.coords.reading().is_some());
+    assert_eq!(p.take_requests(), vec![Request::ReadTable(CoordKind::Tool)]);
+    p.disconnect(now);
+    assert_eq!(p.coords.reading(), None);
+}
