@@ -258,7 +258,7 @@ fn an_edit_shows_in_the_diff_and_undo_takes_it_back_and_a_bad_entry_is_refused()
     h.get_by_label("Diff with controller").click();
     h.step();
     h.step();
-    assert!(h.query_by_label("1 rows differ: No. 2").is_some());
+    assert!(h.query_by_label("1 row differs: No. 2").is_some());
 
     // A bad number is refused inline, the draft unchanged.
     let before = draft(h.state());

@@ -191,12 +191,11 @@ impl CoordsPanel {
                     .map(|r| r.number.to_string())
                     .collect();
                 let more = if differ.len() > 12 { ", ..." } else { "" };
-                RichText::new(format!(
-                    "{} rows differ: No. {}{more}",
-                    differ.len(),
-                    list.join(", ")
-                ))
-                .color(AMBER)
+                let rows = match differ.len() {
+                    1 => "1 row differs".to_owned(),
+                    n => format!("{n} rows differ"),
+                };
+                RichText::new(format!("{rows}: No. {}{more}", list.join(", "))).color(AMBER)
             };
             ui.label(summary);
         });
