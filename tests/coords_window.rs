@@ -321,3 +321,34 @@ fn the_draft_goes_to_the_simulator_in_one_click() {
         .is_empty()
     );
 }
+
+#[test]
+fn drafts_are_autosaved_on_every_change_and_come_back_after_a_close() {
+    let dir = std::env::temp_dir().join(format!("xsel-pendant-drafts-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let start = |dir: &std::path::Path| {
+        let options = StartOptions {
+            drafts_dir: Some(dir.to_path_buf()),
+            ..StartOptions::fresh_simulator()
+        };
+        Harness::builder()
+            .with_size([1280.0, 900.0])
+            .build_eframe(move |cc| PendantApp::new(cc, options))
+    };
+    let mut h = start(&dir);
+    step_until(&mut h, "both tables read", both_read);
+    open_pane(&mut h);
+    type_into(&mut h, "work 5 R deg", "45.5");
+    // Written at once, before any close.
+    let text = std::fs::read_to_string(dir.join("coords-drafts.json")).expect("autosaved");
+    assert!(text.contains("45500"), "the edit is in the file: {text}");
+    drop(h);
+    // A new window (as after a crash) has the edit back before anything is read.
+    let h = start(&dir);
+    let p = h.state().pendant();
+    assert_eq!(
+        p.coords.draft(FrameKind::Work).get(5).map(|c| c.r.0),
+        Some(45_500)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -46,6 +46,9 @@ pub struct StartOptions {
     pub fresh: bool,
     /// Open no line at start (image tests drive the pendant with scripted events).
     pub offline: bool,
+    /// Where the coordinate-table drafts are autosaved and restored from; `None`: the
+    /// app's data directory, or nowhere in a fresh start.
+    pub drafts_dir: Option<std::path::PathBuf>,
 }
 
 impl StartOptions {
@@ -55,6 +58,7 @@ impl StartOptions {
             connection: None,
             fresh: true,
             offline: false,
+            drafts_dir: None,
         }
     }
 
@@ -125,10 +129,13 @@ impl PendantApp {
             help_open: false,
             applied_theme: None,
         };
-        if !options.fresh {
-            app.drafts_file = eframe::storage_dir(APP_ID).map(|d| d.join(DRAFTS_FILE));
-            app.restore_drafts(now);
-        }
+        let drafts_dir = match options.drafts_dir {
+            Some(dir) => Some(dir),
+            None if !options.fresh => eframe::storage_dir(APP_ID),
+            None => None,
+        };
+        app.drafts_file = drafts_dir.map(|d| d.join(DRAFTS_FILE));
+        app.restore_drafts(now);
         app.run_requests(&cc.egui_ctx, now);
         app
     }
