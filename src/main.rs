@@ -23,6 +23,7 @@ fn main() -> ExitCode {
         connection: named.then(|| args.connection_settings()),
         fresh: false,
         offline: false,
+        drafts_dir: None,
     };
     match run_window(options) {
         Ok(()) => ExitCode::SUCCESS,

@@ -252,6 +252,7 @@ fn a_whole_tool_table_downloads_in_buffer_sized_chunks() {
     link.download_table(TableRequest {
         kind: CoordKind::Tool,
         axes: SCARA,
+        first: 0,
         records: 128,
         reply_buffer: 2048,
     });
@@ -301,12 +302,14 @@ fn a_download_replaced_midway_keeps_its_records_apart() {
     link.download_table(TableRequest {
         kind: CoordKind::Work,
         axes: SCARA,
+        first: 0,
         records: 32,
         reply_buffer: 2048,
     });
     link.download_table(TableRequest {
         kind: CoordKind::Tool,
         axes: SCARA,
+        first: 0,
         records: 128,
         reply_buffer: 2048,
     });
@@ -353,6 +356,7 @@ fn a_table_that_cannot_be_read_names_the_missing_records() {
     link.download_table(TableRequest {
         kind: CoordKind::Work,
         axes: SCARA,
+        first: 0,
         records: 32,
         reply_buffer: 2048,
     });

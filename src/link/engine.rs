@@ -389,6 +389,7 @@ impl Engine {
             } else {
                 job.answered_axes
             },
+            first: job.request.first,
             records: job.records,
             missing,
         });

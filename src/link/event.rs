@@ -91,6 +91,8 @@ pub enum LinkEvent {
     TableDone {
         kind: CoordKind,
         axes: AxisPattern,
+        /// The definition number of `records[0]` (0 for a whole table).
+        first: u16,
         records: Vec<Option<PerAxis<Thou>>>,
         missing: Vec<Range<u16>>,
     },

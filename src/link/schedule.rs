@@ -344,6 +344,7 @@ mod tests {
         s.start_table(TableRequest {
             kind: CoordKind::Work,
             axes: AxisPattern::SCARA_1,
+            first: 0,
             records: 32,
             reply_buffer: 2048,
         });

@@ -11,7 +11,11 @@ pub struct TableRequest {
     pub kind: CoordKind,
     /// `0F`, `F0` or `FF` (PROTOCOL.md 3.16).
     pub axes: AxisPattern,
-    /// Number of definitions in the table (32 work / 128 tool by default, at most 256).
+    /// The first definition number to read (0 for a whole table; a retry of the records
+    /// a read missed starts where they start).
+    pub first: u16,
+    /// Number of definitions to read from `first` (32 work / 128 tool for a whole table;
+    /// `first + records` at most 256).
     pub records: u16,
     /// The controller's reply buffer in bytes: 2048, or 1024 on J/K/KE/KT/KET/JX/KX/KTX
     /// and TT (PROTOCOL.md 1.7).
@@ -38,20 +42,23 @@ pub struct TableJob {
     /// Tells this download's chunks from those of one it replaced.
     pub generation: u32,
     next_first: u16,
+    /// Records `request.first ..`, `None` where not (yet) read.
     pub records: Vec<Option<PerAxis<Thou>>>,
     pub answered_axes: AxisPattern,
 }
 
 impl TableJob {
     pub fn new(request: TableRequest, generation: u32) -> Self {
-        let total = request.records.min(256);
+        let first = request.first.min(255);
+        let total = request.records.min(256 - first);
         Self {
             generation,
             request: TableRequest {
+                first,
                 records: total,
                 ..request
             },
-            next_first: 0,
+            next_first: first,
             records: vec![None; usize::from(total)],
             answered_axes: AxisPattern::NONE,
         }
@@ -59,12 +66,12 @@ impl TableJob {
 
     /// The next chunk's query, if any remain.
     pub fn next_query(&mut self) -> Option<Command> {
-        let total = self.request.records;
-        if self.next_first >= total {
+        let end = self.end();
+        if self.next_first >= end {
             return None;
         }
         let first = self.next_first;
-        let count = self.request.records_per_chunk().min(total - first);
+        let count = self.request.records_per_chunk().min(end - first);
         self.next_first += count;
         Some(Command::CoordQuery2(CoordQuery2 {
             axes: self.request.axes,
@@ -78,8 +85,11 @@ impl TableJob {
     pub fn accept(&mut self, axes: AxisPattern, first: u8, records: &[PerAxis<Thou>]) -> usize {
         self.answered_axes = axes;
         let mut stored = 0;
+        let Some(offset) = usize::from(first).checked_sub(usize::from(self.request.first)) else {
+            return 0;
+        };
         for (i, rec) in records.iter().enumerate() {
-            if let Some(slot) = self.records.get_mut(usize::from(first) + i) {
+            if let Some(slot) = self.records.get_mut(offset + i) {
                 *slot = Some(*rec);
                 stored += 1;
             }
@@ -87,12 +97,18 @@ impl TableJob {
         stored
     }
 
-    /// The record ranges not (yet) read: chunks that failed after their retries, came
-    /// back short, or were never asked for because the download ended early.
+    /// One past the last definition number asked for.
+    fn end(&self) -> u16 {
+        self.request.first + self.request.records
+    }
+
+    /// The record ranges (definition numbers) not (yet) read: chunks that failed after
+    /// their retries, came back short, or were never asked for because the download
+    /// ended early.
     pub fn missing(&self) -> Vec<Range<u16>> {
         let mut holes: Vec<Range<u16>> = Vec::new();
         for (i, rec) in self.records.iter().enumerate() {
-            let i = i as u16;
+            let i = self.request.first + i as u16;
             if rec.is_none() {
                 match holes.last_mut() {
                     Some(h) if h.end == i => h.end = i + 1,
@@ -108,7 +124,7 @@ impl TableJob {
     }
 
     pub fn is_finished(&self) -> bool {
-        self.next_first >= self.request.records
+        self.next_first >= self.end()
     }
 }
 
@@ -120,6 +136,7 @@ mod tests {
         TableRequest {
             kind: CoordKind::Tool,
             axes: AxisPattern(axes),
+            first: 0,
             records,
             reply_buffer: buffer,
         }
@@ -148,5 +165,27 @@ mod tests {
         assert_eq!(job.received(), 124);
         assert_eq!(job.missing(), vec![124..128]);
         assert!(job.is_finished());
+    }
+
+    #[test]
+    fn a_retry_reads_only_the_records_asked_for() {
+        let mut job = TableJob::new(
+            TableRequest {
+                first: 124,
+                records: 4,
+                ..request(0x0F, 0, 2048)
+            },
+            2,
+        );
+        let Some(Command::CoordQuery2(q)) = job.next_query() else {
+            panic!("no query")
+        };
+        assert_eq!((q.first, q.count), (124, 4));
+        assert!(job.next_query().is_none());
+        assert_eq!(job.missing(), vec![124..128]);
+        assert_eq!(job.accept(AxisPattern(0x0F), 124, &[PerAxis::new(); 3]), 3);
+        assert_eq!(job.missing(), vec![127..128]);
+        // A stray chunk from before the range lands nowhere.
+        assert_eq!(job.accept(AxisPattern(0x0F), 0, &[PerAxis::new(); 2]), 0);
     }
 }

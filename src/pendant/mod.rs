@@ -4,6 +4,7 @@
 //! out of [`Pendant::take_requests`].
 
 pub mod connection;
+pub mod coords;
 pub mod jog;
 mod moving;
 pub mod readiness;
@@ -60,6 +61,12 @@ pub enum Request {
     RenewJogLease,
     /// Read a whole coordinate table with 2A4H.
     ReadTable(CoordKind),
+    /// Read these records of a coordinate table with 2A4H (a retry of what a read missed).
+    ReadRecords(CoordKind, std::ops::Range<u16>),
+    /// Stop the table read in progress.
+    CancelTableRead,
+    /// Give the embedded simulator these tables (the draft, to try it).
+    SimulatorTables(crate::robot::CoordTables),
     /// Close the line (if open) and open the one in the settings.
     Connect,
     /// Close the line.
@@ -138,11 +145,14 @@ pub struct Pendant {
     command_position: Option<Joints>,
     confirm: Option<(JogAxis, Direction, Instant)>,
     requests: Vec<Request>,
+    /// The coordinate-table editor: drafts, reads, "over the arm".
+    pub coords: coords::CoordEditor,
 }
 
 impl Pendant {
     pub fn new(settings: Settings, model: RobotModel) -> Self {
         Self {
+            coords: coords::CoordEditor::new(model.work_table_size, model.tool_table_size),
             kin: Scara::new(&model),
             model,
             settings,
@@ -163,6 +173,13 @@ impl Pendant {
     /// Another robot model for the checks (a new connection may name one).
     pub fn set_model(&mut self, model: RobotModel) {
         self.kin = Scara::new(&model);
+        let sizes = |m: &RobotModel| (m.work_table_size, m.tool_table_size);
+        if sizes(&model) != sizes(&self.model) {
+            // Tables of another size: drafts start again at the new sizes.
+            self.coords = coords::CoordEditor::new(model.work_table_size, model.tool_table_size);
+            self.controller.work_table = None;
+            self.controller.tool_table = None;
+        }
         self.model = model;
     }
 
@@ -184,6 +201,11 @@ impl Pendant {
             text: text.into(),
             at: now,
         });
+    }
+
+    /// A word for the operator from outside the model (the window's own actions).
+    pub fn note(&mut self, text: impl Into<String>, now: Instant) {
+        self.say(Level::Info, text, now);
     }
 
     fn jog_says(&mut self, level: Level, text: impl Into<String>, now: Instant) {
@@ -220,6 +242,7 @@ impl Pendant {
 
     fn line_gone(&mut self, _now: Instant) {
         self.controller.line_lost();
+        self.coords.line_gone();
         self.held = None;
         self.followed = None;
         self.command_position = None;
@@ -286,20 +309,19 @@ impl Pendant {
                     self.say(Level::Warning, text, now);
                 }
             }
+            LinkEvent::TableProgress {
+                kind,
+                received,
+                total,
+            } => self.table_progress(kind, received, total),
             LinkEvent::TableDone {
                 kind,
+                axes,
+                first,
                 records,
                 missing,
-                ..
             } => {
-                self.controller.table(kind, &records, now);
-                if !missing.is_empty() {
-                    self.say(
-                        Level::Warning,
-                        format!("{kind:?} table: records {missing:?} could not be read"),
-                        now,
-                    );
-                }
+                self.table_done(kind, axes, first, &records, &missing, now);
                 if kind == CoordKind::Work && self.controller.tool_table.is_none() {
                     self.requests.push(Request::ReadTable(CoordKind::Tool));
                 }

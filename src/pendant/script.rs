@@ -96,6 +96,7 @@ pub fn ready_controller(kin: &Scara, joints: Joints) -> Vec<LinkEvent> {
         events.push(LinkEvent::TableDone {
             kind,
             axes: AxisPattern::SCARA_1,
+            first: 0,
             records: vec![Some(PerAxis::new()); 4],
             missing: vec![],
         });

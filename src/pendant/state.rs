@@ -101,9 +101,18 @@ impl ControllerState {
         *slot = Some(Stamped { value: s, at });
     }
 
-    /// Files a table download; `records[n]` is `None` where it could not be read.
-    pub fn table(&mut self, kind: CoordKind, records: &[Option<PerAxis<Thou>>], at: Instant) {
-        let records = records
+    /// Files a table download of `size` definitions; `records[i]` is definition
+    /// `first + i`, `None` where it could not be read. A whole table (`first` 0) replaces
+    /// the one held; a partial read (a retry) fills in the records it got.
+    pub fn table(
+        &mut self,
+        kind: CoordKind,
+        first: u16,
+        size: usize,
+        records: &[Option<PerAxis<Thou>>],
+        at: Instant,
+    ) {
+        let read: Vec<Option<CoordSystem>> = records
             .iter()
             .map(|r| {
                 r.map(|axes| {
@@ -116,11 +125,30 @@ impl ControllerState {
                 })
             })
             .collect();
-        let table = Some(ReadTable { records, at });
-        match kind {
-            CoordKind::Work => self.work_table = table,
-            CoordKind::Tool => self.tool_table = table,
-        }
+        let slot = match kind {
+            CoordKind::Work => &mut self.work_table,
+            CoordKind::Tool => &mut self.tool_table,
+        };
+        let first = usize::from(first);
+        let records = match slot.take() {
+            Some(mut held) if first > 0 => {
+                for (i, r) in read.into_iter().enumerate() {
+                    if let (Some(slot), Some(r)) = (held.records.get_mut(first + i), r) {
+                        *slot = Some(r);
+                    }
+                }
+                held.records
+            }
+            _ if first > 0 => {
+                let mut all = vec![None; size.max(first + read.len())];
+                for (i, r) in read.into_iter().enumerate() {
+                    all[first + i] = r;
+                }
+                all
+            }
+            _ => read,
+        };
+        *slot = Some(ReadTable { records, at });
     }
 
     /// The oldest time among the statuses motion depends on, or `None` if one is missing.

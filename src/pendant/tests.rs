@@ -81,6 +81,7 @@ fn connecting_asks_for_the_version_and_both_tables_in_turn() {
         LinkEvent::TableDone {
             kind: CoordKind::Work,
             axes: crate::protocol::AxisPattern::SCARA_1,
+            first: 0,
             records: vec![None, Some(PerAxis::new())],
             missing: std::iter::once(0..1).collect(),
         },
@@ -284,6 +285,7 @@ fn a_base_frame_step_turns_with_the_work_frame() {
         LinkEvent::TableDone {
             kind: CoordKind::Work,
             axes: crate::protocol::AxisPattern::SCARA_1,
+            first: 0,
             records: vec![Some(rec)],
             missing: vec![],
         },

@@ -443,6 +443,12 @@ impl SimHandle {
         self.with(|c| c.set_drive_cut_off(on));
     }
 
+    /// Replaces the work and tool coordinate tables (as `--coords` would at start):
+    /// the next 2A4H answers from them.
+    pub fn set_coords(&self, tables: crate::robot::CoordTables) {
+        self.with(|c| c.set_coords(tables));
+    }
+
     /// Selects the work coordinate system number; `false` if it is outside the table.
     pub fn select_work(&self, number: usize) -> bool {
         self.with(|c| c.select_work(number))

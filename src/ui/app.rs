@@ -7,11 +7,13 @@ use std::time::{Duration, Instant};
 use egui::{Panel, Theme};
 
 use super::connection::ConnectionPanel;
+use super::coords::CoordsPanel;
 use super::layout::{self, Tab, Tabs};
 use super::simulator::{SimState, SimulatorPanel};
 use super::teach::TeachPanel;
 use super::{jog, keys, top_bar};
 use crate::link::{Priority, TableRequest};
+use crate::pendant::coords::SavedDrafts;
 use crate::pendant::{ConnectionSettings, Pendant, Request, Settings};
 use crate::protocol::{AxisPattern, CoordKind};
 use crate::robot::RobotModel;
@@ -33,6 +35,8 @@ const LINK_REPAINT: Duration = Duration::from_millis(100);
 const HELD_REFRESH: Duration = Duration::from_millis(40);
 /// The controller's reply buffer assumed for table reads (PROTOCOL.md 1.7).
 const REPLY_BUFFER: usize = 2048;
+/// The coordinate-table drafts, autosaved on every change beside eframe's settings.
+const DRAFTS_FILE: &str = "coords-drafts.json";
 
 /// How the window starts.
 #[derive(Clone, Debug, Default)]
@@ -43,6 +47,9 @@ pub struct StartOptions {
     pub fresh: bool,
     /// Open no line at start (image tests drive the pendant with scripted events).
     pub offline: bool,
+    /// Where the coordinate-table drafts are autosaved and restored from; `None`: the
+    /// app's data directory, or nowhere in a fresh start.
+    pub drafts_dir: Option<std::path::PathBuf>,
 }
 
 impl StartOptions {
@@ -52,6 +59,7 @@ impl StartOptions {
             connection: None,
             fresh: true,
             offline: false,
+            drafts_dir: None,
         }
     }
 
@@ -70,6 +78,11 @@ pub struct PendantApp {
     connection: ConnectionPanel,
     teach: TeachPanel,
     simulator: SimulatorPanel,
+    coords: CoordsPanel,
+    /// Where the drafts are autosaved (none in a fresh start: tests leave the user's
+    /// drafts alone), and the revision last written.
+    drafts_file: Option<std::path::PathBuf>,
+    drafts_saved: u64,
     dock: egui_tiles::Tree<Tab>,
     started: Instant,
     help_open: bool,
@@ -111,13 +124,67 @@ impl PendantApp {
             connection: ConnectionPanel::default(),
             teach: TeachPanel::default(),
             simulator: SimulatorPanel::default(),
+            coords: CoordsPanel::default(),
+            drafts_file: None,
+            drafts_saved: 0,
             dock: layout::checked_layout(saved_layout),
             started: now,
             help_open: false,
             applied_theme: None,
         };
+        let drafts_dir = match options.drafts_dir {
+            Some(dir) => Some(dir),
+            None if !options.fresh => eframe::storage_dir(APP_ID),
+            None => None,
+        };
+        app.drafts_file = drafts_dir.map(|d| d.join(DRAFTS_FILE));
+        app.restore_drafts(now);
         app.run_requests(&cc.egui_ctx, now);
         app
+    }
+
+    /// Takes back the drafts autosaved by the last run, if any.
+    fn restore_drafts(&mut self, now: Instant) {
+        let Some(path) = &self.drafts_file else {
+            return;
+        };
+        let Ok(text) = std::fs::read_to_string(path) else {
+            return;
+        };
+        match serde_json::from_str::<SavedDrafts>(&text) {
+            Ok(saved) if self.pendant.coords.restore(&saved) => {
+                self.pendant.note("coordinate-table drafts restored from the last run", now);
+            }
+            _ => self.pendant.note(
+                format!("the saved drafts in {} could not be read; they are kept there until the next edit", path.display()),
+                now,
+            ),
+        }
+        self.drafts_saved = self.pendant.coords.revision();
+    }
+
+    /// Writes the drafts when they changed since the last write (a new file renamed over
+    /// the old, so a crash mid-write leaves the previous one).
+    fn autosave_drafts(&mut self, now: Instant) {
+        let revision = self.pendant.coords.revision();
+        if revision == self.drafts_saved {
+            return;
+        }
+        self.drafts_saved = revision;
+        let Some(path) = &self.drafts_file else {
+            return;
+        };
+        let text = serde_json::to_string(&self.pendant.coords.saved()).unwrap_or_default();
+        let tmp = path.with_extension("json.new");
+        let written = path
+            .parent()
+            .map_or(Ok(()), std::fs::create_dir_all)
+            .and_then(|()| std::fs::write(&tmp, text))
+            .and_then(|()| std::fs::rename(&tmp, path));
+        if let Err(e) = written {
+            let text = format!("drafts not autosaved to {}: {e}", path.display());
+            self.pendant.note(text, now);
+        }
     }
 
     /// The pendant model (tests and benches read it).
@@ -193,22 +260,43 @@ impl PendantApp {
                     }
                 }
                 Request::ReadTable(kind) => {
+                    let records = match kind {
+                        CoordKind::Work => self.pendant.model.work_table_size,
+                        CoordKind::Tool => self.pendant.model.tool_table_size,
+                    };
+                    self.read_records(kind, 0..records.min(256) as u16);
+                }
+                Request::ReadRecords(kind, range) => self.read_records(kind, range),
+                Request::CancelTableRead => {
                     if let Some(s) = &self.session {
-                        let records = match kind {
-                            CoordKind::Work => self.pendant.model.work_table_size,
-                            CoordKind::Tool => self.pendant.model.tool_table_size,
-                        };
-                        s.link.download_table(TableRequest {
-                            kind,
-                            axes: AxisPattern::SCARA_1,
-                            records: records.min(256) as u16,
-                            reply_buffer: REPLY_BUFFER,
-                        });
+                        s.link.cancel_table();
                     }
+                }
+                Request::SimulatorTables(tables) => {
+                    let text = match self.sim() {
+                        Some(sim) => {
+                            sim.set_coords(tables);
+                            "the simulator now answers 2A4H with the draft (unread rows as zeros)"
+                        }
+                        None => "no built-in simulator on this line: the draft was not given",
+                    };
+                    self.pendant.note(text, now);
                 }
                 Request::Connect => self.open_session(ctx, now),
                 Request::Disconnect => self.session = None,
             }
+        }
+    }
+
+    fn read_records(&self, kind: CoordKind, range: std::ops::Range<u16>) {
+        if let Some(s) = &self.session {
+            s.link.download_table(TableRequest {
+                kind,
+                axes: AxisPattern::SCARA_1,
+                first: range.start,
+                records: range.end.saturating_sub(range.start),
+                reply_buffer: REPLY_BUFFER,
+            });
         }
     }
 
@@ -301,6 +389,7 @@ impl eframe::App for PendantApp {
             let mut tabs = Tabs {
                 pendant: &mut self.pendant,
                 teach: &mut self.teach,
+                coords: &mut self.coords,
                 now,
                 started: self.started,
             };
@@ -314,6 +403,7 @@ impl eframe::App for PendantApp {
             self.simulator.done(format!("Simulator: {text}"));
         }
         self.run_requests(&ctx, now);
+        self.autosave_drafts(now);
         first_frame_probe(&ctx, self.started);
     }
 

@@ -4,6 +4,8 @@
 
 pub mod app;
 mod connection;
+mod coords;
+mod coords_table;
 mod detect;
 mod jog;
 mod keys;

@@ -1,0 +1,274 @@
+//! The coordinate table itself: a virtualised egui_extras table (only visible rows are
+//! laid out), one text cell per value, checked when the entry ends (Enter or leaving
+//! the cell): a refused entry stays in red and the draft is unchanged.
+
+use egui::{Color32, Key, RichText, Role, TextEdit, Ui, WidgetInfo};
+use egui_extras::{Column as Col, TableBuilder};
+
+use super::coords::CoordsPanel;
+use super::widgets::{AMBER, GREY, RED};
+use crate::pendant::Pendant;
+use crate::pendant::coords::cell::{self, Column};
+use crate::pendant::coords::draft::cell_differs;
+use crate::robot::{CoordSystem, FrameKind};
+
+const ROW_HEIGHT: f32 = 22.0;
+/// The colour of a cell that differs from the controller's value.
+const EDITED: Color32 = AMBER;
+
+/// The cell being typed, and why its last entry was refused.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CellEdit {
+    pub kind: FrameKind,
+    pub number: usize,
+    pub column: Column,
+    pub text: String,
+    pub refused: Option<String>,
+}
+
+/// The accessible name of a cell: `work 3 X mm`.
+pub fn cell_label(kind: FrameKind, number: usize, column: Column) -> String {
+    format!("{kind} {number} {}", column.heading())
+}
+
+pub fn table(ui: &mut Ui, panel: &mut CoordsPanel, pendant: &mut Pendant) {
+    let kind = panel.kind;
+    let controller = pendant
+        .read_table(kind)
+        .map(|t| t.records.clone())
+        .unwrap_or_default();
+    let in_use = pendant.controller.frame_numbers().map(|(w, t)| match kind {
+        FrameKind::Work => usize::from(w),
+        FrameKind::Tool => usize::from(t),
+    });
+    let rows: Vec<usize> = {
+        let draft = pendant.coords.draft(kind).rows();
+        (0..draft.len())
+            .filter(|&n| {
+                !panel.only_differences || draft[n] != controller.get(n).copied().flatten()
+            })
+            .collect()
+    };
+    // A narrow pane scrolls the columns sideways; the rows scroll inside the table.
+    egui::ScrollArea::horizontal()
+        .id_salt(("coords-table-sideways", kind))
+        .show(ui, |ui| {
+            rows_table(ui, panel, pendant, &controller, in_use, &rows)
+        });
+}
+
+fn rows_table(
+    ui: &mut Ui,
+    panel: &mut CoordsPanel,
+    pendant: &mut Pendant,
+    controller: &[Option<CoordSystem>],
+    in_use: Option<usize>,
+    rows: &[usize],
+) {
+    let kind = panel.kind;
+    let mut builder = TableBuilder::new(ui)
+        .id_salt(("coords-table", kind))
+        .striped(true)
+        .cell_layout(egui::Layout::left_to_right(egui::Align::Center))
+        .column(Col::exact(34.0))
+        .column(Col::exact(30.0))
+        .columns(Col::initial(74.0).at_least(60.0), 4);
+    if panel.show_diff {
+        builder = builder.columns(Col::initial(74.0).at_least(60.0), 4);
+    }
+    builder = builder.column(Col::auto().at_least(90.0));
+    builder
+        .header(ROW_HEIGHT, |mut h| {
+            h.col(|ui| {
+                ui.strong("No.");
+            });
+            h.col(|ui| {
+                ui.strong("Arm")
+                    .on_hover_text("Show this frame over the arm view");
+            });
+            for c in Column::ALL {
+                h.col(|ui| {
+                    ui.strong(c.heading());
+                });
+            }
+            if panel.show_diff {
+                for c in Column::ALL {
+                    h.col(|ui| {
+                        ui.strong(format!("ctrl {}", c.heading()));
+                    });
+                }
+            }
+            h.col(|ui| {
+                ui.strong("State");
+            });
+        })
+        .body(|body| {
+            body.rows(ROW_HEIGHT, rows.len(), |mut row| {
+                let n = rows[row.index()];
+                let draft = pendant.coords.draft(kind).get(n);
+                let theirs = controller.get(n).copied().flatten();
+                let read = controller.get(n).is_some_and(|r| r.is_some());
+                row.set_selected(in_use == Some(n));
+                row.col(|ui| {
+                    ui.label(n.to_string());
+                });
+                row.col(|ui| {
+                    let mut on = pendant.coords.is_over_arm(kind, n as u8);
+                    let r = ui.checkbox(&mut on, "");
+                    r.widget_info(|| {
+                        WidgetInfo::selected(
+                            Role::CheckBox,
+                            true,
+                            on,
+                            format!("{kind} {n} over the arm"),
+                        )
+                    });
+                    if r.changed() {
+                        pendant.coords.set_over_arm(kind, n as u8, on);
+                    }
+                });
+                for column in Column::ALL {
+                    row.col(|ui| value_cell(ui, panel, pendant, controller, n, column));
+                }
+                if panel.show_diff {
+                    for column in Column::ALL {
+                        row.col(|ui| {
+                            let differs = cell_differs(draft, theirs, column);
+                            let text = theirs
+                                .map_or("unread".to_owned(), |cs| cell::show(column.get(&cs)));
+                            let color = if differs { EDITED } else { GREY };
+                            ui.label(RichText::new(text).color(color));
+                        });
+                    }
+                }
+                row.col(|ui| {
+                    let mut words = Vec::new();
+                    if in_use == Some(n) {
+                        words.push("in use");
+                    }
+                    if controller.is_empty() || !read {
+                        words.push("unread");
+                    }
+                    if draft != theirs && draft.is_some() {
+                        words.push("edited");
+                    }
+                    if cell::read_only(kind, n) {
+                        words.push("base frame");
+                    }
+                    ui.label(words.join(", "));
+                });
+            });
+        });
+}
+
+fn value_cell(
+    ui: &mut Ui,
+    panel: &mut CoordsPanel,
+    pendant: &mut Pendant,
+    controller: &[Option<CoordSystem>],
+    n: usize,
+    column: Column,
+) {
+    let kind = panel.kind;
+    let draft = pendant.coords.draft(kind).get(n);
+    let theirs = controller.get(n).copied().flatten();
+    let editing = panel
+        .edit
+        .as_ref()
+        .filter(|e| e.kind == kind && e.number == n && e.column == column);
+    let refused = editing.is_some_and(|e| e.refused.is_some());
+    let mut text = match editing {
+        Some(e) => e.text.clone(),
+        None => draft.map_or_else(String::new, |cs| cell::show(column.get(&cs))),
+    };
+    let color = if refused {
+        RED
+    } else if cell_differs(draft, theirs, column) && draft.is_some() {
+        EDITED
+    } else {
+        ui.visuals().text_color()
+    };
+    let read_only = cell::read_only(kind, n);
+    let label = cell_label(kind, n, column);
+    let r = ui.add(
+        TextEdit::singleline(&mut text)
+            .id_salt(("coord-cell", kind, n, column.index()))
+            .desired_width(f32::INFINITY)
+            .text_color(color)
+            .interactive(!read_only)
+            .hint_text(RichText::new("unread").color(GREY)),
+    );
+    // The tooltip is also the cell's accessible name (screen readers, tests).
+    let r = if read_only {
+        r.on_hover_text(format!("{label}: {}", cell::READ_ONLY))
+    } else {
+        r.on_hover_text(label)
+    };
+    if r.changed() || (r.gained_focus() && editing.is_none()) {
+        panel.edit = Some(CellEdit {
+            kind,
+            number: n,
+            column,
+            text: text.clone(),
+            refused: None,
+        });
+    }
+    if r.lost_focus()
+        && panel
+            .edit
+            .as_ref()
+            .is_some_and(|e| e.kind == kind && e.number == n && e.column == column)
+    {
+        if ui.input(|i| i.key_pressed(Key::Escape)) {
+            panel.edit = None;
+        } else {
+            commit(panel, pendant, text);
+        }
+    }
+    r.context_menu(|ui| {
+        let can = theirs.is_some() && !read_only;
+        if ui
+            .add_enabled(can, egui::Button::new("Reset to the controller's value"))
+            .clicked()
+        {
+            let _ = pendant
+                .coords
+                .draft_mut(kind)
+                .reset_cell(n, column, &controller.to_vec());
+            panel.edit = None;
+            ui.close();
+        }
+    });
+}
+
+/// Puts the typed text in the draft, or keeps it (red) with the reason it was refused.
+fn commit(panel: &mut CoordsPanel, pendant: &mut Pendant, text: String) {
+    let Some(edit) = panel.edit.take() else {
+        return;
+    };
+    // Unchanged text (the value as shown, or an unread cell left empty) is no edit.
+    let shown = pendant
+        .coords
+        .draft(edit.kind)
+        .get(edit.number)
+        .map_or_else(String::new, |cs| cell::show(edit.column.get(&cs)));
+    if text.trim() == shown || (text.trim().is_empty() && shown.is_empty()) {
+        return;
+    }
+    let result = pendant
+        .coords
+        .draft_mut(edit.kind)
+        .set_cell(edit.number, edit.column, &text);
+    if let Err(why) = result {
+        panel.edit = Some(CellEdit {
+            refused: Some(format!(
+                "{} No. {}, {}: {why}",
+                edit.kind,
+                edit.number,
+                edit.column.heading()
+            )),
+            text,
+            ..edit
+        });
+    }
+}

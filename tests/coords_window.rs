@@ -1,0 +1,354 @@
+//! The coordinate-table editor in the real window on the embedded simulator, driven
+//! headlessly with egui_kittest: both tables read and compared cell by cell with the
+//! simulator's own, a read with dropped replies, editing with diff and undo, a refused
+//! entry. Waits are bounded by a deadline; nothing sleeps a fixed time before asserting.
+
+use std::time::{Duration, Instant};
+
+use egui::accesskit::Role;
+use egui::{Key, Modifiers};
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use xsel_pendant::pendant::coords::{Column, diff};
+use xsel_pendant::robot::{CoordSystem, CoordTables, FrameKind};
+use xsel_pendant::sim::runner::Dir;
+use xsel_pendant::sim::{Fault, FaultSpec};
+use xsel_pendant::ui::{PendantApp, StartOptions};
+
+const DEADLINE: Duration = Duration::from_secs(40);
+
+fn app<'a>() -> Harness<'a, PendantApp> {
+    Harness::builder()
+        .with_size([1280.0, 900.0])
+        .build_eframe(|cc| PendantApp::new(cc, StartOptions::fresh_simulator()))
+}
+
+fn step_until(h: &mut Harness<'_, PendantApp>, what: &str, done: impl Fn(&PendantApp) -> bool) {
+    let end = Instant::now() + DEADLINE;
+    while !done(h.state()) {
+        assert!(
+            Instant::now() < end,
+            "timed out waiting for: {what}; messages: {:?}",
+            h.state()
+                .pendant()
+                .messages
+                .iter()
+                .rev()
+                .take(5)
+                .collect::<Vec<_>>()
+        );
+        h.step();
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    h.step();
+}
+
+fn click(h: &mut Harness<'_, PendantApp>, label: &str) {
+    h.get_by_role_and_label(Role::Button, label).click();
+    h.step();
+    h.step();
+}
+
+fn sim_tables(app: &PendantApp) -> CoordTables {
+    app.sim()
+        .expect("the built-in simulator")
+        .with(|c| c.coords().clone())
+}
+
+fn both_read(app: &PendantApp) -> bool {
+    let p = app.pendant();
+    p.read_table(FrameKind::Work).is_some()
+        && p.read_table(FrameKind::Tool).is_some()
+        && p.coords.reading().is_none()
+}
+
+/// Opens the coordinate tables pane.
+fn open_pane(h: &mut Harness<'_, PendantApp>) {
+    h.get_by_label("Coordinate tables").click();
+    h.step();
+    h.step();
+}
+
+#[test]
+fn both_tables_are_read_and_match_the_simulator_cell_by_cell() {
+    let mut h = app();
+    step_until(&mut h, "both tables read", both_read);
+    open_pane(&mut h);
+    let sim = sim_tables(h.state());
+    let p = h.state().pendant();
+    for (kind, table) in [(FrameKind::Work, &sim.work), (FrameKind::Tool, &sim.tool)] {
+        let read = &p.read_table(kind).unwrap().records;
+        assert_eq!(read.len(), table.len(), "{kind} table size");
+        for (n, want) in table.entries().iter().enumerate() {
+            assert_eq!(read[n], Some(*want), "{kind} No. {n} as read");
+            assert_eq!(
+                p.coords.draft(kind).get(n),
+                Some(*want),
+                "{kind} No. {n} in the draft"
+            );
+        }
+    }
+    // The example has a non-zero work No. 1: the window shows its values.
+    let x = sim.work.get(1).unwrap().x.0;
+    assert_ne!(x, 0);
+    let shown = h.get_by_label("work 1 X mm").value();
+    assert_eq!(
+        shown.as_deref(),
+        Some(format!("{:.3}", f64::from(x) / 1000.0).as_str())
+    );
+}
+
+/// The definition numbers the simulator's delivered (not dropped) 2A4H replies carried.
+fn delivered(app: &PendantApp, type_digit: char, since: Duration) -> Vec<bool> {
+    let mut got = vec![false; 128];
+    for t in app
+        .sim()
+        .unwrap()
+        .traffic()
+        .into_iter()
+        .filter(|t| t.at >= since)
+    {
+        let f = String::from_utf8_lossy(&t.bytes).into_owned();
+        if t.dir != Dir::Out
+            || t.fault.is_some()
+            || f.get(0..1) != Some("#")
+            || f.get(3..6) != Some("2A4")
+        {
+            continue;
+        }
+        if f.get(8..9).and_then(|s| s.chars().next()) != Some(type_digit) {
+            continue;
+        }
+        let hex =
+            |r: std::ops::Range<usize>| f.get(r).and_then(|s| usize::from_str_radix(s, 16).ok());
+        if let (Some(first), Some(count)) = (hex(9..11), hex(11..13)) {
+            for n in first..first + count {
+                if let Some(g) = got.get_mut(n) {
+                    *g = true;
+                }
+            }
+        }
+    }
+    got
+}
+
+#[test]
+fn a_read_with_dropped_replies_marks_exactly_the_missing_records_and_retries_only_those() {
+    let mut h = app();
+    step_until(&mut h, "both tables read", both_read);
+    open_pane(&mut h);
+    click(&mut h, "Tool table");
+    let sim = h.state().sim().unwrap().watch();
+    let sim_now = |a: &PendantApp| a.sim().unwrap().with_core(|c| c.now());
+    // Most replies dropped: a chunk whose every try is dropped stays unread. A read that
+    // happens to lose none is made again (five reads all complete: about 1 in 10^8).
+    let (mut unread, mut expected) = (Vec::new(), Vec::new());
+    for seed in 11..16 {
+        h.state()
+            .sim()
+            .unwrap()
+            .set_faults(FaultSpec::none().with(Fault::Drop, 0.9).seeded(seed));
+        // Only this read's replies count.
+        let since = sim_now(h.state());
+        click(&mut h, "Read from controller");
+        step_until(&mut h, "the tool table read to end", |a| {
+            a.pendant().coords.reading().is_none()
+        });
+        h.state().sim().unwrap().set_faults(FaultSpec::none());
+        let got = delivered(h.state(), '1', since);
+        let read = h
+            .state()
+            .pendant()
+            .read_table(FrameKind::Tool)
+            .unwrap()
+            .records
+            .clone();
+        unread = (0..128).filter(|&n| read[n].is_none()).collect();
+        expected = (0..128).filter(|&n| !got[n]).collect::<Vec<usize>>();
+        assert_eq!(
+            unread, expected,
+            "unread records against the replies delivered"
+        );
+        if !unread.is_empty() {
+            break;
+        }
+    }
+    assert!(!unread.is_empty(), "no read lost a record");
+    // The window says so.
+    assert!(h.query_by_label_contains("records unread").is_some());
+    let total: usize = unread.len();
+    {
+        let since = sim_now(h.state());
+        click(&mut h, &format!("Retry unread ({total})"));
+        step_until(&mut h, "the retry to end", |a| {
+            a.pendant().coords.reading().is_none()
+                && a.pendant().unread_ranges(FrameKind::Tool).is_empty()
+        });
+        // Only the missing records were asked for.
+        let asked: Vec<usize> = sim
+            .traffic()
+            .into_iter()
+            .filter(|t| t.dir == Dir::In && t.at >= since)
+            .map(|t| String::from_utf8_lossy(&t.bytes).into_owned())
+            .filter(|f| f.get(3..6) == Some("2A4"))
+            .flat_map(|f| {
+                let hex = |r: std::ops::Range<usize>| {
+                    f.get(r)
+                        .and_then(|s| usize::from_str_radix(s, 16).ok())
+                        .unwrap_or(0)
+                };
+                let first = hex(9..11);
+                first..first + hex(11..13)
+            })
+            .collect();
+        let mut asked_sorted = asked.clone();
+        asked_sorted.sort_unstable();
+        asked_sorted.dedup();
+        assert_eq!(
+            asked_sorted, expected,
+            "the retry asked for exactly the unread records"
+        );
+    }
+    let sim_tool = sim_tables(h.state()).tool;
+    let read = &h
+        .state()
+        .pendant()
+        .read_table(FrameKind::Tool)
+        .unwrap()
+        .records;
+    for (n, want) in sim_tool.entries().iter().enumerate() {
+        assert_eq!(read[n], Some(*want), "tool No. {n} after the retry");
+    }
+}
+
+/// Types `text` into a cell and ends the entry with Enter.
+fn type_into(h: &mut Harness<'_, PendantApp>, label: &str, text: &str) {
+    h.get_by_label(label).focus();
+    h.step();
+    h.key_press_modifiers(Modifiers::COMMAND, Key::A);
+    h.step();
+    h.get_by_label(label).type_text(text);
+    h.step();
+    h.key_press(Key::Enter);
+    h.step();
+    h.step();
+}
+
+#[test]
+fn an_edit_shows_in_the_diff_and_undo_takes_it_back_and_a_bad_entry_is_refused() {
+    let mut h = app();
+    step_until(&mut h, "both tables read", both_read);
+    open_pane(&mut h);
+    let controller = |a: &PendantApp| {
+        a.pendant()
+            .read_table(FrameKind::Work)
+            .unwrap()
+            .records
+            .clone()
+    };
+    let draft = |a: &PendantApp| a.pendant().coords.draft(FrameKind::Work).rows().clone();
+    assert!(diff(&draft(h.state()), &controller(h.state())).is_empty());
+
+    type_into(&mut h, "work 2 Y mm", "-12.345");
+    let d = diff(&draft(h.state()), &controller(h.state()));
+    assert_eq!(d.len(), 1, "one row differs: {d:?}");
+    assert_eq!((d[0].number, d[0].cells), (2, [false, true, false, false]));
+    assert_eq!(d[0].draft.map(|c| Column::Y.get(&c)), Some(-12_345));
+    // Side by side: the controller's column appears with the diff on.
+    h.get_by_label("Diff with controller").click();
+    h.step();
+    h.step();
+    assert!(h.query_by_label("1 row differs: No. 2").is_some());
+
+    // A bad number is refused inline, the draft unchanged.
+    let before = draft(h.state());
+    type_into(&mut h, "work 3 X mm", "12,5");
+    assert_eq!(
+        draft(h.state()),
+        before,
+        "a refused entry changed the draft"
+    );
+    assert!(
+        h.query_by_label_contains("Refused, the draft is unchanged: work No. 3, X mm")
+            .is_some(),
+        "the refusal is shown"
+    );
+    // Work No. 0 is read-only.
+    h.get_by_label_contains("work 0 Z mm").focus();
+    h.step();
+    h.get_by_label_contains("work 0 Z mm").type_text("5");
+    h.step();
+    h.key_press(Key::Enter);
+    h.step();
+    assert_eq!(draft(h.state())[0], Some(CoordSystem::ZERO));
+
+    click(&mut h, "Undo");
+    assert!(
+        diff(&draft(h.state()), &controller(h.state())).is_empty(),
+        "undo"
+    );
+    click(&mut h, "Redo");
+    assert_eq!(
+        diff(&draft(h.state()), &controller(h.state())).len(),
+        1,
+        "redo"
+    );
+}
+
+#[test]
+fn the_draft_goes_to_the_simulator_in_one_click() {
+    let mut h = app();
+    step_until(&mut h, "both tables read", both_read);
+    open_pane(&mut h);
+    click(&mut h, "Tool table");
+    type_into(&mut h, "tool 4 Z mm", "-40");
+    click(&mut h, "Try on simulator");
+    let sim = sim_tables(h.state());
+    assert_eq!(sim.tool.get(4).map(|c| c.z.0), Some(-40_000));
+    // Read back from the simulator: the draft and the controller agree again.
+    click(&mut h, "Read from controller");
+    step_until(&mut h, "the tool table read again", |a| {
+        a.pendant().coords.reading().is_none()
+            && a.pendant().read_table(FrameKind::Tool).unwrap().records[4].map(|c| c.z.0)
+                == Some(-40_000)
+    });
+    let p = h.state().pendant();
+    assert!(
+        diff(
+            p.coords.tool.rows(),
+            &p.read_table(FrameKind::Tool).unwrap().records
+        )
+        .is_empty()
+    );
+}
+
+#[test]
+fn drafts_are_autosaved_on_every_change_and_come_back_after_a_close() {
+    let dir = std::env::temp_dir().join(format!("xsel-pendant-drafts-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let start = |dir: &std::path::Path| {
+        let options = StartOptions {
+            drafts_dir: Some(dir.to_path_buf()),
+            ..StartOptions::fresh_simulator()
+        };
+        Harness::builder()
+            .with_size([1280.0, 900.0])
+            .build_eframe(move |cc| PendantApp::new(cc, options))
+    };
+    let mut h = start(&dir);
+    step_until(&mut h, "both tables read", both_read);
+    open_pane(&mut h);
+    type_into(&mut h, "work 5 R deg", "45.5");
+    // Written at once, before any close.
+    let text = std::fs::read_to_string(dir.join("coords-drafts.json")).expect("autosaved");
+    assert!(text.contains("45500"), "the edit is in the file: {text}");
+    drop(h);
+    // A new window (as after a crash) has the edit back before anything is read.
+    let h = start(&dir);
+    let p = h.state().pendant();
+    assert_eq!(
+        p.coords.draft(FrameKind::Work).get(5).map(|c| c.r.0),
+        Some(45_500)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
