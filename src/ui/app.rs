@@ -6,6 +6,7 @@ use std::time::{Duration, Instant};
 
 use egui::{Panel, Theme};
 
+use super::arm_view::ArmView;
 use super::connection::ConnectionPanel;
 use super::layout::{self, Tab, Tabs};
 use super::teach::TeachPanel;
@@ -68,6 +69,7 @@ pub struct PendantApp {
     session: Option<Session>,
     connection: ConnectionPanel,
     teach: TeachPanel,
+    arm: ArmView,
     dock: egui_tiles::Tree<Tab>,
     started: Instant,
     help_open: bool,
@@ -108,6 +110,7 @@ impl PendantApp {
             session: None,
             connection: ConnectionPanel::default(),
             teach: TeachPanel::default(),
+            arm: ArmView::default(),
             dock: layout::checked_layout(saved_layout),
             started: now,
             help_open: false,
@@ -125,6 +128,11 @@ impl PendantApp {
     /// The pendant model, for scripted events (image tests).
     pub fn pendant_mut(&mut self) -> &mut Pendant {
         &mut self.pendant
+    }
+
+    /// The arm view (tests read the scene it painted last).
+    pub fn arm_view(&self) -> &ArmView {
+        &self.arm
     }
 
     /// When the window started (the messages' times count from here).
@@ -255,6 +263,7 @@ impl eframe::App for PendantApp {
             self.pendant.stop(now);
             self.run_requests(&ctx, now);
         }
+        self.arm.hovered_step = None;
         Panel::left("left")
             .resizable(true)
             .default_size(370.0)
@@ -265,7 +274,9 @@ impl eframe::App for PendantApp {
                         .show(ui, |ui| self.connection.show(ui, &mut self.pendant, now));
                     egui::CollapsingHeader::new("Jog")
                         .default_open(true)
-                        .show(ui, |ui| jog::show(ui, &mut self.pendant, now));
+                        .show(ui, |ui| {
+                            self.arm.hovered_step = jog::show(ui, &mut self.pendant, now);
+                        });
                     if ui.button("Keyboard (F1)").clicked() {
                         self.help_open = !self.help_open;
                     }
@@ -274,6 +285,7 @@ impl eframe::App for PendantApp {
         egui::CentralPanel::default().show(ui, |ui| {
             let mut tabs = Tabs {
                 pendant: &mut self.pendant,
+                arm: &mut self.arm,
                 teach: &mut self.teach,
                 now,
                 started: self.started,
