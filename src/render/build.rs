@@ -147,9 +147,9 @@ pub fn build_scene(input: &SceneInput<'_>) -> Scene {
     }
     match input.joints {
         Some(j) => {
+            envelope::j2_limit(&mut items, kin, &j);
             let roles = ArmRoles::ACTUAL;
             arm(&mut items, kin, &j, &tool, roles);
-            envelope::j2_limit(&mut items, kin, &j);
             base_frame(&mut items, reach);
             joint_labels(&mut items, kin, &j);
             let tip = tip_of(kin, &j, &tool);
@@ -201,6 +201,17 @@ pub fn build_scene(input: &SceneInput<'_>) -> Scene {
             },
         });
     }
+    // The ghost's labels over everything: a refusal's reason must stay readable.
+    let is_ghost = |r: Role| {
+        matches!(
+            r,
+            Role::GhostReachable | Role::GhostFlip | Role::GhostRefused
+        )
+    };
+    let (labels, mut items): (Vec<Item>, Vec<Item>) = items
+        .into_iter()
+        .partition(|i| is_ghost(i.role) && matches!(i.shape, Shape::Text { .. }));
+    items.extend(labels);
     Scene { items, bounds }
 }
 

@@ -107,10 +107,10 @@ pub(super) fn envelope(items: &mut Vec<Item>, kin: &Scara) {
     ));
     items.push(text(
         Role::Label,
-        Mm::ORIGIN.polar(outer, 0.0),
-        format!("{outer:.0} mm"),
-        Anchor::LeftBottom,
-        [4.0, -2.0],
+        Mm::ORIGIN.polar(outer, -90.0),
+        format!("reach {outer:.0} mm"),
+        Anchor::CenterTop,
+        [0.0, 4.0],
     ));
     if right.0 < right.1 {
         items.push(text(

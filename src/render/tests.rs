@@ -141,7 +141,7 @@ fn a_refused_ghost_carries_the_refused_role_and_its_reason() {
         check: GhostCheck::Reachable,
         joints: Some(Joints::new(10.0, 30.0, 0.0, 0.0)),
         line: Some((Mm::new(0.0, 0.0), Mm::new(1.0, 1.0))),
-        ..ghost
+        ..ghost.clone()
     };
     let scene = build_scene(&SceneInput {
         ghost: Some(&ok),

@@ -47,13 +47,16 @@ impl Export {
         let label = ui.label("PNG file");
         ui.add(egui::TextEdit::singleline(&mut self.path).desired_width(140.0))
             .labelled_by(label.id);
+        let size = ui.label("size");
         ComboBox::from_id_salt("export-size")
             .selected_text(SIZES[self.size].0)
             .show_ui(ui, |ui| {
                 for (i, (name, _)) in SIZES.iter().enumerate() {
                     ui.selectable_value(&mut self.size, i, *name);
                 }
-            });
+            })
+            .response
+            .labelled_by(size.id);
         let busy = self.pending.is_some();
         let clicked = ui
             .add_enabled(!busy, egui::Button::new("Export view as PNG"))

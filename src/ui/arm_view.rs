@@ -107,7 +107,7 @@ impl ArmView {
         let scene = build_scene(&input);
         let palette = Palette::for_theme(ui.visuals().dark_mode);
         self.toolbar(ui, &scene, &palette);
-        let readout_h = 2.0 * ui.text_style_height(&egui::TextStyle::Body) + 8.0;
+        let readout_h = 3.0 * ui.text_style_height(&egui::TextStyle::Body) + 10.0;
         let avail = ui.available_rect_before_wrap();
         let rect = egui::Rect::from_min_max(
             avail.min,

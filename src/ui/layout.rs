@@ -50,8 +50,8 @@ const ALL: [Tab; 5] = [
     Tab::Messages,
 ];
 
-/// The first layout: the arm view large on the left; position, status and teach list as
-/// tabs over the messages on the right.
+/// The first layout: the arm view large on the left; on the right the position, the
+/// status (servo, home) and teach list as tabs, and the messages.
 pub fn default_layout() -> Tree<Tab> {
     let mut tiles = Tiles::default();
     let tabs = |tiles: &mut Tiles<Tab>, panes: &[Tab]| {
@@ -59,12 +59,18 @@ pub fn default_layout() -> Tree<Tab> {
         tiles.insert_tab_tile(children)
     };
     let arm = tabs(&mut tiles, &[Tab::Arm]);
-    let info = tabs(&mut tiles, &[Tab::Position, Tab::Status, Tab::Teach]);
+    let position = tabs(&mut tiles, &[Tab::Position]);
+    let status = tabs(&mut tiles, &[Tab::Status, Tab::Teach]);
     let messages = tabs(&mut tiles, &[Tab::Messages]);
+    let lower = tiles.insert_container(Linear::new_binary(
+        LinearDir::Vertical,
+        [status, messages],
+        0.7,
+    ));
     let right = tiles.insert_container(Linear::new_binary(
         LinearDir::Vertical,
-        [info, messages],
-        0.66,
+        [position, lower],
+        0.3,
     ));
     let root = tiles.insert_container(Linear::new_binary(LinearDir::Horizontal, [arm, right], 0.6));
     Tree::new(egui::Id::unique("centre-layout"), root, tiles)
