@@ -157,7 +157,7 @@ impl Pendant {
         }
         // Sent: the ghost now shows the move in progress.
         self.step_target = None;
-        self.requests.push(Request::Submit(plan.command.clone()));
+        self.requests.push(Request::Submit(plan.command));
         self.jog_says(
             Level::Info,
             format!("go to target X {:.3} Y {:.3}: sent", t.pose.x, t.pose.y),

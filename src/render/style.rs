@@ -11,7 +11,7 @@ impl Rgba {
     pub const fn rgb(r: u8, g: u8, b: u8) -> Self {
         Rgba([r, g, b, 255])
     }
-    pub const fn rgba(r: u8, g: u8, b: u8, a: u8) -> Self {
+    pub const fn with_alpha(r: u8, g: u8, b: u8, a: u8) -> Self {
         Rgba([r, g, b, a])
     }
     /// The same colour with its alpha multiplied by `f` (0..=1).
@@ -86,10 +86,16 @@ impl Palette {
             },
             Role::EnvelopeRight => Style {
                 stroke: stroke(
-                    self.pick(Rgba::rgba(88, 150, 230, 150), Rgba::rgba(40, 100, 190, 150)),
+                    self.pick(
+                        Rgba::with_alpha(88, 150, 230, 150),
+                        Rgba::with_alpha(40, 100, 190, 150),
+                    ),
                     1.0,
                 ),
-                fill: Some(self.pick(Rgba::rgba(70, 130, 220, 34), Rgba::rgba(60, 120, 220, 30))),
+                fill: Some(self.pick(
+                    Rgba::with_alpha(70, 130, 220, 34),
+                    Rgba::with_alpha(60, 120, 220, 30),
+                )),
                 text: (
                     self.pick(Rgba::rgb(120, 170, 240), Rgba::rgb(30, 90, 180)),
                     12.0,
@@ -98,10 +104,16 @@ impl Palette {
             },
             Role::EnvelopeLeft => Style {
                 stroke: stroke(
-                    self.pick(Rgba::rgba(80, 190, 160, 150), Rgba::rgba(20, 140, 110, 150)),
+                    self.pick(
+                        Rgba::with_alpha(80, 190, 160, 150),
+                        Rgba::with_alpha(20, 140, 110, 150),
+                    ),
                     1.0,
                 ),
-                fill: Some(self.pick(Rgba::rgba(60, 180, 150, 30), Rgba::rgba(30, 160, 120, 28))),
+                fill: Some(self.pick(
+                    Rgba::with_alpha(60, 180, 150, 30),
+                    Rgba::with_alpha(30, 160, 120, 28),
+                )),
                 text: (
                     self.pick(Rgba::rgb(110, 205, 175), Rgba::rgb(15, 120, 95)),
                     12.0,
@@ -129,10 +141,16 @@ impl Palette {
             },
             Role::LimitSector => Style {
                 stroke: stroke(
-                    self.pick(Rgba::rgba(230, 90, 90, 200), Rgba::rgba(200, 50, 50, 200)),
+                    self.pick(
+                        Rgba::with_alpha(230, 90, 90, 200),
+                        Rgba::with_alpha(200, 50, 50, 200),
+                    ),
                     1.0,
                 ),
-                fill: Some(self.pick(Rgba::rgba(220, 70, 70, 50), Rgba::rgba(220, 60, 60, 40))),
+                fill: Some(self.pick(
+                    Rgba::with_alpha(220, 70, 70, 50),
+                    Rgba::with_alpha(220, 60, 60, 40),
+                )),
                 text: (
                     self.pick(Rgba::rgb(235, 120, 120), Rgba::rgb(180, 40, 40)),
                     11.0,
@@ -248,7 +266,10 @@ impl Palette {
                     self.pick(Rgba::rgb(255, 200, 60), Rgba::rgb(200, 120, 0)),
                     2.5,
                 ),
-                fill: Some(self.pick(Rgba::rgba(255, 200, 60, 140), Rgba::rgba(220, 140, 0, 120))),
+                fill: Some(self.pick(
+                    Rgba::with_alpha(255, 200, 60, 140),
+                    Rgba::with_alpha(220, 140, 0, 120),
+                )),
                 text: (text, 12.0),
                 ..plain
             },
