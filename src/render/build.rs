@@ -4,7 +4,7 @@
 
 use super::envelope;
 use super::gauge;
-use super::scene::{Anchor, Bounds, Item, Mm, Role, Scene, Shape, fan_triangles};
+use super::scene::{Anchor, Bounds, Item, Mm, Role, Scene, Shape, fan_fill};
 use crate::robot::{Arm, CoordSystem, FrameKind, IkError, Joints, Pose, Scara};
 
 /// An extra frame the operator switched on to be drawn over the arm (a row of the
@@ -436,13 +436,9 @@ fn capsule(items: &mut Vec<Item>, role: Role, a: Mm, b: Mm, half: f64) {
         dir + 270.0,
         15.0,
     ));
-    let triangles = fan_triangles(points.len());
     items.push(Item {
         role,
-        shape: Shape::Fill {
-            points: points.clone(),
-            triangles,
-        },
+        shape: fan_fill(points.clone()),
     });
     items.push(Item {
         role,

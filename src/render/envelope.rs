@@ -1,7 +1,7 @@
 //! The reach envelope (right- and left-arm regions, inner and outer radius, the singular
 //! band), the J1 and J2 limit sectors and the grid under them.
 
-use super::scene::{Anchor, Bounds, Item, Mm, Role, Shape, arc_points, fan_triangles};
+use super::scene::{Anchor, Bounds, Item, Mm, Role, Shape, arc_points, fan_fill};
 use crate::robot::{Joints, Scara};
 
 /// Samples of the envelope's grid over J1 (per degree) and J2.
@@ -138,11 +138,21 @@ fn region(items: &mut Vec<Item>, kin: &Scara, j1: (f64, f64), j2: (f64, f64), ro
     let n2 = J2_SAMPLES;
     let a = |i: usize| j1.0 + (j1.1 - j1.0) * i as f64 / n1 as f64;
     let b = |k: usize| j2.0 + (j2.1 - j2.0) * k as f64 / n2 as f64;
+    // FK(J1, J2) = rot(J1) (l1 + l2 cos J2, l2 sin J2): one sin/cos per sample of each.
+    let elbow: Vec<(f64, f64)> = (0..=n2)
+        .map(|k| {
+            let (s, c) = b(k).to_radians().sin_cos();
+            (kin.l1 + kin.l2 * c, kin.l2 * s)
+        })
+        .collect();
     let mut points = Vec::with_capacity((n1 + 1) * (n2 + 1));
     for i in 0..=n1 {
-        for k in 0..=n2 {
-            points.push(fk(kin, a(i), b(k)));
-        }
+        let (s, c) = a(i).to_radians().sin_cos();
+        points.extend(
+            elbow
+                .iter()
+                .map(|(x, y)| Mm::new(c * x - s * y, s * x + c * y)),
+        );
     }
     let at = |i: usize, k: usize| (i * (n2 + 1) + k) as u32;
     let mut triangles = Vec::with_capacity(2 * n1 * n2);
@@ -153,18 +163,23 @@ fn region(items: &mut Vec<Item>, kin: &Scara, j1: (f64, f64), j2: (f64, f64), ro
         }
     }
     let mut outline = Vec::with_capacity(2 * (n1 + n2));
-    outline.extend((0..n1).map(|i| points[at(i, 0) as usize]));
-    outline.extend((0..n2).map(|k| points[at(n1, k) as usize]));
-    outline.extend((1..=n1).rev().map(|i| points[at(i, n2) as usize]));
-    outline.extend((1..=n2).rev().map(|k| points[at(0, k) as usize]));
+    outline.extend((0..n1).map(|i| at(i, 0)));
+    outline.extend((0..n2).map(|k| at(n1, k)));
+    outline.extend((1..=n1).rev().map(|i| at(i, n2)));
+    outline.extend((1..=n2).rev().map(|k| at(0, k)));
+    let boundary = outline.iter().map(|&i| points[i as usize]).collect();
     items.push(Item {
         role,
-        shape: Shape::Fill { points, triangles },
+        shape: Shape::Fill {
+            points,
+            triangles,
+            outline,
+        },
     });
     items.push(Item {
         role,
         shape: Shape::Polyline {
-            points: outline,
+            points: boundary,
             closed: true,
         },
     });
@@ -183,10 +198,7 @@ fn sector(
     points.extend(arc_points(centre, radius, start, end, 5.0));
     items.push(Item {
         role: Role::LimitSector,
-        shape: Shape::Fill {
-            triangles: fan_triangles(points.len()),
-            points: points.clone(),
-        },
+        shape: fan_fill(points.clone()),
     });
     items.push(Item {
         role: Role::LimitSector,

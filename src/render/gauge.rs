@@ -1,7 +1,7 @@
 //! The Z and R gauge beside the arm: a bar over the Z stroke with the actual (and the
 //! ghost's) Z, and a dial with the tool's R in the base frame.
 
-use super::scene::{Anchor, Bounds, Item, Mm, Role, Shape};
+use super::scene::{Anchor, Bounds, Item, Mm, Role, Shape, fan_fill};
 use crate::robot::{Pose, Scara};
 
 /// Where the gauge sits: left edge, width, top and bottom of the Z bar, and the R dial.
@@ -61,10 +61,7 @@ pub(super) fn gauge(
     };
     let fill = |role: Role, points: Vec<Mm>| Item {
         role,
-        shape: Shape::Fill {
-            triangles: vec![[0, 1, 2], [0, 2, 3]],
-            points,
-        },
+        shape: fan_fill(points),
     };
     let text = |role: Role, at: Mm, text: String, anchor: Anchor, dx: f32| Item {
         role,

@@ -101,7 +101,9 @@ fn shape(painter: &Painter, out: &mut Vec<EguiShape>, view: &View, shape: &Shape
                 ));
             }
         }
-        Shape::Fill { points, triangles } => {
+        Shape::Fill {
+            points, triangles, ..
+        } => {
             let Some(c) = style.fill else { return };
             let c = colour(c);
             let mut mesh = Mesh::default();
@@ -142,14 +144,42 @@ fn shape(painter: &Painter, out: &mut Vec<EguiShape>, view: &View, shape: &Shape
             out.push(EguiShape::galley(top_left, galley, colour(c)));
         }
         Shape::Trail { points } => {
-            let Some((c, w)) = style.stroke else { return };
-            for (alpha, run) in trail_runs(view, points) {
-                let s = Stroke::new(w, colour(c.fade(alpha)));
-                out.push(EguiShape::Path(PathShape::line(
-                    run.into_iter().map(pos).collect(),
-                    PathStroke::from(s),
-                )));
+            if let Some((c, w)) = style.stroke {
+                out.push(EguiShape::mesh(trail_mesh(view, points, c, w)));
             }
         }
     }
+}
+
+/// The trail as one mesh of quads, one per segment, shaded by age: thousands of points
+/// cost no more than a few shapes (egui's path tessellation would feather each point).
+fn trail_mesh(view: &View, points: &[Mm], c: Rgba, width: f32) -> Mesh {
+    let runs = trail_runs(view, points);
+    let mut mesh = Mesh::default();
+    let segments: usize = runs.iter().map(|(_, r)| r.len().saturating_sub(1)).sum();
+    mesh.reserve_vertices(4 * segments);
+    mesh.reserve_triangles(2 * segments);
+    let half = width / 2.0;
+    for (alpha, run) in &runs {
+        let colour = colour(c.fade(*alpha));
+        for pair in run.windows(2) {
+            let (a, b) = (pos(pair[0]), pos(pair[1]));
+            let d = b - a;
+            let len = d.length();
+            if len <= f32::EPSILON {
+                continue;
+            }
+            // Half a width along and across the segment, so neighbours overlap at joins.
+            let along = d / len * half;
+            let n = egui::vec2(-along.y, along.x);
+            let i = mesh.vertices.len() as u32;
+            mesh.colored_vertex(a - along + n, colour);
+            mesh.colored_vertex(a - along - n, colour);
+            mesh.colored_vertex(b + along - n, colour);
+            mesh.colored_vertex(b + along + n, colour);
+            mesh.add_triangle(i, i + 1, i + 2);
+            mesh.add_triangle(i, i + 2, i + 3);
+        }
+    }
+    mesh
 }

@@ -126,10 +126,13 @@ pub enum Shape {
     Dot { centre: Mm, radius_px: f32 },
     /// A cross marker of a fixed screen size.
     Cross { centre: Mm, half_px: f32 },
-    /// A filled polygon, given as triangles over its points (any shape, convex or not).
+    /// A filled polygon (any shape, convex or not): its points, the triangles that cover
+    /// it (for painters that fill triangles) and its boundary in order (for painters that
+    /// fill outlines), both as indices into the points.
     Fill {
         points: Vec<Mm>,
         triangles: Vec<[u32; 3]>,
+        outline: Vec<u32>,
     },
     /// A line with an arrow head at `to`.
     Arrow { from: Mm, to: Mm },
@@ -211,4 +214,14 @@ pub fn fan_triangles(n_points: usize) -> Vec<[u32; 3]> {
     (1..n_points.saturating_sub(1))
         .map(|i| [0, i as u32, i as u32 + 1])
         .collect()
+}
+
+/// A polygon whose points, in order, are its boundary and which a fan from its first
+/// point covers (convex, or a pie from its centre).
+pub fn fan_fill(points: Vec<Mm>) -> Shape {
+    Shape::Fill {
+        triangles: fan_triangles(points.len()),
+        outline: (0..points.len() as u32).collect(),
+        points,
+    }
 }

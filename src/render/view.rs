@@ -98,10 +98,14 @@ impl View {
     }
 }
 
+/// Trail points closer than this (pixels, |dx| + |dy|) to the last one kept are left
+/// out: a 2 px line shows no difference, and painting stays cheap at 10,000 points.
+pub const TRAIL_MIN_STEP_PX: f32 = 2.5;
+
 /// How many steps of fading a trail is painted in.
 pub const TRAIL_FADE_STEPS: usize = 16;
 
-/// A trail on screen: its points at least a pixel apart, cut into runs of equal age, each
+/// A trail on screen: its points at least [`TRAIL_MIN_STEP_PX`] apart, cut into runs of equal age, each
 /// with its opacity (oldest run faintest). Both painters draw these runs.
 pub fn trail_runs(view: &View, points: &[Mm]) -> Vec<(f32, Vec<[f32; 2]>)> {
     let n = points.len();
@@ -119,7 +123,7 @@ pub fn trail_runs(view: &View, points: &[Mm]) -> Vec<(f32, Vec<[f32; 2]>)> {
             let s = view.to_screen(*p);
             let far = screen
                 .last()
-                .is_none_or(|l| (l[0] - s[0]).abs() + (l[1] - s[1]).abs() >= 1.0);
+                .is_none_or(|l| (l[0] - s[0]).abs() + (l[1] - s[1]).abs() >= TRAIL_MIN_STEP_PX);
             if far {
                 screen.push(s);
             }

@@ -87,10 +87,7 @@ impl Export {
             let result = PngPainter::new()
                 .render_view(&scene, &palette, &view, w, h)
                 .map_err(|e| e.to_string())
-                .and_then(|p| {
-                    p.encode_png()
-                        .map_err(|e| format!("PNG encoding failed: {e}"))
-                })
+                .and_then(|p| crate::render::paint_png::encode(&p).map_err(|e| e.to_string()))
                 .and_then(|bytes| {
                     std::fs::write(&path, bytes).map_err(|e| format!("cannot write {path}: {e}"))
                 })
