@@ -213,11 +213,14 @@ impl ArmView {
         });
     }
 
-    /// The next step's ghost: the jog button under the pointer, else the target from
-    /// "Step here", else the move in progress.
+    /// The next step's ghost: the jog button under the pointer (in step mode: a
+    /// continuous jog has no end), else the target from "Step here", else the move in
+    /// progress.
     fn ghost(&self, pendant: &Pendant, now: Instant) -> Option<Ghost> {
+        let stepping = pendant.settings.jog.mode == crate::pendant::JogMode::Step;
         let preview = self
             .hovered_step
+            .filter(|_| stepping)
             .and_then(|(axis, dir)| pendant.preview_jog(axis, dir, now))
             .or_else(|| pendant.preview_target(now))
             .or_else(|| pendant.preview_followed(now))?;
