@@ -52,6 +52,46 @@ pub struct Args {
     /// Text mode, printing the controller and the arm until Ctrl-C (implies --headless).
     #[arg(long)]
     pub watch: bool,
+    /// Draw the arm view into this PNG file and exit: no window, no GPU, no line. The pose
+    /// comes from --joints or --pose (default: the model's home), the robot from --robot.
+    #[arg(long, value_name = "FILE")]
+    pub render_png: Option<std::path::PathBuf>,
+    /// For --render-png: the joints J1,J2,Z,J4 (deg, deg, mm, deg).
+    #[arg(
+        long,
+        value_name = "J1,J2,Z,J4",
+        requires = "render_png",
+        conflicts_with = "pose",
+        allow_hyphen_values = true
+    )]
+    pub joints: Option<String>,
+    /// For --render-png: the flange pose X,Y,Z,R in the base frame (mm, deg), reached
+    /// with the arm system of --arm.
+    #[arg(
+        long,
+        value_name = "X,Y,Z,R",
+        requires = "render_png",
+        allow_hyphen_values = true
+    )]
+    pub pose: Option<String>,
+    /// For --render-png: the arm system of --pose and --target, right or left.
+    #[arg(long, default_value = "right", requires = "render_png")]
+    pub arm: String,
+    /// For --render-png: a target X,Y (base frame, mm) drawn as the ghost of a move
+    /// there, coloured by the reach check.
+    #[arg(
+        long,
+        value_name = "X,Y",
+        requires = "render_png",
+        allow_hyphen_values = true
+    )]
+    pub target: Option<String>,
+    /// For --render-png: the picture's size, WIDTHxHEIGHT pixels (16 to 16384 each).
+    #[arg(long, default_value = "1280x800", requires = "render_png")]
+    pub size: String,
+    /// For --render-png: the light theme (the default is dark).
+    #[arg(long, requires = "render_png")]
+    pub light: bool,
 }
 
 /// A flag value that cannot be used.

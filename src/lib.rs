@@ -27,6 +27,8 @@ pub mod line;
 pub mod link;
 pub mod pendant;
 pub mod protocol;
+pub mod render;
+pub mod render_cli;
 pub mod robot;
 pub mod session;
 pub mod sim;

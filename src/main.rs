@@ -1,14 +1,18 @@
 //! The pendant binary: the window (`ui::run_window`), or text mode with `--headless` /
-//! `--watch` (`headless::run`). Flags and line set-up live in `cli`, shared by both.
+//! `--watch` (`headless::run`), or the arm view to a PNG with `--render-png`
+//! (`render_cli::run`). Flags and line set-up live in `cli`, shared by both.
 
 use std::io::Write;
 use std::process::ExitCode;
 
 use xsel_pendant::ui::{StartOptions, run_window};
-use xsel_pendant::{cli, headless};
+use xsel_pendant::{cli, headless, render_cli};
 
 fn main() -> ExitCode {
     let args: cli::Args = cli::parse_or_exit("xsel-pendant");
+    if args.render_png.is_some() {
+        return render_cli::run(&args);
+    }
     if args.is_headless() {
         return headless::run(&args);
     }

@@ -285,3 +285,54 @@ fn closing_the_window_mid_jog_stops_the_arm() {
     let ids = ids_in(&watch.traffic());
     assert_eq!(ids.last().map(String::as_str), Some("238"), "{ids:?}");
 }
+
+/// The tool tip the arm view painted last, base frame.
+fn view_tip(app: &PendantApp) -> Option<xsel_pendant::render::Mm> {
+    use xsel_pendant::render::{Role, Shape};
+    app.arm_view()
+        .scene()?
+        .with_role(Role::Tool)
+        .find_map(|s| match s {
+            Shape::Circle { centre, .. } => Some(*centre),
+            _ => None,
+        })
+}
+
+#[test]
+fn after_a_jog_the_arm_view_shows_the_new_pose() {
+    use xsel_pendant::render::{Role, Shape};
+    let mut h = app();
+    ready(&mut h);
+    let Some(before) = view_tip(h.state()) else {
+        panic!("the arm view draws the arm once the position is read")
+    };
+    click(&mut h, "10");
+    // The button under the pointer shows its step as a reachable ghost.
+    h.get_by_role_and_label(egui::accesskit::Role::Button, "X+")
+        .hover();
+    h.step();
+    h.step();
+    let ghost = h.state().arm_view().scene().is_some_and(|s| {
+        s.with_role(Role::GhostReachable)
+            .any(|g| matches!(g, Shape::Cross { centre, .. } if (centre.distance(before) - 10.0).abs() < 0.01))
+    });
+    assert!(ghost, "hovering X+ shows the 10 mm step's ghost");
+    click(&mut h, "X+");
+    step_until(&mut h, "the step to end", step_ended(1));
+    // Joints come in 0.001 deg: their forward kinematics is good to about 0.01 mm.
+    step_until(&mut h, "the view to show the arm 10 mm on", |a| {
+        view_tip(a).is_some_and(|t| (t.distance(before) - 10.0).abs() < 0.02)
+    });
+    // What the view shows is the forward kinematics of the polled joints.
+    let app = h.state();
+    let kin = *app.pendant().kinematics();
+    let Some(j) = app.pendant().controller.joint_position() else {
+        panic!("joints polled")
+    };
+    let tool = app.pendant().controller.tool_frame().unwrap_or_default();
+    let tip = tool.flange_to_tip(&kin.forward(&j));
+    let Some(shown) = view_tip(app) else {
+        panic!("tip drawn")
+    };
+    assert!((shown.x - tip.x).abs() < 0.001 && (shown.y - tip.y).abs() < 0.001);
+}

@@ -110,7 +110,7 @@ impl StepFrame {
             StepFrame::Tool => "tool",
         }
     }
-    fn robot(self) -> JogFrame {
+    pub(crate) fn robot(self) -> JogFrame {
         self.wire().into()
     }
     fn wire(self) -> WireFrame {
@@ -251,6 +251,9 @@ pub enum Refusal {
     NoTable(&'static str),
     #[error("{0}")]
     Move(#[from] MoveError),
+    /// The target was set in other work or tool frames than the selected ones.
+    #[error("{0}")]
+    FramesChanged(String),
     #[error("{joint} would leave its limit: {value:.3} {unit} is outside {min:.3} to {max:.3}")]
     JointLimit {
         joint: &'static str,
@@ -471,6 +474,27 @@ pub fn plan_go(
     let checked = check_move(model, kin, settings, point.arm_policy(), &end_work, now)?;
     let command = go_command(point, checked.motion);
     Ok(checked.into_plan(command))
+}
+
+/// Plans a move of the tool tip to `end_work` (selected work frame) with 2D4H: the jog
+/// panel's interpolation, arm policy and rates, after the same checks as a step.
+pub fn plan_to(
+    model: &RobotModel,
+    kin: &Scara,
+    settings: &JogSettings,
+    end_work: &Pose,
+    now: &ArmNow,
+) -> Result<PlannedStep, Refusal> {
+    let checked = check_move(model, kin, settings, settings.arm.wire(), end_work, now)?;
+    let [x, y, z, r] = end_work.to_wire();
+    let targets = PerAxis::from_pairs([
+        (Axis::A1, Thou(x)),
+        (Axis::A2, Thou(y)),
+        (Axis::A3, Thou(z)),
+        (Axis::A4, Thou(r)),
+    ]);
+    let motion = checked.motion;
+    Ok(checked.into_plan(Command::ScaraMoveAbsolute(ScaraMove { motion, targets })))
 }
 
 fn arm_of(kin: &Scara, j: &Joints) -> ArmSystem {

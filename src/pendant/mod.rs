@@ -10,6 +10,7 @@ mod moving;
 pub mod readiness;
 pub mod script;
 pub mod state;
+pub mod target;
 pub mod teach;
 pub mod teach_file;
 
@@ -144,6 +145,8 @@ pub struct Pendant {
     /// End of the last accepted move (joints): the "command position".
     command_position: Option<Joints>,
     confirm: Option<(JogAxis, Direction, Instant)>,
+    /// The target filled in from the arm view ("step here"), moved to only on "Go".
+    step_target: Option<target::StepTarget>,
     requests: Vec<Request>,
     /// The coordinate-table editor: drafts, reads, "over the arm".
     pub coords: coords::CoordEditor,
@@ -166,6 +169,7 @@ impl Pendant {
             followed: None,
             command_position: None,
             confirm: None,
+            step_target: None,
             requests: Vec::new(),
         }
     }

@@ -13,7 +13,7 @@ impl Pendant {
 
     /// What the planner needs of the arm now: polled joints, the command and target
     /// positions of the move being followed, and the selected work and tool frames.
-    fn arm_now(&self, now: Instant) -> Result<jog::ArmNow, Refusal> {
+    pub(super) fn arm_now(&self, now: Instant) -> Result<jog::ArmNow, Refusal> {
         let c = &self.controller;
         let joints = c.joint_position().ok_or(Refusal::NoPosition)?;
         let work = c.work_frame().ok_or(Refusal::NoTable("work"))?;

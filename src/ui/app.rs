@@ -6,6 +6,7 @@ use std::time::{Duration, Instant};
 
 use egui::{Panel, Theme};
 
+use super::arm_view::ArmView;
 use super::connection::ConnectionPanel;
 use super::coords::CoordsPanel;
 use super::layout::{self, Tab, Tabs};
@@ -83,6 +84,7 @@ pub struct PendantApp {
     /// drafts alone), and the revision last written.
     drafts_file: Option<std::path::PathBuf>,
     drafts_saved: u64,
+    arm: ArmView,
     dock: egui_tiles::Tree<Tab>,
     started: Instant,
     help_open: bool,
@@ -127,6 +129,7 @@ impl PendantApp {
             coords: CoordsPanel::default(),
             drafts_file: None,
             drafts_saved: 0,
+            arm: ArmView::default(),
             dock: layout::checked_layout(saved_layout),
             started: now,
             help_open: false,
@@ -195,6 +198,11 @@ impl PendantApp {
     /// The pendant model, for scripted events (image tests).
     pub fn pendant_mut(&mut self) -> &mut Pendant {
         &mut self.pendant
+    }
+
+    /// The arm view (tests read the scene it painted last).
+    pub fn arm_view(&self) -> &ArmView {
+        &self.arm
     }
 
     /// When the window started (the messages' times count from here).
@@ -362,6 +370,7 @@ impl eframe::App for PendantApp {
             self.run_requests(&ctx, now);
         }
         let mut sim_action = None;
+        self.arm.hovered_step = None;
         Panel::left("left")
             .resizable(true)
             .default_size(370.0)
@@ -372,7 +381,9 @@ impl eframe::App for PendantApp {
                         .show(ui, |ui| self.connection.show(ui, &mut self.pendant, now));
                     egui::CollapsingHeader::new("Jog")
                         .default_open(true)
-                        .show(ui, |ui| jog::show(ui, &mut self.pendant, now));
+                        .show(ui, |ui| {
+                            self.arm.hovered_step = jog::show(ui, &mut self.pendant, now);
+                        });
                     if let Some(state) = self.sim_state() {
                         egui::CollapsingHeader::new("Simulator")
                             .default_open(true)
@@ -388,6 +399,7 @@ impl eframe::App for PendantApp {
         egui::CentralPanel::default().show(ui, |ui| {
             let mut tabs = Tabs {
                 pendant: &mut self.pendant,
+                arm: &mut self.arm,
                 teach: &mut self.teach,
                 coords: &mut self.coords,
                 now,

@@ -1,5 +1,6 @@
 //! The jog panel: step or continuous, the step ladder, PTP or CP, the arm system, speeds,
-//! the frame and "relative to", and the +/- buttons of X, Y, Z, R and the joints.
+//! the frame and "relative to", the +/- buttons of X, Y, Z, R and the joints, and the
+//! target filled in from the arm view ("Step here") with its "Go to target".
 
 use std::time::Instant;
 
@@ -12,7 +13,9 @@ use crate::pendant::{
 };
 use crate::protocol::Direction;
 
-pub fn show(ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
+/// Draws the panel; answers the jog button under the pointer (the arm view shows its
+/// step as a ghost).
+pub fn show(ui: &mut Ui, pendant: &mut Pendant, now: Instant) -> Option<(JogAxis, Direction)> {
     settings(ui, pendant);
     ui.separator();
     let ready = pendant.motion_ready(now);
@@ -28,12 +31,57 @@ pub fn show(ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
         ))
         .strong(),
     );
-    buttons(ui, pendant, &JogAxis::CARTESIAN, enabled, &why, now);
+    let mut hovered = buttons(ui, pendant, &JogAxis::CARTESIAN, enabled, &why, now);
     ui.label(RichText::new("Joints").strong());
-    buttons(ui, pendant, &JogAxis::JOINTS, enabled, &why, now);
+    hovered = buttons(ui, pendant, &JogAxis::JOINTS, enabled, &why, now).or(hovered);
+    target(ui, pendant, enabled, &why, now);
     if let Some(m) = &pendant.jog_feedback {
         message(ui, m.level, &m.text);
     }
+    hovered
+}
+
+/// The target from the arm view's "Step here": editable, moved to only on "Go to target".
+fn target(ui: &mut Ui, pendant: &mut Pendant, enabled: bool, why: &str, now: Instant) {
+    let Some(t) = pendant.step_target().cloned() else {
+        return;
+    };
+    ui.separator();
+    ui.label(RichText::new(format!("Target (work {}, tool {})", t.work, t.tool)).strong());
+    let mut pose = t.pose;
+    egui::Grid::new("jog-target").num_columns(4).show(ui, |ui| {
+        for (i, (name, value)) in [
+            ("X", &mut pose.x),
+            ("Y", &mut pose.y),
+            ("Z", &mut pose.z),
+            ("R", &mut pose.r),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let l = ui.label(name);
+            ui.add(DragValue::new(value).speed(0.1).max_decimals(3))
+                .labelled_by(l.id);
+            if i % 2 == 1 {
+                ui.end_row();
+            }
+        }
+    });
+    pendant.edit_step_target(pose);
+    ui.horizontal(|ui| {
+        let go = ui
+            .add_enabled(enabled, Button::new("Go to target"))
+            .on_disabled_hover_text(why)
+            .on_hover_text(
+                "2D4H to the target after the same checks as a step (its ghost shows them)",
+            );
+        if go.clicked() {
+            pendant.go_to_target(now);
+        }
+        if ui.button("Clear target").clicked() {
+            pendant.clear_step_target();
+        }
+    });
 }
 
 fn settings(ui: &mut Ui, pendant: &mut Pendant) {
@@ -178,7 +226,8 @@ fn buttons(
     enabled: bool,
     why: &str,
     now: Instant,
-) {
+) -> Option<(JogAxis, Direction)> {
+    let mut hovered = None;
     ui.horizontal_wrapped(|ui| {
         for &axis in axes {
             for dir in [Direction::Negative, Direction::Positive] {
@@ -193,6 +242,9 @@ fn buttons(
                 let resp = ui
                     .add_enabled(enabled || held_here, button)
                     .on_disabled_hover_text(why);
+                if resp.hovered() {
+                    hovered = Some((axis, dir));
+                }
                 match pendant.settings.jog.mode {
                     JogMode::Step => {
                         if resp.clicked() {
@@ -214,4 +266,5 @@ fn buttons(
             ui.add_space(6.0);
         }
     });
+    hovered
 }

@@ -1,6 +1,6 @@
-//! The rearrangeable centre of the window (egui_tiles): position, status, teach list and
-//! messages as panes the operator can drag into tabs, rows and columns. The layout is
-//! saved with the settings.
+//! The rearrangeable centre of the window (egui_tiles): the arm view, position, status,
+//! teach list and messages as panes the operator can drag into tabs, rows and columns.
+//! The layout is saved with the settings.
 //!
 //! egui_tiles rather than egui_dock: egui_tiles 0.18 is built on egui 0.37 (egui_dock's
 //! latest release is still on 0.36, so it cannot share our egui), it is rerun's own
@@ -15,6 +15,7 @@ use egui_tiles::{
 };
 use serde::{Deserialize, Serialize};
 
+use super::arm_view::ArmView;
 use super::coords::CoordsPanel;
 use super::teach::TeachPanel;
 use super::{messages, readout, status};
@@ -23,6 +24,7 @@ use crate::pendant::Pendant;
 /// One tab of the centre.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum Tab {
+    Arm,
     Position,
     Status,
     Teach,
@@ -33,6 +35,7 @@ pub enum Tab {
 impl Tab {
     fn title(self) -> &'static str {
         match self {
+            Tab::Arm => "Arm view",
             Tab::Position => "Position",
             Tab::Status => "Status",
             Tab::Teach => "Teach list",
@@ -42,7 +45,8 @@ impl Tab {
     }
 }
 
-const ALL: [Tab; 5] = [
+const ALL: [Tab; 6] = [
+    Tab::Arm,
     Tab::Position,
     Tab::Status,
     Tab::Teach,
@@ -50,27 +54,29 @@ const ALL: [Tab; 5] = [
     Tab::Coords,
 ];
 
-/// The first layout: position over messages on the left, status, teach list and the
-/// coordinate tables as tabs on the right.
+/// The first layout: the arm view large on the left; on the right the position, the
+/// status (servo, home), teach list and coordinate tables as tabs, and the messages.
 pub fn default_layout() -> Tree<Tab> {
     let mut tiles = Tiles::default();
     let tabs = |tiles: &mut Tiles<Tab>, panes: &[Tab]| {
         let children = panes.iter().map(|p| tiles.insert_pane(*p)).collect();
         tiles.insert_tab_tile(children)
     };
+    let arm = tabs(&mut tiles, &[Tab::Arm]);
     let position = tabs(&mut tiles, &[Tab::Position]);
+    let status = tabs(&mut tiles, &[Tab::Status, Tab::Teach, Tab::Coords]);
     let messages = tabs(&mut tiles, &[Tab::Messages]);
-    let right = tabs(&mut tiles, &[Tab::Status, Tab::Teach, Tab::Coords]);
-    let left = tiles.insert_container(Linear::new_binary(
+    let lower = tiles.insert_container(Linear::new_binary(
         LinearDir::Vertical,
-        [position, messages],
-        0.62,
+        [status, messages],
+        0.7,
     ));
-    let root = tiles.insert_container(Linear::new_binary(
-        LinearDir::Horizontal,
-        [left, right],
-        0.6,
+    let right = tiles.insert_container(Linear::new_binary(
+        LinearDir::Vertical,
+        [position, lower],
+        0.3,
     ));
+    let root = tiles.insert_container(Linear::new_binary(LinearDir::Horizontal, [arm, right], 0.6));
     Tree::new(egui::Id::unique("centre-layout"), root, tiles)
 }
 
@@ -84,6 +90,7 @@ pub fn checked_layout(saved: Option<Tree<Tab>>) -> Tree<Tab> {
 /// What the panes draw with.
 pub struct Tabs<'a> {
     pub pendant: &'a mut Pendant,
+    pub arm: &'a mut ArmView,
     pub teach: &'a mut TeachPanel,
     pub coords: &'a mut CoordsPanel,
     pub now: Instant,
@@ -99,6 +106,7 @@ impl Behavior<Tab> for Tabs<'_> {
         let mut ui = ui.new_child(egui::UiBuilder::new().max_rect(ui.max_rect().shrink(6.0)));
         let ui = &mut ui;
         match pane {
+            Tab::Arm => self.arm.show(ui, self.pendant, self.now),
             Tab::Position => readout::show(ui, self.pendant, self.now),
             Tab::Status => {
                 egui::ScrollArea::vertical()

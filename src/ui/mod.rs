@@ -3,6 +3,8 @@
 //! session, feeds link events to the pendant and runs its requests after each frame.
 
 pub mod app;
+mod arm_export;
+pub mod arm_view;
 mod connection;
 mod coords;
 mod coords_table;

@@ -1,0 +1,163 @@
+//! `xsel-pendant --render-png FILE`: the arm view of a pose drawn by tiny-skia into a PNG,
+//! with no window, GPU or line (documentation, tests).
+
+use std::io::Write;
+use std::process::ExitCode;
+
+use crate::cli::Args;
+use crate::render::paint_png::PngPainter;
+use crate::render::{Ghost, GhostCheck, Palette, SceneInput, build_scene};
+use crate::robot::{Arm, Joints, Pose, Scara};
+
+/// A flag value that cannot be used, named.
+#[derive(Debug, thiserror::Error)]
+#[error("{flag}: {reason}")]
+pub struct RenderArgError {
+    pub flag: &'static str,
+    pub reason: String,
+}
+
+fn bad(flag: &'static str, reason: impl Into<String>) -> RenderArgError {
+    RenderArgError {
+        flag,
+        reason: reason.into(),
+    }
+}
+
+/// `n` comma-separated finite numbers.
+pub fn numbers<const N: usize>(flag: &'static str, text: &str) -> Result<[f64; N], RenderArgError> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    if parts.len() != N {
+        return Err(bad(
+            flag,
+            format!("`{text}`: expected {N} numbers separated by commas"),
+        ));
+    }
+    let mut out = [0.0; N];
+    for (slot, p) in out.iter_mut().zip(&parts) {
+        *slot = p
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| bad(flag, format!("`{p}` is not a number")))?;
+    }
+    Ok(out)
+}
+
+/// `WIDTHxHEIGHT`.
+pub fn size(text: &str) -> Result<[u32; 2], RenderArgError> {
+    let (w, h) = text.split_once(['x', 'X']).ok_or_else(|| {
+        bad(
+            "--size",
+            format!("`{text}`: expected WIDTHxHEIGHT, e.g. 1920x1080"),
+        )
+    })?;
+    let side = |s: &str| {
+        s.trim()
+            .parse::<u32>()
+            .ok()
+            .filter(|v| (16..=crate::render::paint_png::MAX_SIDE).contains(v))
+            .ok_or_else(|| {
+                bad(
+                    "--size",
+                    format!("`{s}`: each side must be 16 to 16384 pixels"),
+                )
+            })
+    };
+    Ok([side(w)?, side(h)?])
+}
+
+fn arm(text: &str) -> Result<Arm, RenderArgError> {
+    match text.trim().to_ascii_lowercase().as_str() {
+        "right" => Ok(Arm::Right),
+        "left" => Ok(Arm::Left),
+        other => Err(bad("--arm", format!("`{other}`: expected right or left"))),
+    }
+}
+
+/// The joints the flags name, checked against the model's limits.
+fn joints(args: &Args, kin: &Scara, home: Joints) -> Result<Joints, RenderArgError> {
+    let j = if let Some(text) = &args.joints {
+        Joints::from_array(numbers::<4>("--joints", text)?)
+    } else if let Some(text) = &args.pose {
+        let p = Pose::from_array(numbers::<4>("--pose", text)?);
+        kin.inverse(&p, arm(&args.arm)?, &home)
+            .map_err(|e| bad("--pose", e.to_string()))?
+    } else {
+        home
+    };
+    kin.check_joints(&j)
+        .map_err(|e| bad("--joints", e.to_string()))?;
+    Ok(j)
+}
+
+/// The ghost of a move to `--target`, coloured by the reach check.
+fn ghost(args: &Args, kin: &Scara, j: &Joints) -> Result<Option<Ghost>, RenderArgError> {
+    let Some(text) = &args.target else {
+        return Ok(None);
+    };
+    let [x, y] = numbers::<2>("--target", text)?;
+    let now = kin.forward(j);
+    let tip = Pose::new(x, y, now.z, now.r);
+    let arm = arm(&args.arm)?;
+    let (joints, check) = match kin.inverse(&tip, arm, j) {
+        Ok(end) if kin.arm_system(&end) != kin.arm_system(j) => (Some(end), GhostCheck::ArmFlip),
+        Ok(end) => (Some(end), GhostCheck::Reachable),
+        Err(e) => (None, GhostCheck::Refused(e.to_string())),
+    };
+    Ok(Some(Ghost {
+        label: format!("target ({arm} arm)"),
+        joints,
+        tip,
+        check,
+        line: None,
+    }))
+}
+
+fn render(args: &Args) -> Result<String, String> {
+    let Some(path) = &args.render_png else {
+        return Err("--render-png: no file named".into());
+    };
+    let model = args.model().map_err(|e| e.to_string())?;
+    let kin = Scara::new(&model);
+    let [w, h] = size(&args.size).map_err(|e| e.to_string())?;
+    let j = joints(args, &kin, model.home).map_err(|e| e.to_string())?;
+    let g = ghost(args, &kin, &j).map_err(|e| e.to_string())?;
+    let scene = build_scene(&SceneInput {
+        ghost: g.as_ref(),
+        ..SceneInput::pose(&kin, Some(j))
+    });
+    let palette = if args.light {
+        Palette::light()
+    } else {
+        Palette::dark()
+    };
+    let png = PngPainter::new()
+        .render_png(&scene, &palette, w, h)
+        .map_err(|e| e.to_string())?;
+    std::fs::write(path, png)
+        .map_err(|e| format!("--render-png: cannot write {}: {e}", path.display()))?;
+    Ok(format!(
+        "{}: {w}x{h}, {} J1 {:.3} J2 {:.3} Z {:.3} J4 {:.3}",
+        path.display(),
+        model.name,
+        j.j1,
+        j.j2,
+        j.z,
+        j.j4
+    ))
+}
+
+/// Runs `--render-png`: exit 0 and one line on stdout, or exit 2 and one line on stderr.
+pub fn run(args: &Args) -> ExitCode {
+    match render(args) {
+        Ok(line) => {
+            let _ = writeln!(std::io::stdout(), "{line}");
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            let _ = writeln!(std::io::stderr(), "xsel-pendant: {e}");
+            ExitCode::from(2)
+        }
+    }
+}

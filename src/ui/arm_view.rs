@@ -1,0 +1,316 @@
+//! The arm view pane: the scene of `render` painted live with egui, with zoom (wheel,
+//! pinch), pan (drag), fit (double-click or "Fit"), a hover readout in base and work
+//! coordinates with reachability per arm system, a right-click "Step here" that only
+//! fills the jog panel's target, a fading trail of the polled path, and "Export view as
+//! PNG".
+
+use std::time::Instant;
+
+use egui::{Color32, RichText, Sense, Ui};
+
+use super::arm_export::Export;
+use crate::pendant::Pendant;
+use crate::pendant::jog::JogAxis;
+use crate::pendant::target::StepPreview;
+use crate::protocol::Direction;
+use crate::render::{
+    Ghost, GhostCheck, Mm, OverlayFrame, Palette, Scene, SceneInput, SelectedFrame, View,
+    build_scene, paint_egui, reach_at,
+};
+use crate::robot::{CoordSystem, FrameKind, Pose};
+
+/// Trail points kept (the newest).
+pub const TRAIL_POINTS: usize = 10_000;
+/// A new trail point closer than this to the last one is not kept (mm).
+const TRAIL_MIN_MOVE_MM: f64 = 0.01;
+
+/// The frames drawn over the arm besides the selected work and tool frames: the rows the
+/// coordinate-table editor shows over the arm, with the draft's values.
+pub fn overlay_frames(pendant: &Pendant) -> Vec<OverlayFrame> {
+    pendant
+        .frames_over_arm()
+        .into_iter()
+        .map(|(kind, number, system)| OverlayFrame {
+            label: match kind {
+                FrameKind::Work => format!("work {number}"),
+                FrameKind::Tool => format!("tool {number}"),
+            },
+            kind,
+            system,
+        })
+        .collect()
+}
+
+/// The arm view's state between frames.
+#[derive(Default)]
+pub struct ArmView {
+    /// `None` until the first frame, or after "Fit": fitted to the pane.
+    view: Option<View>,
+    /// The operator zoomed or panned: a resized pane keeps the scale.
+    moved: bool,
+    trail: Vec<Mm>,
+    last_poll: Option<Instant>,
+    /// The jog button under the pointer this frame (its step is the ghost).
+    pub hovered_step: Option<(JogAxis, Direction)>,
+    /// Where the context menu was opened, scene mm.
+    menu_at: Option<Mm>,
+    /// The last scene painted (tests read it).
+    scene: Option<Scene>,
+    export: Export,
+}
+
+impl ArmView {
+    /// The scene painted last.
+    pub fn scene(&self) -> Option<&Scene> {
+        self.scene.as_ref()
+    }
+
+    /// Adds the newest polled tool tip to the trail (once per poll).
+    fn record_trail(&mut self, pendant: &Pendant) {
+        let Some(at) = pendant.controller.joints.as_ref().map(|s| s.at) else {
+            return;
+        };
+        if self.last_poll == Some(at) {
+            return;
+        }
+        self.last_poll = Some(at);
+        let Some(j) = pendant.controller.joint_position() else {
+            return;
+        };
+        let tool = pendant.controller.tool_frame().unwrap_or(CoordSystem::ZERO);
+        let tip = tool.flange_to_tip(&pendant.kinematics().forward(&j));
+        let tip = Mm::new(tip.x, tip.y);
+        if self
+            .trail
+            .last()
+            .is_none_or(|l| l.distance(tip) >= TRAIL_MIN_MOVE_MM)
+        {
+            self.trail.push(tip);
+        }
+        if self.trail.len() > TRAIL_POINTS + TRAIL_POINTS / 5 {
+            self.trail.drain(..self.trail.len() - TRAIL_POINTS);
+        }
+    }
+
+    pub fn show(&mut self, ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
+        self.record_trail(pendant);
+        let ghost = self.ghost(pendant, now);
+        let overlays = overlay_frames(pendant);
+        let c = &pendant.controller;
+        let frame = |n: Option<u8>, s: Option<CoordSystem>| {
+            Some(SelectedFrame {
+                number: n?,
+                system: s?,
+            })
+        };
+        let numbers = c.frame_numbers();
+        let trail_from = self.trail.len().saturating_sub(TRAIL_POINTS);
+        let input = SceneInput {
+            kin: pendant.kinematics(),
+            joints: c.joint_position(),
+            stale: c.is_stale(now),
+            work: frame(numbers.map(|n| n.0), c.work_frame()),
+            tool: frame(numbers.map(|n| n.1), c.tool_frame()),
+            overlays: &overlays,
+            ghost: ghost.as_ref(),
+            trail: &self.trail[trail_from..],
+        };
+        let scene = build_scene(&input);
+        let palette = Palette::for_theme(ui.visuals().dark_mode);
+        self.toolbar(ui, &scene, &palette);
+        let readout_h = 3.0 * ui.text_style_height(&egui::TextStyle::Body) + 10.0;
+        let avail = ui.available_rect_before_wrap();
+        let rect = egui::Rect::from_min_max(
+            avail.min,
+            egui::pos2(
+                avail.max.x,
+                (avail.max.y - readout_h).max(avail.min.y + 40.0),
+            ),
+        );
+        let response = ui.allocate_rect(rect, Sense::click_and_drag());
+        let area = ([rect.min.x, rect.min.y], [rect.width(), rect.height()]);
+        let mut view = match self.view {
+            Some(v) if self.moved => v.on_area(area.0, area.1),
+            _ => View::fit(&scene.bounds, area.0, area.1, 12.0),
+        };
+        self.interact(ui, &response, &mut view, pendant, now);
+        self.view = Some(view);
+        paint_egui::paint(&ui.painter_at(rect), &scene, &palette, &view);
+        self.readout(ui, &response, &view, pendant, ghost.as_ref());
+        self.scene = Some(scene);
+    }
+
+    fn toolbar(&mut self, ui: &mut Ui, scene: &Scene, palette: &Palette) {
+        ui.horizontal_wrapped(|ui| {
+            if ui
+                .button("Fit")
+                .on_hover_text("Show the whole reach (double-click the view)")
+                .clicked()
+            {
+                self.moved = false;
+            }
+            if ui.button("Clear trail").clicked() {
+                self.trail.clear();
+            }
+            ui.separator();
+            let pane = self.view.map_or([1280, 800], |v| {
+                [v.size[0].round() as u32, v.size[1].round() as u32]
+            });
+            if let Some(view) = self.view {
+                self.export.controls(ui, scene, palette, &view, pane);
+            }
+        });
+        self.export.poll(ui);
+    }
+
+    fn interact(
+        &mut self,
+        ui: &Ui,
+        r: &egui::Response,
+        view: &mut View,
+        pendant: &mut Pendant,
+        now: Instant,
+    ) {
+        if r.hovered() {
+            let (zoom, scroll) = ui.input(|i| (i.zoom_delta(), i.smooth_scroll_delta.y));
+            let factor = f64::from(zoom) * (f64::from(scroll) * 0.002).exp();
+            if (factor - 1.0).abs() > 1e-4
+                && let Some(p) = r.hover_pos()
+            {
+                view.zoom_about([p.x, p.y], factor);
+                self.moved = true;
+            }
+        }
+        if r.dragged_by(egui::PointerButton::Primary) || r.dragged_by(egui::PointerButton::Middle) {
+            let d = r.drag_delta();
+            if d != egui::Vec2::ZERO {
+                view.pan([d.x, d.y]);
+                self.moved = true;
+            }
+        }
+        if r.double_clicked() {
+            self.moved = false;
+            *view = View::fit(
+                &crate::render::build::bounds(pendant.kinematics()),
+                view.origin,
+                view.size,
+                12.0,
+            );
+        }
+        if r.secondary_clicked()
+            && let Some(p) = r.interact_pointer_pos()
+        {
+            self.menu_at = Some(view.to_scene([p.x, p.y]));
+        }
+        r.context_menu(|ui| {
+            let Some(at) = self.menu_at else {
+                ui.close();
+                return;
+            };
+            let work = pendant.controller.work_frame();
+            let Some((w, tip)) = work.zip(pendant.controller.work_position()) else {
+                ui.label("The position and frames are not known yet");
+                return;
+            };
+            let p = w.base_to_work(&Pose::new(at.x, at.y, 0.0, 0.0));
+            ui.label(format!("work X {:.3}  Y {:.3}", p.x, p.y));
+            let step = ui.button("Step here").on_hover_text(
+                "Fills the jog panel's target (Z and R kept); nothing moves until \"Go to target\"",
+            );
+            if step.clicked() {
+                pendant.set_step_target(Pose::new(p.x, p.y, tip.z, tip.r), now);
+                ui.close();
+            }
+        });
+    }
+
+    /// The next step's ghost: the jog button under the pointer (in step mode: a
+    /// continuous jog has no end), else the target from "Step here", else the move in
+    /// progress.
+    fn ghost(&self, pendant: &Pendant, now: Instant) -> Option<Ghost> {
+        let stepping = pendant.settings.jog.mode == crate::pendant::JogMode::Step;
+        let preview = self
+            .hovered_step
+            .filter(|_| stepping)
+            .and_then(|(axis, dir)| pendant.preview_jog(axis, dir, now))
+            .or_else(|| pendant.preview_target(now))
+            .or_else(|| pendant.preview_followed(now))?;
+        Some(ghost_of(preview))
+    }
+
+    fn readout(
+        &self,
+        ui: &mut Ui,
+        r: &egui::Response,
+        view: &View,
+        pendant: &Pendant,
+        ghost: Option<&Ghost>,
+    ) {
+        let c = &pendant.controller;
+        let kin = pendant.kinematics();
+        let tool = c.tool_frame().unwrap_or(CoordSystem::ZERO);
+        let joints = c.joint_position();
+        let tip = joints.map(|j| tool.flange_to_tip(&kin.forward(&j)));
+        ui.horizontal_wrapped(|ui| {
+            match (tip, c.work_position()) {
+                (Some(b), Some(w)) => ui.label(format!(
+                    "Tool tip  base X {:.3} Y {:.3}  |  work X {:.3} Y {:.3} Z {:.3} R {:.3}",
+                    b.x, b.y, w.x, w.y, w.z, w.r
+                )),
+                _ => ui.label("Tool tip: no position yet"),
+            };
+            if let Some(Ghost {
+                check: GhostCheck::Refused(why),
+                label,
+                ..
+            }) = ghost
+            {
+                ui.label(
+                    RichText::new(format!("{label}: refused: {why}"))
+                        .color(Color32::from_rgb(230, 90, 80)),
+                );
+            }
+        });
+        let Some(p) = r.hover_pos() else {
+            ui.label(RichText::new("Wheel or pinch: zoom  |  drag: pan  |  double-click: fit  |  right-click: step here").weak());
+            return;
+        };
+        let at = view.to_scene([p.x, p.y]);
+        let near = joints.unwrap_or(pendant.model.home);
+        let (z, rr) = tip.map_or((0.0, 0.0), |t| (t.z, t.r));
+        let work = c
+            .work_frame()
+            .map(|w| w.base_to_work(&Pose::new(at.x, at.y, 0.0, 0.0)));
+        let mut text = format!("Cursor  base X {:.3} Y {:.3}", at.x, at.y);
+        if let Some(w) = work {
+            text += &format!("  |  work X {:.3} Y {:.3}", w.x, w.y);
+        }
+        for (arm, result) in reach_at(kin, at, z, rr, &tool, &near) {
+            text += &match result {
+                Ok(_) => format!("  |  {arm} arm: reachable"),
+                Err(e) => format!("  |  {arm} arm: {e}"),
+            };
+        }
+        ui.label(text);
+    }
+}
+
+/// The ghost of a preview, coloured by its check.
+fn ghost_of(p: StepPreview) -> Ghost {
+    let (check, line) = match &p.plan {
+        Ok(plan) if plan.flips_arm => (GhostCheck::ArmFlip, None),
+        Ok(plan) => (
+            GhostCheck::Reachable,
+            plan.line
+                .map(|(a, b)| (Mm::new(a.x, a.y), Mm::new(b.x, b.y))),
+        ),
+        Err(why) => (GhostCheck::Refused(why.to_string()), None),
+    };
+    Ghost {
+        label: p.label,
+        joints: p.joints,
+        tip: p.tip_base,
+        check,
+        line,
+    }
+}
