@@ -4,8 +4,10 @@
 //! out of [`Pendant::take_requests`].
 
 pub mod connection;
+pub mod frame_log;
 pub mod jog;
 mod moving;
+mod raw_send;
 pub mod readiness;
 pub mod script;
 pub mod state;
@@ -130,6 +132,8 @@ pub struct Pendant {
     /// Time-out and error counts of the health reports of the last minute.
     health_window: VecDeque<(Instant, u64, u64)>,
     pub messages: VecDeque<Message>,
+    /// Every frame on the line (a capped ring), for the frame log pane.
+    pub frame_log: frame_log::FrameLog,
     /// The last word on a jog button: the refusal or the controller's answer.
     pub jog_feedback: Option<Message>,
     held: Option<HeldJog>,
@@ -151,6 +155,7 @@ impl Pendant {
             health: None,
             health_window: VecDeque::new(),
             messages: VecDeque::new(),
+            frame_log: frame_log::FrameLog::new(frame_log::DEFAULT_CAP),
             jog_feedback: None,
             held: None,
             followed: None,
@@ -229,6 +234,7 @@ impl Pendant {
 
     /// Applies one event from the link.
     pub fn handle_event(&mut self, now: Instant, event: LinkEvent) {
+        self.log_traffic(now, &event);
         match event {
             LinkEvent::Connected { line } | LinkEvent::Reconnected { line } => {
                 self.say(Level::Info, format!("connected: {line}"), now);
