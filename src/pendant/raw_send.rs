@@ -42,7 +42,11 @@ impl Pendant {
         match &result {
             Ok(c) => {
                 self.requests.push(Request::Submit(*c));
-                self.say(Level::Info, format!("raw frame sent: {} ({})", c.id(), name(c)), now);
+                self.say(
+                    Level::Info,
+                    format!("raw frame sent: {} ({})", c.id(), name(c)),
+                    now,
+                );
             }
             Err(why) => self.say(Level::Warning, format!("raw frame not sent: {why}"), now),
         }

@@ -7,6 +7,7 @@ use std::time::{Duration, Instant};
 use egui::{Panel, Theme};
 
 use super::connection::ConnectionPanel;
+use super::frame_log::FrameLogPanel;
 use super::layout::{self, Tab, Tabs};
 use super::teach::TeachPanel;
 use super::{jog, keys, top_bar};
@@ -68,6 +69,7 @@ pub struct PendantApp {
     session: Option<Session>,
     connection: ConnectionPanel,
     teach: TeachPanel,
+    frame_log: FrameLogPanel,
     dock: egui_tiles::Tree<Tab>,
     started: Instant,
     help_open: bool,
@@ -98,6 +100,10 @@ impl PendantApp {
             Err(e) => (RobotModel::default_model(), Some(e)),
         };
         let mut pendant = Pendant::new(settings, model);
+        // Frame log times count from the window's start.
+        pendant
+            .frame_log
+            .set_origin(Some(now), std::time::SystemTime::now());
         if let Some(e) = problem {
             pendant.connect_failed(e, now);
         } else if !options.offline {
@@ -108,6 +114,7 @@ impl PendantApp {
             session: None,
             connection: ConnectionPanel::default(),
             teach: TeachPanel::default(),
+            frame_log: FrameLogPanel::default(),
             dock: layout::checked_layout(saved_layout),
             started: now,
             help_open: false,
@@ -125,6 +132,11 @@ impl PendantApp {
     /// The pendant model, for scripted events (image tests).
     pub fn pendant_mut(&mut self) -> &mut Pendant {
         &mut self.pendant
+    }
+
+    /// The frame log pane (tests and benches read it).
+    pub fn frame_log_panel(&self) -> &FrameLogPanel {
+        &self.frame_log
     }
 
     /// When the window started (the messages' times count from here).
@@ -275,6 +287,7 @@ impl eframe::App for PendantApp {
             let mut tabs = Tabs {
                 pendant: &mut self.pendant,
                 teach: &mut self.teach,
+                frame_log: &mut self.frame_log,
                 now,
                 started: self.started,
             };

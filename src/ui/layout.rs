@@ -5,7 +5,7 @@
 //! egui_tiles rather than egui_dock: egui_tiles 0.18 is built on egui 0.37 (egui_dock's
 //! latest release is still on 0.36, so it cannot share our egui), it is rerun's own
 //! viewer layout (the model this app follows), and it allows rows, columns and grids,
-//! not only binary splits. The frame log and coordinate tables join as further panes.
+//! not only binary splits. The frame log is a pane; the coordinate tables join as a further one.
 
 use std::time::Instant;
 
@@ -15,6 +15,7 @@ use egui_tiles::{
 };
 use serde::{Deserialize, Serialize};
 
+use super::frame_log::FrameLogPanel;
 use super::teach::TeachPanel;
 use super::{messages, readout, status};
 use crate::pendant::Pendant;
@@ -26,6 +27,7 @@ pub enum Tab {
     Status,
     Teach,
     Messages,
+    FrameLog,
 }
 
 impl Tab {
@@ -35,21 +37,28 @@ impl Tab {
             Tab::Status => "Status",
             Tab::Teach => "Teach list",
             Tab::Messages => "Messages",
+            Tab::FrameLog => "Frame log",
         }
     }
 }
 
-const ALL: [Tab; 4] = [Tab::Position, Tab::Status, Tab::Teach, Tab::Messages];
+const ALL: [Tab; 5] = [
+    Tab::Position,
+    Tab::Status,
+    Tab::Teach,
+    Tab::Messages,
+    Tab::FrameLog,
+];
 
-/// The first layout: position over messages on the left, status and teach list as
-/// tabs on the right.
+/// The first layout: position and the frame log (tabs) over messages on the left, status
+/// and teach list as tabs on the right.
 pub fn default_layout() -> Tree<Tab> {
     let mut tiles = Tiles::default();
     let tabs = |tiles: &mut Tiles<Tab>, panes: &[Tab]| {
         let children = panes.iter().map(|p| tiles.insert_pane(*p)).collect();
         tiles.insert_tab_tile(children)
     };
-    let position = tabs(&mut tiles, &[Tab::Position]);
+    let position = tabs(&mut tiles, &[Tab::Position, Tab::FrameLog]);
     let messages = tabs(&mut tiles, &[Tab::Messages]);
     let right = tabs(&mut tiles, &[Tab::Status, Tab::Teach]);
     let left = tiles.insert_container(Linear::new_binary(
@@ -76,6 +85,7 @@ pub fn checked_layout(saved: Option<Tree<Tab>>) -> Tree<Tab> {
 pub struct Tabs<'a> {
     pub pendant: &'a mut Pendant,
     pub teach: &'a mut TeachPanel,
+    pub frame_log: &'a mut FrameLogPanel,
     pub now: Instant,
     pub started: Instant,
 }
@@ -99,6 +109,7 @@ impl Behavior<Tab> for Tabs<'_> {
                     .show(ui, |ui| self.teach.show(ui, self.pendant, self.now));
             }
             Tab::Messages => messages::show(ui, self.pendant, self.started),
+            Tab::FrameLog => self.frame_log.show(ui, self.pendant, self.now),
         }
         UiResponse::None
     }

@@ -5,6 +5,7 @@
 pub mod app;
 mod connection;
 mod detect;
+pub mod frame_log;
 mod jog;
 mod keys;
 mod layout;

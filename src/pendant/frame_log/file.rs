@@ -38,7 +38,8 @@ struct Line {
 }
 
 fn unix_us(t: SystemTime) -> u64 {
-    t.duration_since(UNIX_EPOCH).map_or(0, |d| d.as_micros() as u64)
+    t.duration_since(UNIX_EPOCH)
+        .map_or(0, |d| d.as_micros() as u64)
 }
 
 /// Writes rows as JSON Lines: a header line, then one object per row.
@@ -127,7 +128,10 @@ pub fn read_jsonl(input: impl BufRead, cap: usize) -> Result<FrameLog, String> {
     let header: Header = serde_json::from_str(&first)
         .map_err(|_| "line 1: not an xsel-pendant frame log (JSON Lines header missing)")?;
     let mut log = FrameLog::new(cap);
-    log.set_origin(None, UNIX_EPOCH + Duration::from_micros(header.start_unix_us));
+    log.set_origin(
+        None,
+        UNIX_EPOCH + Duration::from_micros(header.start_unix_us),
+    );
     for (i, line) in lines {
         let line = line.map_err(|e| format!("line {}: cannot read: {e}", i + 1))?;
         if line.trim().is_empty() {

@@ -96,8 +96,7 @@ impl Matcher {
         } else {
             contains(row.bytes(), n)
         };
-        if hit || contains(row.note().as_bytes(), n) || contains(row.dir().key().as_bytes(), n)
-        {
+        if hit || contains(row.note().as_bytes(), n) || contains(row.dir().key().as_bytes(), n) {
             return true;
         }
         if let Some(id) = row.id() {
@@ -119,9 +118,7 @@ impl Matcher {
             || d.fields.iter().any(|f| {
                 contains(f.name.as_bytes(), n)
                     || contains(f.value.as_bytes(), n)
-                    || f.bits
-                        .iter()
-                        .any(|b| contains(b.to_string().as_bytes(), n))
+                    || f.bits.iter().any(|b| contains(b.to_string().as_bytes(), n))
             })
     }
 }

@@ -212,7 +212,9 @@ impl FrameLog {
         e.len = bytes.len().min(u32::MAX as usize) as u32;
         e.note_len = note.len().min(u16::MAX as usize) as u16;
         self.open.bytes.extend_from_slice(bytes);
-        self.open.bytes.extend_from_slice(&note[..e.note_len as usize]);
+        self.open
+            .bytes
+            .extend_from_slice(&note[..e.note_len as usize]);
         self.open.entries.push(e);
         if self.open.entries.len() == CHUNK {
             let full = std::mem::replace(&mut self.open, Chunk::with_capacity());
@@ -283,8 +285,7 @@ impl FrameLog {
         if r.dir() != Dir::Sent {
             return None;
         }
-        (seq + 1..self.end().min(seq + 1 + REPLY_REACH))
-            .find(|&s| self.request_of(s) == Some(seq))
+        (seq + 1..self.end().min(seq + 1 + REPLY_REACH)).find(|&s| self.request_of(s) == Some(seq))
     }
 
     /// Time of a row after the start.
@@ -337,6 +338,21 @@ impl Snapshot {
 
     pub fn is_empty(&self) -> bool {
         self.len() == 0
+    }
+
+    /// Sequence number after the last row.
+    pub fn end(&self) -> u64 {
+        self.end
+    }
+
+    /// The row `seq`, if the snapshot holds it.
+    pub fn row(&self, seq: u64) -> Option<Row<'_>> {
+        if seq < self.head || seq >= self.end {
+            return None;
+        }
+        let i = (seq - self.base) as usize;
+        let chunk = self.chunks.get(i / CHUNK)?;
+        Some(Row::new(seq, chunk.entries.get(i % CHUNK)?, &chunk.bytes))
     }
 }
 

@@ -1,7 +1,7 @@
 //! One row of the frame log: the compact stored form and the view handed to readers.
 
-use crate::protocol::checksum;
 use crate::protocol::MessageId;
+use crate::protocol::checksum;
 
 /// No message ID could be read.
 pub(super) const NO_ID: u16 = u16::MAX;

@@ -1,7 +1,7 @@
 //! The frame log store: pairing, verdicts, the cap, filters and files.
 
-use super::filter::{DirFilter, Filter};
 use super::file::{read_jsonl, write_jsonl, write_text};
+use super::filter::{DirFilter, Filter};
 use super::*;
 
 const REQ: &[u8] = b"!99212@@\r\n";
@@ -140,12 +140,18 @@ fn jsonl_keeps_exact_bytes_and_times_and_text_is_readable() {
     log.push_timeout("no reply", 9_000_000);
     let snap = log.snapshot();
     let mut out = Vec::new();
-    assert_eq!(write_jsonl(&mut out, snap.origin_wall, snap.rows()).unwrap(), 3);
+    assert_eq!(
+        write_jsonl(&mut out, snap.origin_wall, snap.rows()).unwrap(),
+        3
+    );
     let back = read_jsonl(out.as_slice(), 100).unwrap();
     assert_eq!(back.len(), 3);
     for i in 0..3 {
         let (a, b) = (log.nth(i).unwrap(), back.nth(i).unwrap());
-        assert_eq!((a.bytes(), a.t_ns(), a.dir()), (b.bytes(), b.t_ns(), b.dir()));
+        assert_eq!(
+            (a.bytes(), a.t_ns(), a.dir()),
+            (b.bytes(), b.t_ns(), b.dir())
+        );
         assert_eq!((a.latency_us(), a.note()), (b.latency_us(), b.note()));
     }
     let mut text = Vec::new();
@@ -153,7 +159,10 @@ fn jsonl_keeps_exact_bytes_and_times_and_text_is_readable() {
     let text = String::from_utf8(text).unwrap();
     assert!(text.contains("\\x02\\r\\n\\xff"), "{text}");
     assert!(text.contains("212H axis status query"), "{text}");
-    let bad = read_jsonl(&b"{\"xsel_pendant_frame_log\":1,\"start_unix_us\":0}\n{oops\n"[..], 10);
+    let bad = read_jsonl(
+        &b"{\"xsel_pendant_frame_log\":1,\"start_unix_us\":0}\n{oops\n"[..],
+        10,
+    );
     assert!(bad.unwrap_err().starts_with("line 2"));
     assert!(read_jsonl(&b"hello\n"[..], 10).is_err());
 }
