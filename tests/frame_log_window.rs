@@ -311,3 +311,50 @@ fn filter_pause_save_open_and_raw_send_through_the_window() {
     assert!(shows(&h, "Live"));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Fills the live log with `n` synthetic rows: status queries and replies, every 1000th
+/// reply an error.
+fn synthetic(a: &mut PendantApp, n: u64) {
+    let query = framed("!99212");
+    let reply = framed("#9921200000000000000000000");
+    let log = &mut a.pendant_mut().frame_log;
+    for i in 0..n / 2 {
+        log.push_sent(&query, i * 2_000_000);
+        if i % 1000 == 999 {
+            log.push_received(b"&99C1F00\r\n", i * 2_000_000 + 900_000);
+        } else {
+            log.push_received(&reply, i * 2_000_000 + 900_000);
+        }
+    }
+}
+
+#[test]
+fn a_million_rows_scroll_to_any_row_and_filter() {
+    let mut h = Harness::builder()
+        .with_size([1280.0, 900.0])
+        .build_eframe(|cc| PendantApp::new(cc, StartOptions::fresh_offline()));
+    synthetic(h.state_mut(), 1_000_000);
+    click(&mut h, "Frame log");
+    assert_eq!(h.state().frame_log_panel().shown(h.state().pendant()), 1_000_000);
+    for seq in [0u64, 1, 499_999, 777_777, 999_999] {
+        h.state_mut().frame_log_panel_mut().reveal(seq);
+        h.step();
+        h.step();
+        let ascii = h.state().pendant().frame_log.row(seq).unwrap().ascii();
+        assert!(shows(&h, &format!("Row {seq}:")), "row {seq} not decoded");
+        assert!(shows(&h, &ascii), "row {seq} not in view");
+    }
+    click(&mut h, "Close decode");
+    h.get_by_label("Errors only").click();
+    step_until(&mut h, "the errors-only filter over a million rows", |a| {
+        !a.frame_log_panel().filtering() && a.frame_log_panel().shown(a.pendant()) == 500
+    });
+    type_into(&mut h, "Filter text", "&99C1F");
+    step_until(&mut h, "the text filter over a million rows", |a| {
+        !a.frame_log_panel().filtering() && a.frame_log_panel().shown(a.pendant()) == 500
+    });
+    replace_text(&mut h, "Filter text", "no such bytes");
+    step_until(&mut h, "nothing to pass", |a| {
+        !a.frame_log_panel().filtering() && a.frame_log_panel().shown(a.pendant()) == 0
+    });
+}

@@ -139,6 +139,11 @@ impl PendantApp {
         &self.frame_log
     }
 
+    /// The frame log pane, to drive it from tests and benches.
+    pub fn frame_log_panel_mut(&mut self) -> &mut FrameLogPanel {
+        &mut self.frame_log
+    }
+
     /// When the window started (the messages' times count from here).
     pub fn started(&self) -> Instant {
         self.started

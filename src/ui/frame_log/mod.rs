@@ -129,6 +129,13 @@ impl FrameLogPanel {
         self.selected
     }
 
+    /// Selects row `seq` and scrolls it into view (the jump buttons do this).
+    pub fn reveal(&mut self, seq: u64) {
+        self.selected = Some(seq);
+        self.scroll_to = Some(seq);
+        self.follow = false;
+    }
+
     /// Whether the view is paused.
     pub fn paused(&self) -> bool {
         self.paused_at.is_some()
