@@ -36,7 +36,10 @@ fn capture() -> FrameLog {
         if let Some(r) = reply {
             log.push_received(&r, (t + Duration::from_micros(900)).as_nanos() as u64);
         } else {
-            log.push_timeout("no reply", (t + Duration::from_millis(100)).as_nanos() as u64);
+            log.push_timeout(
+                "no reply",
+                (t + Duration::from_millis(100)).as_nanos() as u64,
+            );
         }
         t += Duration::from_millis(25 + i as u64 % 7);
     }
@@ -62,17 +65,14 @@ fn a_saved_log_replays_into_the_simulator_with_the_same_replies() {
         }
         let t = Duration::from_nanos(row.t_ns()) + Duration::from_micros(500);
         let replayed = sim.handle(row.bytes(), t);
-        let recorded = opened.reply_of(row.seq()).and_then(|s| opened.row(s)).unwrap();
+        let recorded = opened
+            .reply_of(row.seq())
+            .and_then(|s| opened.row(s))
+            .unwrap();
         match replayed {
             Some(r) => {
                 assert_eq!(recorded.dir(), Dir::Received);
-                assert_eq!(
-                    r,
-                    recorded.bytes(),
-                    "row {}: {}",
-                    row.seq(),
-                    row.ascii()
-                );
+                assert_eq!(r, recorded.bytes(), "row {}: {}", row.seq(), row.ascii());
                 errors += usize::from(recorded.is_error_reply());
                 compared += 1;
             }
@@ -81,5 +81,8 @@ fn a_saved_log_replays_into_the_simulator_with_the_same_replies() {
     }
     assert!(compared >= 30, "only {compared} replies compared");
     // The capture holds accepted commands, not only refusals.
-    assert!(errors < compared / 2, "{errors} of {compared} were error replies");
+    assert!(
+        errors < compared / 2,
+        "{errors} of {compared} were error replies"
+    );
 }

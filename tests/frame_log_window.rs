@@ -335,7 +335,10 @@ fn a_million_rows_scroll_to_any_row_and_filter() {
         .build_eframe(|cc| PendantApp::new(cc, StartOptions::fresh_offline()));
     synthetic(h.state_mut(), 1_000_000);
     click(&mut h, "Frame log");
-    assert_eq!(h.state().frame_log_panel().shown(h.state().pendant()), 1_000_000);
+    assert_eq!(
+        h.state().frame_log_panel().shown(h.state().pendant()),
+        1_000_000
+    );
     for seq in [0u64, 1, 499_999, 777_777, 999_999] {
         h.state_mut().frame_log_panel_mut().reveal(seq);
         h.step();

@@ -48,6 +48,8 @@ pub struct Settings {
     pub teach: teach::TeachList,
     /// Light theme (the default is dark).
     pub light_theme: bool,
+    /// Rows the frame log keeps (None: [`frame_log::DEFAULT_CAP`]).
+    pub frame_log_cap: Option<usize>,
 }
 
 /// What the pendant asks of the link. The window runs these after drawing a frame;
@@ -146,6 +148,7 @@ pub struct Pendant {
 
 impl Pendant {
     pub fn new(settings: Settings, model: RobotModel) -> Self {
+        let log_cap = settings.frame_log_cap.unwrap_or(frame_log::DEFAULT_CAP);
         Self {
             kin: Scara::new(&model),
             model,
@@ -155,7 +158,7 @@ impl Pendant {
             health: None,
             health_window: VecDeque::new(),
             messages: VecDeque::new(),
-            frame_log: frame_log::FrameLog::new(frame_log::DEFAULT_CAP),
+            frame_log: frame_log::FrameLog::new(log_cap),
             jog_feedback: None,
             held: None,
             followed: None,

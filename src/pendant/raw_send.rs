@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use super::{Level, Pendant, Request, is_move, name};
 use crate::link::LinkEvent;
-use crate::protocol::{Command, Frame, checksum};
+use crate::protocol::{Command, Frame, ScMode, checksum};
 
 impl Pendant {
     /// Records traffic (frames, garbage, time-outs, left-out counts) in the frame log.
@@ -30,6 +30,7 @@ impl Pendant {
                 log.timeout(&text, now);
             }
             LinkEvent::Dropped { frames } => log.link_dropped(*frames),
+            LinkEvent::Interrupted { .. } | LinkEvent::Disconnected { .. } => log.line_lost(),
             _ => {}
         }
     }
@@ -42,9 +43,18 @@ impl Pendant {
         match &result {
             Ok(c) => {
                 self.requests.push(Request::Submit(*c));
+                let station = self.settings.connection.station();
+                let canonical = c.to_bytes(station, ScMode::Computed).unwrap_or_default();
+                let typed = format!("!{}", body.trim());
+                let note = if canonical.starts_with(typed.as_bytes()) {
+                    String::new()
+                } else {
+                    // Lower-case hex, say: the link encodes the command its own way.
+                    format!(", written as {}", canonical.escape_ascii())
+                };
                 self.say(
                     Level::Info,
-                    format!("raw frame sent: {} ({})", c.id(), name(c)),
+                    format!("raw frame sent: {} ({}){note}", c.id(), name(c)),
                     now,
                 );
             }
@@ -82,5 +92,84 @@ impl Pendant {
                 .map_err(|why| format!("{} is motion, and {why}", command.id()))?;
         }
         Ok(command)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::time::Instant;
+
+    use crate::link::LinkEvent;
+    use crate::pendant::{Pendant, Request, Settings, script};
+    use crate::protocol::Command;
+    use crate::robot::{Joints, RobotModel, Scara};
+
+    fn connected() -> Pendant {
+        let mut p = Pendant::new(Settings::default(), RobotModel::default_model());
+        p.handle_event(
+            Instant::now(),
+            LinkEvent::Connected {
+                line: "test".into(),
+            },
+        );
+        p.take_requests();
+        p
+    }
+
+    const STEP: &str = "992D501001E001E00140200002710";
+
+    #[test]
+    fn a_query_body_becomes_a_command_for_the_link() {
+        let mut p = connected();
+        assert_eq!(
+            p.send_raw(" 99215 ", Instant::now()),
+            Ok(Command::SystemStatus)
+        );
+        assert_eq!(
+            p.take_requests(),
+            vec![Request::Submit(Command::SystemStatus)]
+        );
+    }
+
+    #[test]
+    fn bad_bodies_are_refused_with_a_reason_and_nothing_is_sent() {
+        let mut p = connected();
+        let now = Instant::now();
+        for (body, why) in [
+            ("", "type the frame's body"),
+            ("98215", "station 98"),
+            ("99ZZZ", ""),
+            ("99\x02215", "printable"),
+        ] {
+            let err = p.send_raw(body, now).unwrap_err();
+            assert!(err.contains(why), "{body:?}: {err}");
+        }
+        assert!(p.take_requests().is_empty());
+        assert!(
+            p.messages
+                .back()
+                .unwrap()
+                .text
+                .starts_with("raw frame not sent")
+        );
+    }
+
+    #[test]
+    fn motion_needs_the_same_readiness_as_the_jog_panel() {
+        let mut p = connected();
+        let now = Instant::now();
+        let err = p.send_raw(STEP, now).unwrap_err();
+        assert!(err.contains("is motion"), "{err}");
+        assert!(p.take_requests().is_empty());
+
+        let mut p = Pendant::new(Settings::default(), RobotModel::default_model());
+        let kin = Scara::new(&p.model);
+        for event in script::ready_controller(&kin, Joints::new(30.0, 60.0, 50.0, 0.0)) {
+            p.handle_event(now, event);
+        }
+        p.take_requests();
+        let sent = p.send_raw(STEP, now).unwrap();
+        assert!(matches!(sent, Command::ScaraMoveRelative(_)));
+        assert_eq!(p.take_requests(), vec![Request::Submit(sent)]);
     }
 }

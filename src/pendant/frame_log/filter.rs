@@ -101,7 +101,7 @@ impl Matcher {
         }
         if let Some(id) = row.id() {
             let name = MessageId(id).name().unwrap_or("");
-            if contains(format!("{id:03x}h").as_bytes(), n) || contains(name.as_bytes(), n) {
+            if contains(&id_text(id), n) || contains(name.as_bytes(), n) {
                 return true;
             }
         }
@@ -121,6 +121,12 @@ impl Matcher {
                     || f.bits.iter().any(|b| contains(b.to_string().as_bytes(), n))
             })
     }
+}
+
+/// `212h`: a message ID as the name column shows it (lower case), without allocating.
+fn id_text(id: u16) -> [u8; 4] {
+    let hex = |v: u16| b"0123456789abcdef"[usize::from(v & 0xF)];
+    [hex(id >> 8), hex(id >> 4), hex(id), b'h']
 }
 
 /// ASCII case-insensitive substring test; `needle` is lower case.

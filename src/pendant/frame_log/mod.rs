@@ -161,6 +161,11 @@ impl FrameLog {
         self.push_timeout(text, t);
     }
 
+    /// The line was lost: the request waiting for its reply gets none.
+    pub fn line_lost(&mut self) {
+        self.outstanding = None;
+    }
+
     /// The link left out `n` traffic events.
     pub fn link_dropped(&mut self, n: u64) {
         self.dropped_link += n;

@@ -172,3 +172,13 @@ fn wall_clock_times_print_in_utc() {
     let t = std::time::UNIX_EPOCH + Duration::from_micros(1_795_000_000_123_456);
     assert_eq!(file::utc(t), "2026-11-18 11:06:40.123456");
 }
+
+#[test]
+fn a_lost_line_ends_the_wait_for_a_reply() {
+    let mut log = FrameLog::new(10);
+    log.push_sent(REQ, 0);
+    log.line_lost();
+    log.push_received(&framed("#99212"), 10);
+    assert_eq!(log.request_of(1), None);
+    assert_eq!(log.nth(1).unwrap().latency_us(), None);
+}

@@ -107,6 +107,10 @@ pub fn show(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant) {
                 );
             }
         });
+    if p.hovered != hovered {
+        // The raw text above was drawn with the old mark: draw again with the new one.
+        ui.ctx().request_repaint();
+    }
     if copy {
         ui.ctx()
             .copy_text(format!("{}\n{}", row.ascii(), plain(&d.to_string())));

@@ -51,6 +51,21 @@ pub fn header(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &mut Pendant) {
             p.follow = false;
         }
         ui.checkbox(&mut p.follow, "Follow tail");
+        if p.opened.is_none() {
+            let mut cap = pendant.frame_log.cap();
+            let l = ui.label("Keep rows");
+            let r = ui
+                .add(
+                    egui::DragValue::new(&mut cap)
+                        .range(1_000..=5_000_000)
+                        .speed(1000),
+                )
+                .labelled_by(l.id);
+            if r.changed() {
+                pendant.frame_log.set_cap(cap);
+                pendant.settings.frame_log_cap = Some(cap);
+            }
+        }
         ui.checkbox(&mut p.wall_clock, "Wall clock");
         if p.opened.is_some() {
             if ui.button("Back to live").clicked() {
