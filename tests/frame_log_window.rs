@@ -160,6 +160,19 @@ fn a_jog_step_and_its_reply_show_with_exact_bytes_decode_and_latency() {
         d.is_ok() && d.fields.iter().any(|f| f.name.contains("axis")),
         "{d}"
     );
+    // A press on a row selects it, as the user sees it, while the tail moves on.
+    assert!(h.state().frame_log_panel().selected().is_none());
+    // The middle one of the poll rows in the tree (the first and last may be cut by the
+    // edges of the view).
+    let rows: Vec<egui::Rect> = h
+        .query_all_by_label_contains("status query")
+        .map(|n| n.rect())
+        .collect();
+    assert!(rows.len() >= 3, "{} poll rows in view", rows.len());
+    let rect = rows[rows.len() / 2];
+    press(&mut h, egui::pos2(rect.left() + 40.0, rect.center().y));
+    assert!(h.state().frame_log_panel().selected().is_some());
+    click(&mut h, "Close decode");
     // Filter to the step, select it: the decode shows, and the jump to the reply works.
     type_into(&mut h, "ID", "2D5");
     step_until(&mut h, "the filter to finish", |a| {
@@ -219,6 +232,22 @@ fn a_corrupted_reply_is_flagged_with_its_raw_bytes() {
         !a.frame_log_panel().filtering() && a.frame_log_panel().shown(a.pendant()) >= 1
     });
     assert!(shows(&h, &ascii), "row {ascii} not shown");
+}
+
+/// A pointer press and release at `pos`, as a mouse gives them.
+fn press(h: &mut Harness<'_, PendantApp>, pos: egui::Pos2) {
+    h.event(egui::Event::PointerMoved(pos));
+    h.step();
+    for pressed in [true, false] {
+        h.event(egui::Event::PointerButton {
+            pos,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: egui::Modifiers::NONE,
+        });
+    }
+    h.step();
+    h.step();
 }
 
 #[test]

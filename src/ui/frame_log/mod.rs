@@ -79,6 +79,8 @@ pub struct FrameLogPanel {
     selected: Option<u64>,
     scroll_to: Option<u64>,
     hovered: Option<Columns>,
+    /// Rows drawn in the last frame, where (on screen) and which.
+    drawn: Vec<(egui::Rect, u64)>,
     path: String,
     only_filtered: bool,
     save_job: Option<Job<Result<String, String>>>,
@@ -102,6 +104,7 @@ impl Default for FrameLogPanel {
             selected: None,
             scroll_to: None,
             hovered: None,
+            drawn: Vec::new(),
             path: "frame-log.jsonl".into(),
             only_filtered: false,
             save_job: None,

@@ -1,6 +1,6 @@
 //! The frame log's rows, virtualised: only the rows in sight are formatted.
 
-use egui::{Color32, RichText, TextStyle, Ui};
+use egui::{Color32, Response, RichText, Sense, TextStyle, Ui, Widget, WidgetInfo, pos2, vec2};
 
 use super::FrameLogPanel;
 use crate::pendant::Pendant;
@@ -14,7 +14,7 @@ pub fn show(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant) {
     let log = p.opened.as_ref().map_or(&pendant.frame_log, |o| &o.log);
     let total = p.view_len(log);
     let row_height = ui.text_style_height(&TextStyle::Monospace) + 4.0;
-    ui.label(
+    egui::Label::new(
         RichText::new(format!(
             "{:>12} {:>11}  {:<5} {:<34} {:>4} {:>9}  bytes",
             if p.wall_clock { "time (UTC)" } else { "s" },
@@ -26,7 +26,9 @@ pub fn show(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant) {
         ))
         .monospace()
         .weak(),
-    );
+    )
+    .extend()
+    .ui(ui);
     let mut area = egui::ScrollArea::both()
         .id_salt("frame-log-rows")
         .auto_shrink([false, false]);
@@ -37,7 +39,22 @@ pub fn show(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant) {
     } else if p.follow && p.paused_at.is_none() {
         area = area.vertical_scroll_offset(total as f32 * row_height);
     }
-    let mut clicked = None;
+    // While the tail is followed the rows move under the pointer between frames, and
+    // a click (press and release on one widget) may never land: a press selects the row
+    // that was drawn under it in the frame the user saw.
+    let press = ui.input(|i| {
+        i.pointer
+            .primary_pressed()
+            .then(|| i.pointer.interact_pos())
+            .flatten()
+    });
+    let mut clicked = press.and_then(|pos| {
+        p.drawn
+            .iter()
+            .find(|(rect, _)| rect.contains(pos))
+            .map(|&(_, seq)| seq)
+    });
+    let mut drawn = Vec::new();
     let mut scrolled_by_user = false;
     let out = area.show_rows(ui, row_height, total, |ui, range| {
         ui.spacing_mut().item_spacing.y = 0.0;
@@ -46,16 +63,15 @@ pub fn show(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant) {
                 continue;
             };
             let text = line(log, &row, p.wall_clock);
-            let color = color(&row);
             let selected = p.selected == Some(row.seq());
-            let button =
-                egui::Button::selectable(selected, RichText::new(text).monospace().color(color));
-            let width = ui.available_width().max(900.0);
-            if ui.add_sized([width, row_height], button).clicked() {
+            let r = row_ui(ui, text, color(&row), selected, row_height);
+            if r.clicked() {
                 clicked = Some(row.seq());
             }
+            drawn.push((r.rect.intersect(ui.clip_rect()), row.seq()));
         }
     });
+    p.drawn = drawn;
     if ui.rect_contains_pointer(out.inner_rect) && ui.input(|i| i.smooth_scroll_delta.y > 0.0) {
         scrolled_by_user = true;
     }
@@ -63,13 +79,34 @@ pub fn show(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant) {
         p.follow = false;
     }
     if let Some(seq) = clicked {
-        p.selected = if p.selected == Some(seq) {
-            None
-        } else {
-            Some(seq)
-        };
+        p.selected = Some(seq);
         p.follow = false;
     }
+}
+
+/// One row: one line of monospace text, never wrapped (wider rows scroll sideways),
+/// clickable, and named for assistive technology (and tests) by its text.
+fn row_ui(ui: &mut Ui, text: String, color: Color32, selected: bool, height: f32) -> Response {
+    let font = TextStyle::Monospace.resolve(ui.style());
+    let galley = ui.painter().layout_no_wrap(text.clone(), font, color);
+    let width = ui.available_width().max(galley.size().x + 8.0);
+    let (rect, response) = ui.allocate_exact_size(vec2(width, height), Sense::click());
+    response.widget_info(|| {
+        WidgetInfo::selected(egui::Role::Button, ui.is_enabled(), selected, text.clone())
+    });
+    if ui.is_rect_visible(rect) {
+        let visuals = ui.visuals();
+        if selected {
+            ui.painter()
+                .rect_filled(rect, 2.0, visuals.selection.bg_fill);
+        } else if response.hovered() {
+            ui.painter()
+                .rect_filled(rect, 2.0, visuals.widgets.hovered.weak_bg_fill);
+        }
+        let pos = pos2(rect.left() + 4.0, rect.center().y - galley.size().y / 2.0);
+        ui.painter().galley(pos, galley, color);
+    }
+    response
 }
 
 /// One row as text, in the header's columns; the bytes last (they vary in length).
