@@ -162,13 +162,13 @@ fn a_jog_step_and_its_reply_show_with_exact_bytes_decode_and_latency() {
     );
     // A press on a row selects it, as the user sees it, while the tail moves on.
     assert!(h.state().frame_log_panel().selected().is_none());
-    // The middle one of the poll rows in the tree (the first and last may be cut by the
+    // The middle one of the sent rows in the tree (the first and last may be cut by the
     // edges of the view).
     let rows: Vec<egui::Rect> = h
-        .query_all_by_label_contains("status query")
+        .query_all_by_label_contains(">>")
         .map(|n| n.rect())
         .collect();
-    assert!(rows.len() >= 3, "{} poll rows in view", rows.len());
+    assert!(rows.len() >= 3, "{} sent rows in view", rows.len());
     let rect = rows[rows.len() / 2];
     press(&mut h, egui::pos2(rect.left() + 40.0, rect.center().y));
     assert!(h.state().frame_log_panel().selected().is_some());

@@ -16,13 +16,13 @@ pub fn show(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant) {
     let row_height = ui.text_style_height(&TextStyle::Monospace) + 4.0;
     egui::Label::new(
         RichText::new(format!(
-            "{:>12} {:>11}  {:<5} {:<34} {:>4} {:>9}  bytes",
-            if p.wall_clock { "time (UTC)" } else { "s" },
-            "+prev s",
+            "{:>10} {:>8}  {:<5} {:<3} {:>6}  {:<36}  message",
+            if p.wall_clock { "UTC" } else { "s" },
+            "+prev ms",
             "dir",
-            "message",
             "sc",
-            "latency"
+            "lat ms",
+            "bytes"
         ))
         .monospace()
         .weak(),
@@ -89,7 +89,7 @@ pub fn show(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant) {
 fn row_ui(ui: &mut Ui, text: String, color: Color32, selected: bool, height: f32) -> Response {
     let font = TextStyle::Monospace.resolve(ui.style());
     let galley = ui.painter().layout_no_wrap(text.clone(), font, color);
-    let width = ui.available_width().max(galley.size().x + 8.0);
+    let width = ui.available_width().max(galley.size().x + 4.0);
     let (rect, response) = ui.allocate_exact_size(vec2(width, height), Sense::click());
     response.widget_info(|| {
         WidgetInfo::selected(egui::Role::Button, ui.is_enabled(), selected, text.clone())
@@ -103,7 +103,7 @@ fn row_ui(ui: &mut Ui, text: String, color: Color32, selected: bool, height: f32
             ui.painter()
                 .rect_filled(rect, 2.0, visuals.widgets.hovered.weak_bg_fill);
         }
-        let pos = pos2(rect.left() + 4.0, rect.center().y - galley.size().y / 2.0);
+        let pos = pos2(rect.left(), rect.center().y - galley.size().y / 2.0);
         ui.painter().galley(pos, galley, color);
     }
     response
@@ -122,17 +122,16 @@ fn line(log: &FrameLog, row: &Row<'_>, wall: bool) -> String {
         .map_or(0, |p| t.saturating_sub(p.t_ns()));
     let latency = row
         .latency_us()
-        .map_or(String::new(), |us| format!("{:.2} ms", us as f64 / 1000.0));
+        .map_or(String::new(), |us| format!("{:.2}", us as f64 / 1000.0));
     let mut name = row.name();
+    // The bytes come before the name: they are what this log is for, and a short frame
+    // (every command) keeps the names in one column.
     if !row.note().is_empty() {
         name = format!("{name}: {}", row.note());
     }
-    if name.chars().count() > 34 {
-        name = name.chars().take(31).chain("...".chars()).collect();
-    }
     format!(
-        "{time:>12} {:>11.6}  {:<5} {name:<34} {:>4} {latency:>9}  {}",
-        prev as f64 * 1e-9,
+        "{time:>10} {:>8.3}  {:<5} {:<3} {latency:>6}  {:<36}  {name}",
+        prev as f64 * 1e-6,
         row.dir().arrow(),
         row.verdict().label(),
         row.ascii()

@@ -96,13 +96,16 @@ pub fn filter_bar(p: &mut FrameLogPanel, ui: &mut Ui) {
         let l = ui.label("ID");
         ui.add(egui::TextEdit::singleline(&mut inputs.id).desired_width(40.0))
             .labelled_by(l.id);
+        let l = ui.label("Direction");
         egui::ComboBox::from_id_salt("frame-log-dir")
             .selected_text(dir_name(inputs.dir))
             .show_ui(ui, |ui| {
                 for d in [DirFilter::Both, DirFilter::Sent, DirFilter::Received] {
                     ui.selectable_value(&mut inputs.dir, d, dir_name(d));
                 }
-            });
+            })
+            .response
+            .labelled_by(l.id);
         ui.checkbox(&mut inputs.problems_only, "Errors only");
         let l = ui.label("From s");
         ui.add(egui::TextEdit::singleline(&mut inputs.from).desired_width(50.0))
