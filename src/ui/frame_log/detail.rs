@@ -44,6 +44,9 @@ pub fn show(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant) {
     // The raw text, the hovered field's bytes marked.
     let hovered = p.hovered.take();
     let mut job = LayoutJob::default();
+    // Long replies wrap at any byte (they have no spaces to wrap at).
+    job.wrap.max_width = ui.available_width();
+    job.wrap.break_anywhere = true;
     let font = FontId::monospace(14.0);
     for (i, b) in row.bytes().iter().enumerate() {
         let column = i + 1;
