@@ -144,21 +144,7 @@ fn main() {
 
 /// Status queries and replies (the polling traffic), every 1000th reply an error.
 fn synthetic(a: &mut PendantApp, n: u64) {
-    let framed = |body: &str| {
-        let sc = body.bytes().fold(0u8, |s, b| s.wrapping_add(b));
-        format!("{body}{sc:02X}\r\n").into_bytes()
-    };
-    let query = framed("!99212");
-    let reply = framed("#9921200000000000000000000000000000000");
-    let log = &mut a.pendant_mut().frame_log;
-    for i in 0..n / 2 {
-        log.push_sent(&query, i * 2_000_000);
-        if i % 1000 == 999 {
-            log.push_received(b"&99C1F00\r\n", i * 2_000_000 + 900_000);
-        } else {
-            log.push_received(&reply, i * 2_000_000 + 900_000);
-        }
-    }
+    a.pendant_mut().frame_log.fill_synthetic(n);
 }
 
 fn frame_times(h: &mut Harness<'_, PendantApp>, n: usize) -> Vec<Duration> {

@@ -344,17 +344,7 @@ fn filter_pause_save_open_and_raw_send_through_the_window() {
 /// Fills the live log with `n` synthetic rows: status queries and replies, every 1000th
 /// reply an error.
 fn synthetic(a: &mut PendantApp, n: u64) {
-    let query = framed("!99212");
-    let reply = framed("#9921200000000000000000000");
-    let log = &mut a.pendant_mut().frame_log;
-    for i in 0..n / 2 {
-        log.push_sent(&query, i * 2_000_000);
-        if i % 1000 == 999 {
-            log.push_received(b"&99C1F00\r\n", i * 2_000_000 + 900_000);
-        } else {
-            log.push_received(&reply, i * 2_000_000 + 900_000);
-        }
-    }
+    a.pendant_mut().frame_log.fill_synthetic(n);
 }
 
 #[test]

@@ -109,6 +109,13 @@ impl PendantApp {
         } else if !options.offline {
             pendant.connect(now);
         }
+        if let Some(rows) = std::env::var("XSEL_PENDANT_BENCH_LOG_ROWS")
+            .ok()
+            .and_then(|v| v.parse::<u64>().ok())
+        {
+            // Opt-in, for `benches/window_startup.sh --rss-log`: a full frame log.
+            pendant.frame_log.fill_synthetic(rows);
+        }
         let mut app = Self {
             pendant,
             session: None,

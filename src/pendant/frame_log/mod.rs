@@ -13,6 +13,8 @@ use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 pub use row::{Dir, Row, Verdict};
 use row::{Entry, NO_ID};
 
+const _: () = assert!(std::mem::size_of::<Entry>() == 24);
+
 /// Rows per chunk. Full chunks are frozen (shared with savers, never changed).
 const CHUNK: usize = 4096;
 /// The default cap on rows kept.
@@ -55,8 +57,8 @@ pub struct FrameLog {
     origin: Option<Instant>,
     /// The wall-clock time of `origin` (the Unix epoch until set).
     origin_wall: SystemTime,
-    /// The request that waits for its reply: its sequence number and send time.
-    outstanding: Option<(u64, u64)>,
+    /// The request that waits for its reply (its sequence number).
+    outstanding: Option<u64>,
 }
 
 impl FrameLog {
@@ -171,38 +173,64 @@ impl FrameLog {
         self.dropped_link += n;
     }
 
+    /// Adds `n` rows of status polling (212H queries and replies, 2 ms apart, every
+    /// 1000th reply an `&` error) after the rows there are: for benches and the tests
+    /// of scale.
+    pub fn fill_synthetic(&mut self, n: u64) {
+        let framed = |body: &str| {
+            let mut f = body.as_bytes().to_vec();
+            let sc = crate::protocol::checksum(&f);
+            f.extend_from_slice(format!("{sc:02X}\r\n").as_bytes());
+            f
+        };
+        let query = framed("!99212");
+        let reply = framed("#9921200000000000000000000000000000000");
+        let start = self
+            .row(self.end().wrapping_sub(1))
+            .map_or(0, |r| r.t_ns() + 1);
+        for i in 0..n / 2 {
+            let t = start + i * 2_000_000;
+            self.push_sent(&query, t);
+            if i % 1000 == 999 {
+                self.push_received(b"&99C1F00\r\n", t + 900_000);
+            } else {
+                self.push_received(&reply, t + 900_000);
+            }
+        }
+    }
+
     /// A sent frame at `t_ns` after the start.
     pub fn push_sent(&mut self, bytes: &[u8], t_ns: u64) {
         let seq = self.end();
         self.push(Entry::new(Dir::Sent, t_ns, bytes), bytes, b"");
-        self.outstanding = Some((seq, t_ns));
+        self.outstanding = Some(seq);
     }
 
     /// A received frame at `t_ns` after the start; it answers the outstanding request.
     pub fn push_received(&mut self, bytes: &[u8], t_ns: u64) {
         let mut e = Entry::new(Dir::Received, t_ns, bytes);
-        self.pair(&mut e, t_ns);
+        self.pair(&mut e);
         self.push(e, bytes, b"");
     }
 
     /// A garbage run at `t_ns`; when a request waits, it is taken as its (bad) answer.
     pub fn push_garbage(&mut self, bytes: &[u8], error: &str, t_ns: u64) {
         let mut e = Entry::new(Dir::Garbage, t_ns, bytes);
-        self.pair(&mut e, t_ns);
+        self.pair(&mut e);
         self.push(e, bytes, error.as_bytes());
     }
 
     /// A time-out row; it ends the outstanding request.
     pub fn push_timeout(&mut self, text: &str, t_ns: u64) {
         let mut e = Entry::new(Dir::Timeout, t_ns, b"");
-        self.pair(&mut e, t_ns);
+        self.pair(&mut e);
         self.push(e, b"", text.as_bytes());
     }
 
-    fn pair(&mut self, e: &mut Entry, t_ns: u64) {
-        if let Some((seq, sent)) = self.outstanding.take() {
-            e.pair_back = (self.end() - seq).min(u32::MAX as u64) as u32;
-            e.latency_us = (t_ns.saturating_sub(sent) / 1000).min(u32::MAX as u64) as u32;
+    fn pair(&mut self, e: &mut Entry) {
+        if let Some(seq) = self.outstanding.take() {
+            // Farther back than a u16 reaches: no pair (never, with one outstanding).
+            e.pair_back = u16::try_from(self.end() - seq).unwrap_or(0);
             if e.id == NO_ID
                 && let Some(req) = self.entry(seq)
             {
@@ -222,7 +250,8 @@ impl FrameLog {
             .extend_from_slice(&note[..e.note_len as usize]);
         self.open.entries.push(e);
         if self.open.entries.len() == CHUNK {
-            let full = std::mem::replace(&mut self.open, Chunk::with_capacity());
+            let mut full = std::mem::replace(&mut self.open, Chunk::with_capacity());
+            full.bytes.shrink_to_fit();
             self.frozen.push_back(Arc::new(full));
         }
         self.trim();
@@ -263,7 +292,12 @@ impl FrameLog {
     /// The row with sequence number `seq`, if still kept.
     pub fn row(&self, seq: u64) -> Option<Row<'_>> {
         let (chunk, o) = self.locate(seq)?;
-        Some(Row::new(seq, &chunk.entries[o], &chunk.bytes))
+        let e = &chunk.entries[o];
+        let request_t = (e.pair_back != 0)
+            .then(|| self.entry(seq - u64::from(e.pair_back)))
+            .flatten()
+            .map(|r| r.t_ns);
+        Some(Row::new(seq, e, &chunk.bytes, request_t))
     }
 
     /// The `index`-th row kept (0 = oldest).
@@ -330,11 +364,15 @@ pub struct Snapshot {
 impl Snapshot {
     /// The rows, oldest first.
     pub fn rows(&self) -> impl Iterator<Item = Row<'_>> + '_ {
-        (self.head..self.end).map(move |seq| {
-            let i = (seq - self.base) as usize;
-            let chunk = &self.chunks[i / CHUNK];
-            Row::new(seq, &chunk.entries[i % CHUNK], &chunk.bytes)
-        })
+        (self.head..self.end).filter_map(move |seq| self.row(seq))
+    }
+
+    fn entry(&self, seq: u64) -> Option<&Entry> {
+        if seq < self.head || seq >= self.end {
+            return None;
+        }
+        let i = (seq - self.base) as usize;
+        self.chunks.get(i / CHUNK)?.entries.get(i % CHUNK)
     }
 
     pub fn len(&self) -> usize {
@@ -357,7 +395,12 @@ impl Snapshot {
         }
         let i = (seq - self.base) as usize;
         let chunk = self.chunks.get(i / CHUNK)?;
-        Some(Row::new(seq, chunk.entries.get(i % CHUNK)?, &chunk.bytes))
+        let e = chunk.entries.get(i % CHUNK)?;
+        let request_t = (e.pair_back != 0)
+            .then(|| self.entry(seq - u64::from(e.pair_back)))
+            .flatten()
+            .map(|r| r.t_ns);
+        Some(Row::new(seq, e, &chunk.bytes, request_t))
     }
 }
 

@@ -130,22 +130,19 @@ impl Verdict {
     }
 }
 
-/// A row as stored: 32 bytes, the frame's bytes and note kept in the chunk's buffer.
+/// A row as stored: 24 bytes, the frame's bytes and note kept in the chunk's buffer (the
+/// header is the first byte; the latency comes from the request's time).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Entry {
     pub t_ns: u64,
     pub start: u32,
     pub len: u32,
     /// Rows back to the request this row answers (0: none).
-    pub pair_back: u32,
-    /// Request-to-reply time, µs (answers only).
-    pub latency_us: u32,
+    pub pair_back: u16,
     pub id: u16,
     pub note_len: u16,
     pub dir: u8,
     pub verdict: u8,
-    /// First byte (header), for the error flag.
-    pub header: u8,
 }
 
 impl Entry {
@@ -159,12 +156,10 @@ impl Entry {
             start: 0,
             len: 0,
             pair_back: 0,
-            latency_us: 0,
             id: message_id(bytes).unwrap_or(NO_ID),
             note_len: 0,
             dir: dir.code(),
             verdict: verdict.code(),
-            header: bytes.first().copied().unwrap_or(0),
         }
     }
 }
@@ -185,11 +180,18 @@ pub struct Row<'a> {
     seq: u64,
     entry: &'a Entry,
     buf: &'a [u8],
+    /// The time of the request this row answers, when still kept.
+    request_t: Option<u64>,
 }
 
 impl<'a> Row<'a> {
-    pub(super) fn new(seq: u64, entry: &'a Entry, buf: &'a [u8]) -> Self {
-        Row { seq, entry, buf }
+    pub(super) fn new(seq: u64, entry: &'a Entry, buf: &'a [u8], request_t: Option<u64>) -> Self {
+        Row {
+            seq,
+            entry,
+            buf,
+            request_t,
+        }
     }
 
     /// The row's sequence number (stable while the row is kept).
@@ -229,16 +231,18 @@ impl<'a> Row<'a> {
 
     /// Request-to-reply time, for answers.
     pub fn latency_us(&self) -> Option<u32> {
-        (self.entry.pair_back != 0 && self.dir() != Dir::Timeout).then_some(self.entry.latency_us)
+        let sent = self.request_t.filter(|_| self.dir() != Dir::Timeout)?;
+        let us = self.entry.t_ns.saturating_sub(sent) / 1000;
+        Some(us.min(u64::from(u32::MAX)) as u32)
     }
 
-    pub(super) fn pair_back(&self) -> Option<u32> {
+    pub(super) fn pair_back(&self) -> Option<u16> {
         (self.entry.pair_back != 0).then_some(self.entry.pair_back)
     }
 
     /// An `&` error reply.
     pub fn is_error_reply(&self) -> bool {
-        self.dir() == Dir::Received && self.entry.header == b'&'
+        self.dir() == Dir::Received && self.bytes().first() == Some(&b'&')
     }
 
     /// Error replies, garbage, bad checksums and time-outs: the rows to highlight.

@@ -33,10 +33,6 @@ pub fn header(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &mut Pendant) {
                     .color(AMBER),
             );
         }
-        if p.job.is_some() {
-            ui.spinner();
-            ui.label("filtering...");
-        }
     });
     ui.horizontal_wrapped(|ui| {
         let end = p.log(pendant).end();
@@ -77,6 +73,11 @@ pub fn header(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &mut Pendant) {
             pendant.frame_log.clear();
             p.reset_view();
             p.say(Level::Info, "log cleared");
+        }
+        // Last in its row, so the buttons before it never move when it comes and goes.
+        if p.job.is_some() {
+            ui.spinner();
+            ui.label("filtering...");
         }
     });
 }
