@@ -12,6 +12,7 @@ use crate::link::{
     Connector, LineSettings, LinkConfig, LinkEvent, LinkHandle, Polling, Repaint, Transport,
 };
 use crate::pendant::{ConnectionSettings, LineKind, state};
+use crate::protocol::ScMode;
 use crate::robot::RobotModel;
 use crate::sim::pipe::PipeEnd;
 use crate::sim::{EmbeddedOptions, SimHandle, SimSetup, start_embedded};
@@ -179,6 +180,11 @@ impl Session {
         let connection = Connection::prepare(settings, model.clone());
         let mut config = LinkConfig {
             station: settings.station(),
+            sc_mode: if settings.send_at_at {
+                ScMode::AtAt
+            } else {
+                ScMode::Computed
+            },
             polling: Polling {
                 interval: Some(POLL_INTERVAL),
                 commands: state::poll_commands(),

@@ -81,6 +81,9 @@ pub struct ConnectionSettings {
     pub station: u8,
     /// Robot model for checks and the simulator: a built-in name or a TOML file.
     pub robot: String,
+    /// Send `@@` instead of computed checksums (a debug setting; the controller accepts
+    /// both [spec: PROTOCOL.md 1.4]). Applies when the line is next opened.
+    pub send_at_at: bool,
 }
 
 impl Default for ConnectionSettings {
@@ -96,6 +99,7 @@ impl Default for ConnectionSettings {
             stop_bits: line.stop_bits,
             station: Station::DEFAULT.0,
             robot: "scara-500".into(),
+            send_at_at: false,
         }
     }
 }

@@ -5,8 +5,10 @@
 
 pub mod connection;
 pub mod coords;
+pub mod frame_log;
 pub mod jog;
 mod moving;
+mod raw_send;
 pub mod readiness;
 pub mod script;
 pub mod state;
@@ -48,6 +50,8 @@ pub struct Settings {
     pub teach: teach::TeachList,
     /// Light theme (the default is dark).
     pub light_theme: bool,
+    /// Rows the frame log keeps (None: [`frame_log::DEFAULT_CAP`]).
+    pub frame_log_cap: Option<usize>,
 }
 
 /// What the pendant asks of the link. The window runs these after drawing a frame;
@@ -138,6 +142,8 @@ pub struct Pendant {
     /// Time-out and error counts of the health reports of the last minute.
     health_window: VecDeque<(Instant, u64, u64)>,
     pub messages: VecDeque<Message>,
+    /// Every frame on the line (a capped ring), for the frame log pane.
+    pub frame_log: frame_log::FrameLog,
     /// The last word on a jog button: the refusal or the controller's answer.
     pub jog_feedback: Option<Message>,
     held: Option<HeldJog>,
@@ -154,6 +160,7 @@ pub struct Pendant {
 
 impl Pendant {
     pub fn new(settings: Settings, model: RobotModel) -> Self {
+        let log_cap = settings.frame_log_cap.unwrap_or(frame_log::DEFAULT_CAP);
         Self {
             coords: coords::CoordEditor::new(model.work_table_size, model.tool_table_size),
             kin: Scara::new(&model),
@@ -164,6 +171,7 @@ impl Pendant {
             health: None,
             health_window: VecDeque::new(),
             messages: VecDeque::new(),
+            frame_log: frame_log::FrameLog::new(log_cap),
             jog_feedback: None,
             held: None,
             followed: None,
@@ -256,6 +264,7 @@ impl Pendant {
 
     /// Applies one event from the link.
     pub fn handle_event(&mut self, now: Instant, event: LinkEvent) {
+        self.log_traffic(now, &event);
         match event {
             LinkEvent::Connected { line } | LinkEvent::Reconnected { line } => {
                 self.say(Level::Info, format!("connected: {line}"), now);

@@ -9,6 +9,7 @@ use egui::{Panel, Theme};
 use super::arm_view::ArmView;
 use super::connection::ConnectionPanel;
 use super::coords::CoordsPanel;
+use super::frame_log::FrameLogPanel;
 use super::layout::{self, Tab, Tabs};
 use super::simulator::{SimState, SimulatorPanel};
 use super::teach::TeachPanel;
@@ -85,6 +86,7 @@ pub struct PendantApp {
     drafts_file: Option<std::path::PathBuf>,
     drafts_saved: u64,
     arm: ArmView,
+    frame_log: FrameLogPanel,
     dock: egui_tiles::Tree<Tab>,
     started: Instant,
     help_open: bool,
@@ -115,10 +117,21 @@ impl PendantApp {
             Err(e) => (RobotModel::default_model(), Some(e)),
         };
         let mut pendant = Pendant::new(settings, model);
+        // Frame log times count from the window's start.
+        pendant
+            .frame_log
+            .set_origin(Some(now), std::time::SystemTime::now());
         if let Some(e) = problem {
             pendant.connect_failed(e, now);
         } else if !options.offline {
             pendant.connect(now);
+        }
+        if let Some(rows) = std::env::var("XSEL_PENDANT_BENCH_LOG_ROWS")
+            .ok()
+            .and_then(|v| v.parse::<u64>().ok())
+        {
+            // Opt-in, for `benches/window_startup.sh --rss-log`: a full frame log.
+            pendant.frame_log.fill_synthetic(rows);
         }
         let mut app = Self {
             pendant,
@@ -130,6 +143,7 @@ impl PendantApp {
             drafts_file: None,
             drafts_saved: 0,
             arm: ArmView::default(),
+            frame_log: FrameLogPanel::default(),
             dock: layout::checked_layout(saved_layout),
             started: now,
             help_open: false,
@@ -203,6 +217,16 @@ impl PendantApp {
     /// The arm view (tests read the scene it painted last).
     pub fn arm_view(&self) -> &ArmView {
         &self.arm
+    }
+
+    /// The frame log pane (tests and benches read it).
+    pub fn frame_log_panel(&self) -> &FrameLogPanel {
+        &self.frame_log
+    }
+
+    /// The frame log pane, to drive it from tests and benches.
+    pub fn frame_log_panel_mut(&mut self) -> &mut FrameLogPanel {
+        &mut self.frame_log
     }
 
     /// When the window started (the messages' times count from here).
@@ -402,6 +426,7 @@ impl eframe::App for PendantApp {
                 arm: &mut self.arm,
                 teach: &mut self.teach,
                 coords: &mut self.coords,
+                frame_log: &mut self.frame_log,
                 now,
                 started: self.started,
             };

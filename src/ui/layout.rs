@@ -1,11 +1,12 @@
 //! The rearrangeable centre of the window (egui_tiles): the arm view, position, status,
-//! teach list and messages as panes the operator can drag into tabs, rows and columns.
+//! teach list, coordinate tables, messages and frame log as panes the operator can drag
+//! into tabs, rows and columns.
 //! The layout is saved with the settings.
 //!
 //! egui_tiles rather than egui_dock: egui_tiles 0.18 is built on egui 0.37 (egui_dock's
 //! latest release is still on 0.36, so it cannot share our egui), it is rerun's own
 //! viewer layout (the model this app follows), and it allows rows, columns and grids,
-//! not only binary splits. The coordinate tables are a pane; the frame log joins as a further one.
+//! not only binary splits.
 
 use std::time::Instant;
 
@@ -17,6 +18,7 @@ use serde::{Deserialize, Serialize};
 
 use super::arm_view::ArmView;
 use super::coords::CoordsPanel;
+use super::frame_log::FrameLogPanel;
 use super::teach::TeachPanel;
 use super::{messages, readout, status};
 use crate::pendant::Pendant;
@@ -30,6 +32,7 @@ pub enum Tab {
     Teach,
     Messages,
     Coords,
+    FrameLog,
 }
 
 impl Tab {
@@ -41,21 +44,24 @@ impl Tab {
             Tab::Teach => "Teach list",
             Tab::Messages => "Messages",
             Tab::Coords => "Coordinate tables",
+            Tab::FrameLog => "Frame log",
         }
     }
 }
 
-const ALL: [Tab; 6] = [
+const ALL: [Tab; 7] = [
     Tab::Arm,
     Tab::Position,
     Tab::Status,
     Tab::Teach,
     Tab::Messages,
     Tab::Coords,
+    Tab::FrameLog,
 ];
 
-/// The first layout: the arm view large on the left; on the right the position, the
-/// status (servo, home), teach list and coordinate tables as tabs, and the messages.
+/// The first layout: the arm view large on the left over the messages and the frame log
+/// (tabs); on the right the position over the status (servo, home), teach list and
+/// coordinate tables as tabs.
 pub fn default_layout() -> Tree<Tab> {
     let mut tiles = Tiles::default();
     let tabs = |tiles: &mut Tiles<Tab>, panes: &[Tab]| {
@@ -65,18 +71,22 @@ pub fn default_layout() -> Tree<Tab> {
     let arm = tabs(&mut tiles, &[Tab::Arm]);
     let position = tabs(&mut tiles, &[Tab::Position]);
     let status = tabs(&mut tiles, &[Tab::Status, Tab::Teach, Tab::Coords]);
-    let messages = tabs(&mut tiles, &[Tab::Messages]);
-    let lower = tiles.insert_container(Linear::new_binary(
+    let traffic = tabs(&mut tiles, &[Tab::Messages, Tab::FrameLog]);
+    let left = tiles.insert_container(Linear::new_binary(
         LinearDir::Vertical,
-        [status, messages],
-        0.7,
+        [arm, traffic],
+        0.66,
     ));
     let right = tiles.insert_container(Linear::new_binary(
         LinearDir::Vertical,
-        [position, lower],
+        [position, status],
         0.3,
     ));
-    let root = tiles.insert_container(Linear::new_binary(LinearDir::Horizontal, [arm, right], 0.6));
+    let root = tiles.insert_container(Linear::new_binary(
+        LinearDir::Horizontal,
+        [left, right],
+        0.6,
+    ));
     Tree::new(egui::Id::unique("centre-layout"), root, tiles)
 }
 
@@ -93,6 +103,7 @@ pub struct Tabs<'a> {
     pub arm: &'a mut ArmView,
     pub teach: &'a mut TeachPanel,
     pub coords: &'a mut CoordsPanel,
+    pub frame_log: &'a mut FrameLogPanel,
     pub now: Instant,
     pub started: Instant,
 }
@@ -118,6 +129,7 @@ impl Behavior<Tab> for Tabs<'_> {
             }
             Tab::Messages => messages::show(ui, self.pendant, self.started),
             Tab::Coords => self.coords.show(ui, self.pendant, self.now),
+            Tab::FrameLog => self.frame_log.show(ui, self.pendant, self.now),
         }
         UiResponse::None
     }

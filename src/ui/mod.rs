@@ -9,6 +9,7 @@ mod connection;
 mod coords;
 mod coords_table;
 mod detect;
+pub mod frame_log;
 mod jog;
 mod keys;
 mod layout;

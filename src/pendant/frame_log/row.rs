@@ -1,0 +1,278 @@
+//! One row of the frame log: the compact stored form and the view handed to readers.
+
+use crate::protocol::MessageId;
+use crate::protocol::checksum;
+
+/// No message ID could be read.
+pub(super) const NO_ID: u16 = u16::MAX;
+
+/// Which way a row went, or what it is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Dir {
+    /// A frame the pendant wrote.
+    Sent,
+    /// A well-formed frame that came in.
+    Received,
+    /// Bytes that made no valid frame (with the link's reason).
+    Garbage,
+    /// No reply in time (a note, no bytes).
+    Timeout,
+}
+
+impl Dir {
+    pub fn code(self) -> u8 {
+        match self {
+            Dir::Sent => 0,
+            Dir::Received => 1,
+            Dir::Garbage => 2,
+            Dir::Timeout => 3,
+        }
+    }
+
+    fn from_code(c: u8) -> Dir {
+        match c {
+            0 => Dir::Sent,
+            1 => Dir::Received,
+            2 => Dir::Garbage,
+            _ => Dir::Timeout,
+        }
+    }
+
+    /// Short label for the table: `>>` out, `<<` in.
+    pub fn arrow(self) -> &'static str {
+        match self {
+            Dir::Sent => ">>",
+            Dir::Received => "<<",
+            Dir::Garbage => "<< ??",
+            Dir::Timeout => "--",
+        }
+    }
+
+    /// The name used in saved files.
+    pub fn key(self) -> &'static str {
+        match self {
+            Dir::Sent => "sent",
+            Dir::Received => "received",
+            Dir::Garbage => "garbage",
+            Dir::Timeout => "timeout",
+        }
+    }
+
+    pub fn from_key(key: &str) -> Option<Dir> {
+        [Dir::Sent, Dir::Received, Dir::Garbage, Dir::Timeout]
+            .into_iter()
+            .find(|d| d.key() == key)
+    }
+}
+
+/// The SC field's verdict, as the table shows it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Verdict {
+    /// The sum matches.
+    Ok,
+    /// `@@` instead of a sum (accepted, flagged) [spec: PROTOCOL.md 1.4].
+    AtAt,
+    /// The sum does not match, or the SC is unreadable.
+    Bad,
+    /// No SC to judge (too short, a time-out row).
+    None,
+}
+
+impl Verdict {
+    fn code(self) -> u8 {
+        match self {
+            Verdict::Ok => 0,
+            Verdict::AtAt => 1,
+            Verdict::Bad => 2,
+            Verdict::None => 3,
+        }
+    }
+
+    fn from_code(c: u8) -> Verdict {
+        match c {
+            0 => Verdict::Ok,
+            1 => Verdict::AtAt,
+            2 => Verdict::Bad,
+            _ => Verdict::None,
+        }
+    }
+
+    pub fn label(self) -> &'static str {
+        match self {
+            Verdict::Ok => "ok",
+            Verdict::AtAt => "@@",
+            Verdict::Bad => "bad",
+            Verdict::None => "",
+        }
+    }
+
+    /// The verdict of a frame's SC: the two characters before CR LF against the sum of
+    /// everything before them [spec: PROTOCOL.md 1.4].
+    pub fn of(bytes: &[u8]) -> Verdict {
+        let body_end = match bytes {
+            [.., b'\r', b'\n'] => bytes.len() - 2,
+            _ => bytes.len(),
+        };
+        if body_end < 8 {
+            return Verdict::None;
+        }
+        let (body, sc) = bytes[..body_end].split_at(body_end - 2);
+        if sc == b"@@" {
+            return Verdict::AtAt;
+        }
+        let hex = std::str::from_utf8(sc)
+            .ok()
+            .and_then(|s| u8::from_str_radix(s, 16).ok());
+        match hex {
+            Some(v) if v == checksum(body) => Verdict::Ok,
+            _ => Verdict::Bad,
+        }
+    }
+}
+
+/// A row as stored: 24 bytes, the frame's bytes and note kept in the chunk's buffer (the
+/// header is the first byte; the latency comes from the request's time).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Entry {
+    pub t_ns: u64,
+    pub start: u32,
+    pub len: u32,
+    /// Rows back to the request this row answers (0: none).
+    pub pair_back: u16,
+    pub id: u16,
+    pub note_len: u16,
+    pub dir: u8,
+    pub verdict: u8,
+}
+
+impl Entry {
+    pub fn new(dir: Dir, t_ns: u64, bytes: &[u8]) -> Entry {
+        let verdict = match dir {
+            Dir::Timeout => Verdict::None,
+            _ => Verdict::of(bytes),
+        };
+        Entry {
+            t_ns,
+            start: 0,
+            len: 0,
+            pair_back: 0,
+            id: message_id(bytes).unwrap_or(NO_ID),
+            note_len: 0,
+            dir: dir.code(),
+            verdict: verdict.code(),
+        }
+    }
+}
+
+/// The message ID in columns 4-6, for a frame with a known header and an ID
+/// [spec: PROTOCOL.md 1.3]; `&` replies carry none.
+fn message_id(bytes: &[u8]) -> Option<u16> {
+    if !matches!(bytes.first(), Some(b'!' | b'#')) {
+        return None;
+    }
+    let id = std::str::from_utf8(bytes.get(3..6)?).ok()?;
+    u16::from_str_radix(id, 16).ok()
+}
+
+/// A row of the log, borrowed.
+#[derive(Clone, Copy, Debug)]
+pub struct Row<'a> {
+    seq: u64,
+    entry: &'a Entry,
+    buf: &'a [u8],
+    /// The time of the request this row answers, when still kept.
+    request_t: Option<u64>,
+}
+
+impl<'a> Row<'a> {
+    pub(super) fn new(seq: u64, entry: &'a Entry, buf: &'a [u8], request_t: Option<u64>) -> Self {
+        Row {
+            seq,
+            entry,
+            buf,
+            request_t,
+        }
+    }
+
+    /// The row's sequence number (stable while the row is kept).
+    pub fn seq(&self) -> u64 {
+        self.seq
+    }
+
+    pub fn dir(&self) -> Dir {
+        Dir::from_code(self.entry.dir)
+    }
+
+    /// Nanoseconds after the log's start.
+    pub fn t_ns(&self) -> u64 {
+        self.entry.t_ns
+    }
+
+    /// The exact bytes on the line.
+    pub fn bytes(&self) -> &'a [u8] {
+        let s = self.entry.start as usize;
+        &self.buf[s..s + self.entry.len as usize]
+    }
+
+    /// The link's reason for garbage, or the time-out text.
+    pub fn note(&self) -> &'a str {
+        let s = (self.entry.start + self.entry.len) as usize;
+        std::str::from_utf8(&self.buf[s..s + self.entry.note_len as usize]).unwrap_or("")
+    }
+
+    /// The message ID (an `&` reply or a time-out takes its request's).
+    pub fn id(&self) -> Option<u16> {
+        (self.entry.id != NO_ID).then_some(self.entry.id)
+    }
+
+    pub fn verdict(&self) -> Verdict {
+        Verdict::from_code(self.entry.verdict)
+    }
+
+    /// Request-to-reply time, for answers.
+    pub fn latency_us(&self) -> Option<u32> {
+        let sent = self.request_t.filter(|_| self.dir() != Dir::Timeout)?;
+        let us = self.entry.t_ns.saturating_sub(sent) / 1000;
+        Some(us.min(u64::from(u32::MAX)) as u32)
+    }
+
+    pub(super) fn pair_back(&self) -> Option<u16> {
+        (self.entry.pair_back != 0).then_some(self.entry.pair_back)
+    }
+
+    /// An `&` error reply.
+    pub fn is_error_reply(&self) -> bool {
+        self.dir() == Dir::Received && self.bytes().first() == Some(&b'&')
+    }
+
+    /// Error replies, garbage, bad checksums and time-outs: the rows to highlight.
+    pub fn is_problem(&self) -> bool {
+        self.is_error_reply()
+            || matches!(self.dir(), Dir::Garbage | Dir::Timeout)
+            || self.verdict() == Verdict::Bad
+    }
+
+    /// The message's name: `212H axis status query`, `error reply to 232H ...`.
+    pub fn name(&self) -> String {
+        let id = match self.id() {
+            Some(id) => {
+                let name = MessageId(id).name().unwrap_or("unknown message");
+                format!("{id:03X}H {name}")
+            }
+            None => String::new(),
+        };
+        match self.dir() {
+            Dir::Timeout => format!("time-out {id}"),
+            Dir::Garbage => format!("garbage {id}"),
+            _ if self.is_error_reply() => format!("error reply {id}"),
+            _ => id,
+        }
+        .trim_end()
+        .to_string()
+    }
+
+    /// The bytes as text with CR, LF and other control bytes visible (`\r`, `\n`, `\x02`).
+    pub fn ascii(&self) -> String {
+        self.bytes().escape_ascii().to_string()
+    }
+}

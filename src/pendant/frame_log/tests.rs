@@ -1,0 +1,184 @@
+//! The frame log store: pairing, verdicts, the cap, filters and files.
+
+use super::file::{read_jsonl, write_jsonl, write_text};
+use super::filter::{DirFilter, Filter};
+use super::*;
+
+const REQ: &[u8] = b"!99212@@\r\n";
+
+fn framed(body: &str) -> Vec<u8> {
+    let mut f = body.as_bytes().to_vec();
+    let sc = crate::protocol::checksum(&f);
+    f.extend_from_slice(format!("{sc:02X}\r\n").as_bytes());
+    f
+}
+
+#[test]
+fn a_reply_pairs_with_its_request_and_carries_the_latency() {
+    let mut log = FrameLog::new(100);
+    let req = framed("!99215");
+    let rep = framed("#99215000");
+    log.push_sent(&req, 1_000_000);
+    log.push_received(&rep, 4_500_000);
+    assert_eq!(log.len(), 2);
+    let r = log.nth(1).unwrap();
+    assert_eq!(r.bytes(), rep.as_slice());
+    assert_eq!(r.latency_us(), Some(3500));
+    assert_eq!(r.verdict(), Verdict::Ok);
+    assert_eq!(r.name(), "215H system status query");
+    assert_eq!(log.request_of(1), Some(0));
+    assert_eq!(log.reply_of(0), Some(1));
+    assert_eq!(log.nth(0).unwrap().latency_us(), None);
+}
+
+#[test]
+fn verdicts_flag_at_at_and_bad_sums_and_error_replies_take_the_request_id() {
+    let mut log = FrameLog::new(100);
+    log.push_sent(REQ, 0);
+    log.push_received(b"&99C1F00\r\n", 10);
+    let sent = log.nth(0).unwrap();
+    assert_eq!(sent.verdict(), Verdict::AtAt);
+    let err = log.nth(1).unwrap();
+    assert!(err.is_error_reply() && err.is_problem());
+    assert_eq!(err.id(), Some(0x212));
+    let mut bad = framed("#99215000");
+    let n = bad.len();
+    bad[n - 3] = if bad[n - 3] == b'0' { b'1' } else { b'0' };
+    log.push_sent(REQ, 20);
+    log.push_garbage(&bad, "checksum error", 30);
+    let g = log.nth(3).unwrap();
+    assert_eq!(g.verdict(), Verdict::Bad);
+    assert_eq!(g.note(), "checksum error");
+    assert_eq!(g.bytes(), bad.as_slice());
+    assert!(g.is_problem());
+}
+
+#[test]
+fn the_cap_drops_from_the_head_and_counts() {
+    let mut log = FrameLog::new(10_000);
+    for i in 0..25_000u64 {
+        log.push_sent(format!("!99212{:02X}\r\n", i % 256).as_bytes(), i);
+    }
+    assert_eq!(log.len(), 10_000);
+    assert_eq!(log.dropped_head(), 15_000);
+    assert_eq!(log.nth(0).unwrap().t_ns(), 15_000);
+    assert_eq!(log.nth(9_999).unwrap().t_ns(), 24_999);
+    assert!(log.nth(10_000).is_none());
+    assert_eq!(log.snapshot().rows().count(), 10_000);
+    log.set_cap(10);
+    assert_eq!(log.len(), 10);
+    assert_eq!(log.nth(0).unwrap().t_ns(), 24_990);
+    log.clear();
+    assert!(log.is_empty());
+}
+
+#[test]
+fn timeouts_end_the_outstanding_request() {
+    let mut log = FrameLog::new(10);
+    log.push_sent(REQ, 0);
+    log.push_timeout("no reply to 212H", 100_000_000);
+    let t = log.nth(1).unwrap();
+    assert_eq!(t.dir(), Dir::Timeout);
+    assert_eq!(t.id(), Some(0x212));
+    assert!(t.is_problem());
+    assert_eq!(log.reply_of(0), Some(1));
+    // A late reply answers nothing.
+    log.push_received(&framed("#99212"), 200_000_000);
+    assert_eq!(log.request_of(2), None);
+}
+
+#[test]
+fn filters_by_id_direction_problems_time_and_text() {
+    let mut log = FrameLog::new(100);
+    log.push_sent(&framed("!99212"), 0);
+    log.push_received(&framed("#99212"), 1_000_000_000);
+    log.push_sent(&framed("!99215"), 2_000_000_000);
+    log.push_timeout("no reply to 215H", 3_000_000_000);
+    let count = |f: Filter| {
+        let m = f.matcher();
+        log.snapshot().rows().filter(|r| m.matches(r)).count()
+    };
+    assert_eq!(count(Filter::default()), 4);
+    let id = |id| Filter {
+        id: Some(id),
+        ..Filter::default()
+    };
+    assert_eq!(count(id(0x215)), 2);
+    let sent = Filter {
+        dir: DirFilter::Sent,
+        ..Filter::default()
+    };
+    assert_eq!(count(sent), 2);
+    let problems = Filter {
+        problems_only: true,
+        ..Filter::default()
+    };
+    assert_eq!(count(problems), 1);
+    let window = Filter {
+        from_s: Some(0.5),
+        to_s: Some(2.0),
+        ..Filter::default()
+    };
+    assert_eq!(count(window), 2);
+    let text = |t: &str, decoded| Filter {
+        text: t.into(),
+        decoded,
+        ..Filter::default()
+    };
+    assert_eq!(count(text("#99212", false)), 1);
+    assert_eq!(count(text("SYSTEM STATUS", false)), 2);
+    assert_eq!(count(text("\\r\\n", false)), 3);
+    assert_eq!(count(text("no reply", false)), 1);
+    assert_eq!(count(text("nothing like this", true)), 0);
+}
+
+#[test]
+fn jsonl_keeps_exact_bytes_and_times_and_text_is_readable() {
+    let mut log = FrameLog::new(100);
+    log.push_sent(&framed("!99212"), 5);
+    log.push_received(&[b'#', 0x02, b'\r', b'\n', 0xFF], 1_000_005);
+    log.push_timeout("no reply", 9_000_000);
+    let snap = log.snapshot();
+    let mut out = Vec::new();
+    assert_eq!(
+        write_jsonl(&mut out, snap.origin_wall, snap.rows()).unwrap(),
+        3
+    );
+    let back = read_jsonl(out.as_slice(), 100).unwrap();
+    assert_eq!(back.len(), 3);
+    for i in 0..3 {
+        let (a, b) = (log.nth(i).unwrap(), back.nth(i).unwrap());
+        assert_eq!(
+            (a.bytes(), a.t_ns(), a.dir()),
+            (b.bytes(), b.t_ns(), b.dir())
+        );
+        assert_eq!((a.latency_us(), a.note()), (b.latency_us(), b.note()));
+    }
+    let mut text = Vec::new();
+    write_text(&mut text, snap.origin_wall, snap.rows()).unwrap();
+    let text = String::from_utf8(text).unwrap();
+    assert!(text.contains("\\x02\\r\\n\\xff"), "{text}");
+    assert!(text.contains("212H axis status query"), "{text}");
+    let bad = read_jsonl(
+        &b"{\"xsel_pendant_frame_log\":1,\"start_unix_us\":0}\n{oops\n"[..],
+        10,
+    );
+    assert!(bad.unwrap_err().starts_with("line 2"));
+    assert!(read_jsonl(&b"hello\n"[..], 10).is_err());
+}
+
+#[test]
+fn wall_clock_times_print_in_utc() {
+    let t = std::time::UNIX_EPOCH + Duration::from_micros(1_795_000_000_123_456);
+    assert_eq!(file::utc(t), "2026-11-18 11:06:40.123456");
+}
+
+#[test]
+fn a_lost_line_ends_the_wait_for_a_reply() {
+    let mut log = FrameLog::new(10);
+    log.push_sent(REQ, 0);
+    log.line_lost();
+    log.push_received(&framed("#99212"), 10);
+    assert_eq!(log.request_of(1), None);
+    assert_eq!(log.nth(1).unwrap().latency_us(), None);
+}

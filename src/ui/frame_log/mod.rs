@@ -1,0 +1,307 @@
+//! The frame log pane: every byte on the line as virtualised rows over the pendant's
+//! ring (or a log opened from a file, read-only), with filters computed off the UI
+//! thread, pause, follow, jumps between request and reply, the decode of the selected
+//! row, files, and a raw frame to send.
+
+mod detail;
+pub mod jobs;
+mod table;
+mod tools;
+
+use std::collections::VecDeque;
+use std::time::Instant;
+
+use egui::Ui;
+
+use crate::pendant::frame_log::FrameLog;
+use crate::pendant::frame_log::filter::{DirFilter, Filter};
+use crate::pendant::{Level, Pendant};
+use crate::protocol::Columns;
+use jobs::{Filtered, Job};
+
+/// Rows matched per frame as new rows arrive under a filter (the rest wait a frame).
+const INCREMENT: u64 = 20_000;
+
+/// A log opened from a file.
+pub struct Opened {
+    pub log: FrameLog,
+    pub name: String,
+}
+
+/// The filter as typed.
+#[derive(Default)]
+struct FilterInputs {
+    id: String,
+    text: String,
+    from: String,
+    to: String,
+    dir: DirFilter,
+    problems_only: bool,
+    decoded: bool,
+}
+
+impl FilterInputs {
+    fn parse(&self) -> Result<Filter, String> {
+        use crate::pendant::frame_log::filter::{parse_id, parse_seconds};
+        Ok(Filter {
+            id: parse_id(&self.id)?,
+            dir: self.dir,
+            problems_only: self.problems_only,
+            from_s: parse_seconds(&self.from)?,
+            to_s: parse_seconds(&self.to)?,
+            text: self.text.clone(),
+            decoded: self.decoded,
+        })
+    }
+}
+
+/// Rows that pass the filter in force.
+struct FilteredRows {
+    filter: Filter,
+    seqs: VecDeque<u64>,
+    /// Rows up to here were looked at.
+    scanned: u64,
+}
+
+/// The pane's state (the rows themselves live in the pendant or in `opened`).
+pub struct FrameLogPanel {
+    pub(super) opened: Option<Opened>,
+    inputs: FilterInputs,
+    filter_error: Option<String>,
+    /// The filter wanted (None: every row).
+    wanted: Option<Filter>,
+    rows: Option<FilteredRows>,
+    job: Option<(Job<Filtered>, Filter)>,
+    /// The view stops at this row while paused (new rows keep arriving).
+    paused_at: Option<u64>,
+    follow: bool,
+    wall_clock: bool,
+    selected: Option<u64>,
+    scroll_to: Option<u64>,
+    hovered: Option<Columns>,
+    /// Rows drawn in the last frame, where (on screen) and which.
+    drawn: Vec<(egui::Rect, u64)>,
+    path: String,
+    only_filtered: bool,
+    save_job: Option<Job<Result<String, String>>>,
+    open_job: Option<Job<Result<FrameLog, String>>>,
+    status: Option<(Level, String)>,
+    raw_body: String,
+}
+
+impl Default for FrameLogPanel {
+    fn default() -> Self {
+        Self {
+            opened: None,
+            inputs: FilterInputs::default(),
+            filter_error: None,
+            wanted: None,
+            rows: None,
+            job: None,
+            paused_at: None,
+            follow: true,
+            wall_clock: false,
+            selected: None,
+            scroll_to: None,
+            hovered: None,
+            drawn: Vec::new(),
+            path: "frame-log.jsonl".into(),
+            only_filtered: false,
+            save_job: None,
+            open_job: None,
+            status: None,
+            raw_body: String::new(),
+        }
+    }
+}
+
+impl FrameLogPanel {
+    /// Whether a filter job is still running (tests and benches wait for it).
+    pub fn filtering(&self) -> bool {
+        self.job.is_some()
+    }
+
+    /// Rows the view shows now.
+    pub fn shown(&self, pendant: &Pendant) -> usize {
+        let log = self.log(pendant);
+        self.view_len(log)
+    }
+
+    /// The row whose decode is shown.
+    pub fn selected(&self) -> Option<u64> {
+        self.selected
+    }
+
+    /// Selects row `seq` and scrolls it into view (the jump buttons do this).
+    pub fn reveal(&mut self, seq: u64) {
+        self.selected = Some(seq);
+        self.scroll_to = Some(seq);
+        self.follow = false;
+    }
+
+    /// Whether the view is paused.
+    pub fn paused(&self) -> bool {
+        self.paused_at.is_some()
+    }
+
+    /// The log shown: the opened file's, or the live one.
+    pub fn log<'a>(&'a self, pendant: &'a Pendant) -> &'a FrameLog {
+        self.opened.as_ref().map_or(&pendant.frame_log, |o| &o.log)
+    }
+
+    fn view_end(&self, log: &FrameLog) -> u64 {
+        self.paused_at.map_or(log.end(), |p| p.min(log.end()))
+    }
+
+    fn view_len(&self, log: &FrameLog) -> usize {
+        let end = self.view_end(log);
+        match &self.rows {
+            Some(r) => r.seqs.partition_point(|&s| s < end),
+            None => end.saturating_sub(log.head()) as usize,
+        }
+    }
+
+    /// The sequence number of the `i`-th row shown.
+    fn seq_at(&self, log: &FrameLog, i: usize) -> Option<u64> {
+        match &self.rows {
+            Some(r) => r.seqs.get(i).copied(),
+            None => Some(log.head() + i as u64),
+        }
+    }
+
+    /// Where row `seq` is in the view.
+    fn index_of(&self, log: &FrameLog, seq: u64) -> Option<usize> {
+        match &self.rows {
+            Some(r) => r.seqs.binary_search(&seq).ok(),
+            None => seq.checked_sub(log.head()).map(|i| i as usize),
+        }
+    }
+
+    fn say(&mut self, level: Level, text: impl Into<String>) {
+        self.status = Some((level, plain(&text.into())));
+    }
+
+    /// Starts, finishes and extends the filtering of the log shown.
+    fn update_filter(&mut self, pendant: &Pendant) {
+        let log = self.opened.as_ref().map_or(&pendant.frame_log, |o| &o.log);
+        match self.inputs.parse() {
+            Ok(f) => {
+                self.filter_error = None;
+                self.wanted = (!f.is_empty()).then_some(f);
+            }
+            Err(e) => self.filter_error = Some(e),
+        }
+        let Some(wanted) = self.wanted.clone() else {
+            self.rows = None;
+            self.job = None;
+            return;
+        };
+        if let Some((job, filter)) = &self.job
+            && let Some(done) = job.poll()
+        {
+            if *filter == wanted {
+                self.rows = Some(FilteredRows {
+                    filter: filter.clone(),
+                    seqs: done.seqs.into(),
+                    scanned: done.end,
+                });
+            }
+            self.job = None;
+        }
+        let current = self.rows.as_ref().is_some_and(|r| r.filter == wanted);
+        let running = self.job.as_ref().is_some_and(|(_, f)| *f == wanted);
+        if !current && !running {
+            match jobs::filter(log.snapshot(), wanted.matcher()) {
+                Ok(job) => self.job = Some((job, wanted.clone())),
+                Err(e) => self.filter_error = Some(e),
+            }
+        }
+        if let Some(rows) = self.rows.as_mut().filter(|r| r.filter == wanted) {
+            while rows.seqs.front().is_some_and(|&s| s < log.head()) {
+                rows.seqs.pop_front();
+            }
+            if rows.scanned < log.head() {
+                rows.scanned = log.head();
+            }
+            let matcher = wanted.matcher();
+            let until = log.end().min(rows.scanned + INCREMENT);
+            for seq in rows.scanned..until {
+                if let Some(r) = log.row(seq)
+                    && matcher.matches(&r)
+                {
+                    rows.seqs.push_back(seq);
+                }
+            }
+            rows.scanned = until;
+        }
+    }
+
+    /// Forgets the filter results (the rows they point at are gone).
+    fn reset_view(&mut self) {
+        self.rows = None;
+        self.job = None;
+        self.selected = None;
+        self.paused_at = None;
+    }
+
+    pub fn show(&mut self, ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
+        self.poll_files();
+        self.update_filter(pendant);
+        if self.job.is_some() {
+            ui.ctx().request_repaint();
+        }
+        tools::header(self, ui, pendant);
+        tools::filter_bar(self, ui);
+        tools::file_bar(self, ui, pendant);
+        tools::raw_bar(self, ui, pendant, now);
+        ui.separator();
+        let share = if self.selected.is_some() { 0.5 } else { 1.0 };
+        let table_height = (ui.available_height() * share).max(80.0);
+        ui.allocate_ui(egui::vec2(ui.available_width(), table_height), |ui| {
+            table::show(self, ui, pendant);
+        });
+        if self.selected.is_some() {
+            ui.separator();
+            detail::show(self, ui, pendant);
+        }
+    }
+
+    fn poll_files(&mut self) {
+        if let Some(done) = self.save_job.as_ref().and_then(Job::poll) {
+            self.save_job = None;
+            match done {
+                Ok(m) => self.say(Level::Info, m),
+                Err(e) => self.say(Level::Error, e),
+            }
+        }
+        if let Some(done) = self.open_job.as_ref().and_then(Job::poll) {
+            self.open_job = None;
+            match done {
+                Ok(log) => {
+                    let n = log.len();
+                    self.opened = Some(Opened {
+                        log,
+                        name: self.path.clone(),
+                    });
+                    self.reset_view();
+                    self.follow = false;
+                    self.say(
+                        Level::Info,
+                        format!("opened {} ({n} rows, read-only)", self.path),
+                    );
+                }
+                Err(e) => self.say(Level::Error, e),
+            }
+        }
+    }
+}
+
+/// Text with the few non-ASCII marks of the decoder spelled in ASCII (the window's fonts
+/// and its tests stay ASCII).
+pub(crate) fn plain(s: &str) -> String {
+    s.replace('\u{2014}', "-")
+        .replace('\u{2026}', "...")
+        .chars()
+        .map(|c| if c.is_ascii() { c } else { '?' })
+        .collect()
+}

@@ -1,0 +1,222 @@
+//! The frame log pane's tool rows: counts and view switches, the filter, files, and the
+//! raw frame to send.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use egui::{RichText, Ui};
+
+use super::FrameLogPanel;
+use super::jobs::{self, Format};
+use crate::pendant::frame_log::filter::DirFilter;
+use crate::pendant::{Level, Pendant};
+use crate::ui::widgets::{AMBER, level_color};
+
+/// Counts, pause, follow, clock, clear, and the way back from an opened file.
+pub fn header(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &mut Pendant) {
+    ui.horizontal_wrapped(|ui| {
+        let log = p.log(pendant);
+        let (len, head_drops, link_drops, cap) =
+            (log.len(), log.dropped_head(), log.dropped_link(), log.cap());
+        let shown = p.view_len(log);
+        match &p.opened {
+            Some(o) => ui.label(RichText::new(format!("File {} (read-only)", o.name)).strong()),
+            None => ui.label(RichText::new("Live").strong()),
+        };
+        ui.label(format!("{shown} shown of {len} rows (cap {cap})"));
+        if head_drops > 0 {
+            ui.label(RichText::new(format!("{head_drops} dropped from the head")).color(AMBER));
+        }
+        if link_drops > 0 {
+            ui.label(
+                RichText::new(format!("{link_drops} left out by the link (reader behind)"))
+                    .color(AMBER),
+            );
+        }
+    });
+    ui.horizontal_wrapped(|ui| {
+        let end = p.log(pendant).end();
+        if p.paused_at.is_some() {
+            let waiting = end.saturating_sub(p.paused_at.unwrap_or(end));
+            if ui.button("Resume").clicked() {
+                p.paused_at = None;
+            }
+            ui.label(RichText::new(format!("paused, {waiting} new rows waiting")).color(AMBER));
+        } else if ui.button("Pause").clicked() {
+            p.paused_at = Some(end);
+            p.follow = false;
+        }
+        ui.checkbox(&mut p.follow, "Follow tail");
+        if p.opened.is_none() {
+            let mut cap = pendant.frame_log.cap();
+            let l = ui.label("Keep rows");
+            let r = ui
+                .add(
+                    egui::DragValue::new(&mut cap)
+                        .range(1_000..=5_000_000)
+                        .speed(1000),
+                )
+                .labelled_by(l.id);
+            if r.changed() {
+                pendant.frame_log.set_cap(cap);
+                pendant.settings.frame_log_cap = Some(cap);
+            }
+        }
+        ui.checkbox(&mut p.wall_clock, "Wall clock");
+        if p.opened.is_some() {
+            if ui.button("Back to live").clicked() {
+                p.opened = None;
+                p.reset_view();
+                p.follow = true;
+            }
+        } else if ui.button("Clear").clicked() {
+            pendant.frame_log.clear();
+            p.reset_view();
+            p.say(Level::Info, "log cleared");
+        }
+        // Last in its row, so the buttons before it never move when it comes and goes.
+        if p.job.is_some() {
+            ui.spinner();
+            ui.label("filtering...");
+        }
+    });
+}
+
+/// Message ID, direction, problems only, time range, free text.
+pub fn filter_bar(p: &mut FrameLogPanel, ui: &mut Ui) {
+    let inputs = &mut p.inputs;
+    ui.horizontal_wrapped(|ui| {
+        let l = ui.label("Filter text");
+        ui.add(
+            egui::TextEdit::singleline(&mut inputs.text)
+                .hint_text("raw, name or field")
+                .desired_width(140.0),
+        )
+        .labelled_by(l.id);
+        ui.checkbox(&mut inputs.decoded, "in decode");
+        let l = ui.label("ID");
+        ui.add(egui::TextEdit::singleline(&mut inputs.id).desired_width(40.0))
+            .labelled_by(l.id);
+        let l = ui.label("Direction");
+        egui::ComboBox::from_id_salt("frame-log-dir")
+            .selected_text(dir_name(inputs.dir))
+            .show_ui(ui, |ui| {
+                for d in [DirFilter::Both, DirFilter::Sent, DirFilter::Received] {
+                    ui.selectable_value(&mut inputs.dir, d, dir_name(d));
+                }
+            })
+            .response
+            .labelled_by(l.id);
+        ui.checkbox(&mut inputs.problems_only, "Errors only");
+        let l = ui.label("From s");
+        ui.add(egui::TextEdit::singleline(&mut inputs.from).desired_width(50.0))
+            .labelled_by(l.id);
+        let l = ui.label("to s");
+        ui.add(egui::TextEdit::singleline(&mut inputs.to).desired_width(50.0))
+            .labelled_by(l.id);
+    });
+    if let Some(e) = &p.filter_error {
+        ui.label(RichText::new(e).color(level_color(Level::Warning)));
+    }
+}
+
+fn dir_name(d: DirFilter) -> &'static str {
+    match d {
+        DirFilter::Both => "Both ways",
+        DirFilter::Sent => "Sent",
+        DirFilter::Received => "Received",
+    }
+}
+
+/// Save as text or JSON Lines (all, or the filtered rows); open a JSON Lines log.
+pub fn file_bar(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant) {
+    ui.horizontal_wrapped(|ui| {
+        let l = ui.label("File");
+        ui.add(egui::TextEdit::singleline(&mut p.path).desired_width(180.0))
+            .labelled_by(l.id);
+        ui.checkbox(&mut p.only_filtered, "filtered rows only");
+        let busy = p.save_job.is_some() || p.open_job.is_some();
+        let mut save = None;
+        if ui
+            .add_enabled(!busy, egui::Button::new("Save text"))
+            .clicked()
+        {
+            save = Some(Format::Text);
+        }
+        if ui
+            .add_enabled(!busy, egui::Button::new("Save JSONL"))
+            .clicked()
+        {
+            save = Some(Format::JsonLines);
+        }
+        if let Some(format) = save {
+            start_save(p, pendant, format);
+        }
+        if ui
+            .add_enabled(!busy, egui::Button::new("Open JSONL"))
+            .clicked()
+        {
+            let cap = pendant.frame_log.cap();
+            match jobs::open(PathBuf::from(p.path.trim()), cap) {
+                Ok(job) => p.open_job = Some(job),
+                Err(e) => p.say(Level::Error, e),
+            }
+        }
+    });
+    if let Some((level, text)) = &p.status {
+        ui.label(RichText::new(text).color(level_color(*level)));
+    }
+}
+
+fn start_save(p: &mut FrameLogPanel, pendant: &Pendant, format: Format) {
+    if p.path.trim().is_empty() {
+        return p.say(Level::Warning, "type a file name first");
+    }
+    let log = p.log(pendant);
+    let only = if p.only_filtered {
+        match &p.rows {
+            Some(r) => Some(r.seqs.iter().copied().collect()),
+            None if p.wanted.is_some() => {
+                return p.say(
+                    Level::Warning,
+                    "the filter is still running; save again soon",
+                );
+            }
+            None => None,
+        }
+    } else {
+        None
+    };
+    match jobs::save(log.snapshot(), only, format, PathBuf::from(p.path.trim())) {
+        Ok(job) => p.save_job = Some(job),
+        Err(e) => p.say(Level::Error, e),
+    }
+}
+
+/// A raw frame body to send through the link.
+pub fn raw_bar(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
+    ui.horizontal_wrapped(|ui| {
+        let l = ui.label("Raw frame");
+        let edit = ui
+            .add(
+                egui::TextEdit::singleline(&mut p.raw_body)
+                    .hint_text("e.g. 99215")
+                    .desired_width(220.0),
+            )
+            .labelled_by(l.id);
+        let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+        if ui.button("Send raw").clicked() || enter {
+            match pendant.send_raw(&p.raw_body, now) {
+                Ok(c) => {
+                    p.say(Level::Info, format!("sent {} through the link", c.id()));
+                    p.follow = true;
+                }
+                Err(e) => p.say(Level::Warning, format!("Not sent: {e}")),
+            }
+        }
+        ui.checkbox(
+            &mut pendant.settings.connection.send_at_at,
+            "Send @@ for the checksum (from the next connect)",
+        );
+    });
+}

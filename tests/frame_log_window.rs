@@ -1,0 +1,382 @@
+//! The frame log pane in the real window on the embedded simulator (egui_kittest): the
+//! exact bytes of a jog step and its reply, a corrupted reply flagged, filter, pause,
+//! save, open and raw send, each driven by clicks and typing. Waits have deadlines.
+
+use std::time::{Duration, Instant};
+
+use egui::accesskit::Role;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use xsel_pendant::pendant::frame_log::{Dir, FrameLog, Verdict};
+use xsel_pendant::protocol::HomeState;
+use xsel_pendant::protocol::describe::describe;
+use xsel_pendant::sim::runner::Dir as SimDir;
+use xsel_pendant::sim::{Fault, FaultSpec};
+use xsel_pendant::ui::{PendantApp, StartOptions};
+
+const DEADLINE: Duration = Duration::from_secs(30);
+
+fn app<'a>() -> Harness<'a, PendantApp> {
+    Harness::builder()
+        .with_size([1280.0, 900.0])
+        .build_eframe(|cc| PendantApp::new(cc, StartOptions::fresh_simulator()))
+}
+
+fn step_until(h: &mut Harness<'_, PendantApp>, what: &str, done: impl Fn(&PendantApp) -> bool) {
+    let end = Instant::now() + DEADLINE;
+    while !done(h.state()) {
+        assert!(
+            Instant::now() < end,
+            "timed out waiting for: {what}; messages: {:?}",
+            h.state()
+                .pendant()
+                .messages
+                .iter()
+                .rev()
+                .take(5)
+                .collect::<Vec<_>>()
+        );
+        h.step();
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    h.step();
+}
+
+fn click(h: &mut Harness<'_, PendantApp>, label: &str) {
+    h.get_by_role_and_label(Role::Button, label).click();
+    h.step();
+    h.step();
+}
+
+fn type_into(h: &mut Harness<'_, PendantApp>, label: &str, text: &str) {
+    let field = h.get_by_label(label);
+    field.focus();
+    h.step();
+    h.get_by_label(label).type_text(text);
+    h.step();
+    h.step();
+}
+
+/// Selects all of a text field's text and types over it.
+fn replace_text(h: &mut Harness<'_, PendantApp>, label: &str, text: &str) {
+    h.get_by_label(label).focus();
+    h.step();
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::A);
+    h.step();
+    h.get_by_label(label).type_text(text);
+    h.step();
+    h.step();
+}
+
+fn framed(body: &str) -> Vec<u8> {
+    let sc = body.bytes().fold(0u8, |s, b| s.wrapping_add(b));
+    format!("{body}{sc:02X}\r\n").into_bytes()
+}
+
+/// Whether some widget's label contains `text`.
+fn shows(h: &Harness<'_, PendantApp>, text: &str) -> bool {
+    h.query_all_by_label_contains(text).next().is_some()
+}
+
+fn log(a: &PendantApp) -> &FrameLog {
+    &a.pendant().frame_log
+}
+
+/// Rows of the live log whose bytes have this message ID in columns 4-6.
+fn rows_with_id(a: &PendantApp, dir: Dir, id: &str) -> Vec<u64> {
+    let log = log(a);
+    (0..log.len())
+        .filter_map(|i| log.nth(i))
+        .filter(|r| r.dir() == dir && r.bytes().get(3..6) == Some(id.as_bytes()))
+        .map(|r| r.seq())
+        .collect()
+}
+
+fn sim_frames(a: &PendantApp, dir: SimDir, id: &str) -> Vec<Vec<u8>> {
+    a.sim()
+        .map(|s| s.traffic())
+        .unwrap_or_default()
+        .into_iter()
+        .filter(|t| t.dir == dir && t.bytes.get(3..6) == Some(id.as_bytes()))
+        .map(|t| t.bytes)
+        .collect()
+}
+
+fn ready(h: &mut Harness<'_, PendantApp>) {
+    step_until(h, "the controller to accept commands", |a| {
+        a.pendant().controller_ready(Instant::now()).is_ok()
+    });
+    click(h, "Servo ON");
+    let axes_ok = |a: &PendantApp, f: &dyn Fn(&xsel_pendant::protocol::AxisState) -> bool| {
+        a.pendant()
+            .controller
+            .axes()
+            .is_some_and(|axes| axes.iter().all(|(_, s)| f(&s)))
+    };
+    step_until(h, "servo on", |a| {
+        axes_ok(a, &|s| s.status.servo_on() && !s.status.in_use())
+    });
+    click(h, "Home");
+    step_until(h, "homed", |a| {
+        axes_ok(a, &|s| {
+            s.status.home_state() == HomeState::Done && !s.status.in_use()
+        })
+    });
+    step_until(h, "motion allowed", |a| {
+        a.pendant().motion_ready(Instant::now()).is_ok()
+    });
+}
+
+#[test]
+fn a_jog_step_and_its_reply_show_with_exact_bytes_decode_and_latency() {
+    let mut h = app();
+    ready(&mut h);
+    click(&mut h, "Frame log");
+    click(&mut h, "X+");
+    step_until(&mut h, "the 2D5H step and its reply in the log", |a| {
+        rows_with_id(a, Dir::Sent, "2D5")
+            .first()
+            .is_some_and(|&s| log(a).reply_of(s).is_some())
+    });
+    let a = h.state();
+    let sent = rows_with_id(a, Dir::Sent, "2D5")[0];
+    let reply = log(a).reply_of(sent).unwrap();
+    let (req_row, rep_row) = (log(a).row(sent).unwrap(), log(a).row(reply).unwrap());
+    // The bytes the simulator received and answered, exactly.
+    assert_eq!(
+        req_row.bytes(),
+        sim_frames(a, SimDir::In, "2D5")[0].as_slice()
+    );
+    assert_eq!(
+        rep_row.bytes(),
+        sim_frames(a, SimDir::Out, "2D5")[0].as_slice()
+    );
+    assert_eq!(rep_row.dir(), Dir::Received);
+    assert_eq!(rep_row.verdict(), Verdict::Ok);
+    assert!(rep_row.latency_us().is_some_and(|us| us > 0));
+    assert_eq!(req_row.name(), "2D5H SCARA relative move");
+    let d = describe(req_row.bytes());
+    assert!(
+        d.is_ok() && d.fields.iter().any(|f| f.name.contains("axis")),
+        "{d}"
+    );
+    // A press on a row selects it, as the user sees it, while the tail moves on.
+    assert!(h.state().frame_log_panel().selected().is_none());
+    // The middle one of the sent rows in the tree (the first and last may be cut by the
+    // edges of the view).
+    let rows: Vec<egui::Rect> = h
+        .query_all_by_label_contains(">>")
+        .map(|n| n.rect())
+        .collect();
+    assert!(rows.len() >= 3, "{} sent rows in view", rows.len());
+    let rect = rows[rows.len() / 2];
+    press(&mut h, egui::pos2(rect.left() + 40.0, rect.center().y));
+    assert!(h.state().frame_log_panel().selected().is_some());
+    click(&mut h, "Close decode");
+    // Filter to the step, select it: the decode shows, and the jump to the reply works.
+    type_into(&mut h, "ID", "2D5");
+    step_until(&mut h, "the filter to finish", |a| {
+        !a.frame_log_panel().filtering() && a.frame_log_panel().shown(a.pendant()) == 2
+    });
+    let ascii = h.state().pendant().frame_log.row(sent).unwrap().ascii();
+    // The row is wider than the pane: click it as assistive technology would.
+    h.get_by_label_contains(&ascii).click_accesskit();
+    h.step();
+    h.step();
+    assert_eq!(h.state().frame_log_panel().selected(), Some(sent));
+    assert!(shows(&h, "SCARA relative move - command"));
+    click(&mut h, "Go to reply");
+    assert_eq!(h.state().frame_log_panel().selected(), Some(reply));
+    assert!(shows(&h, "SCARA relative move - reply"));
+    assert!(shows(&h, &format!("Row {reply}:")));
+}
+
+#[test]
+fn a_corrupted_reply_is_flagged_with_its_raw_bytes() {
+    let mut h = app();
+    step_until(&mut h, "connected", |a| a.pendant().line.is_up());
+    click(&mut h, "Frame log");
+    let spec = FaultSpec::none().with(Fault::Corrupt, 1.0).seeded(3);
+    h.state().sim().unwrap().set_faults(spec);
+    step_until(&mut h, "a corrupted reply in the log", |a| {
+        let log = log(a);
+        (0..log.len()).filter_map(|i| log.nth(i)).any(|r| {
+            r.dir() == Dir::Garbage
+                && r.verdict() == Verdict::Bad
+                && r.bytes().first() == Some(&b'#')
+        })
+    });
+    h.state().sim().unwrap().set_faults(FaultSpec::none());
+    let a = h.state();
+    let log = log(a);
+    let bad = (0..log.len())
+        .filter_map(|i| log.nth(i))
+        .find(|r| r.dir() == Dir::Garbage && r.verdict() == Verdict::Bad)
+        .unwrap();
+    assert!(bad.is_problem());
+    assert!(!bad.note().is_empty());
+    // Exactly what the simulator sent.
+    let out: Vec<Vec<u8>> = a
+        .sim()
+        .unwrap()
+        .traffic()
+        .into_iter()
+        .filter(|t| t.dir == SimDir::Out)
+        .map(|t| t.bytes)
+        .collect();
+    assert!(out.iter().any(|o| o.as_slice() == bad.bytes()));
+    let ascii = bad.ascii();
+    // "Errors only" shows it.
+    h.get_by_label("Errors only").click();
+    step_until(&mut h, "the errors-only filter", |a| {
+        !a.frame_log_panel().filtering() && a.frame_log_panel().shown(a.pendant()) >= 1
+    });
+    assert!(shows(&h, &ascii), "row {ascii} not shown");
+}
+
+/// A pointer press and release at `pos`, as a mouse gives them.
+fn press(h: &mut Harness<'_, PendantApp>, pos: egui::Pos2) {
+    h.event(egui::Event::PointerMoved(pos));
+    h.step();
+    for pressed in [true, false] {
+        h.event(egui::Event::PointerButton {
+            pos,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: egui::Modifiers::NONE,
+        });
+    }
+    h.step();
+    h.step();
+}
+
+#[test]
+fn filter_pause_save_open_and_raw_send_through_the_window() {
+    let dir = std::env::temp_dir().join(format!("xsel-frame-log-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("capture.jsonl");
+    let mut h = app();
+    step_until(&mut h, "connected and polled", |a| {
+        a.pendant().controller_ready(Instant::now()).is_ok()
+    });
+    click(&mut h, "Frame log");
+    // Raw send: a version query typed as its body.
+    type_into(&mut h, "Raw frame", "99201000");
+    click(&mut h, "Send raw");
+    step_until(&mut h, "the raw 201H and its reply", |a| {
+        rows_with_id(a, Dir::Sent, "201").iter().any(|&s| {
+            log(a).row(s).unwrap().bytes() == framed("!99201000").as_slice()
+                && log(a).reply_of(s).is_some()
+        })
+    });
+    assert!(
+        sim_frames(h.state(), SimDir::In, "201")
+            .iter()
+            .filter(|f| f.as_slice() == framed("!99201000").as_slice())
+            .count()
+            >= 1
+    );
+    // A typo is answered where the user looks, and nothing is sent.
+    replace_text(&mut h, "Raw frame", "zz");
+    click(&mut h, "Send raw");
+    assert!(shows(&h, "Not sent:"));
+    // Motion by raw frame obeys the jog panel's readiness (servo is off).
+    let before = sim_frames(h.state(), SimDir::In, "2D5").len();
+    replace_text(&mut h, "Raw frame", "992D501001E001E00140200002710");
+    click(&mut h, "Send raw");
+    assert!(shows(&h, "is motion"));
+    assert_eq!(sim_frames(h.state(), SimDir::In, "2D5").len(), before);
+    // Pause: the view holds still while rows keep arriving.
+    click(&mut h, "Pause");
+    let shown = h.state().frame_log_panel().shown(h.state().pendant());
+    let len = log(h.state()).len();
+    step_until(&mut h, "more rows behind the pause", |a| {
+        log(a).len() > len + 4
+    });
+    assert_eq!(
+        h.state().frame_log_panel().shown(h.state().pendant()),
+        shown
+    );
+    click(&mut h, "Resume");
+    assert!(h.state().frame_log_panel().shown(h.state().pendant()) > shown);
+    // Filter by text: only the version query and its reply.
+    type_into(&mut h, "Filter text", "version");
+    step_until(&mut h, "the text filter", |a| {
+        !a.frame_log_panel().filtering() && a.frame_log_panel().shown(a.pendant()) >= 2
+    });
+    let shown = h.state().frame_log_panel().shown(h.state().pendant());
+    assert!(
+        shown < log(h.state()).len() / 2,
+        "{shown} rows pass 'version'"
+    );
+    // Save the filtered rows as JSON Lines, then open them read-only.
+    h.get_by_label("filtered rows only").click();
+    h.step();
+    replace_text(&mut h, "File", &path.display().to_string());
+    click(&mut h, "Save JSONL");
+    let mut saved = false;
+    let end = Instant::now() + DEADLINE;
+    while !saved && Instant::now() < end {
+        h.step();
+        saved = shows(&h, "saved");
+    }
+    assert!(saved, "no 'saved' message");
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert_eq!(text.lines().count(), shown + 1, "{text}");
+    let hex: String = framed("!99201000")
+        .iter()
+        .map(|b| format!("{b:02X}"))
+        .collect();
+    assert!(text.contains(&hex), "{text}");
+    click(&mut h, "Open JSONL");
+    let mut opened = false;
+    let end = Instant::now() + DEADLINE;
+    while !opened && Instant::now() < end {
+        h.step();
+        opened = shows(&h, "(read-only)");
+    }
+    assert!(opened, "the file did not open");
+    click(&mut h, "Back to live");
+    assert!(shows(&h, "Live"));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Fills the live log with `n` synthetic rows: status queries and replies, every 1000th
+/// reply an error.
+fn synthetic(a: &mut PendantApp, n: u64) {
+    a.pendant_mut().frame_log.fill_synthetic(n);
+}
+
+#[test]
+fn a_million_rows_scroll_to_any_row_and_filter() {
+    let mut h = Harness::builder()
+        .with_size([1280.0, 900.0])
+        .build_eframe(|cc| PendantApp::new(cc, StartOptions::fresh_offline()));
+    synthetic(h.state_mut(), 1_000_000);
+    click(&mut h, "Frame log");
+    assert_eq!(
+        h.state().frame_log_panel().shown(h.state().pendant()),
+        1_000_000
+    );
+    for seq in [0u64, 1, 499_999, 777_777, 999_999] {
+        h.state_mut().frame_log_panel_mut().reveal(seq);
+        h.step();
+        h.step();
+        let ascii = h.state().pendant().frame_log.row(seq).unwrap().ascii();
+        assert!(shows(&h, &format!("Row {seq}:")), "row {seq} not decoded");
+        assert!(shows(&h, &ascii), "row {seq} not in view");
+    }
+    click(&mut h, "Close decode");
+    h.get_by_label("Errors only").click();
+    step_until(&mut h, "the errors-only filter over a million rows", |a| {
+        !a.frame_log_panel().filtering() && a.frame_log_panel().shown(a.pendant()) == 500
+    });
+    type_into(&mut h, "Filter text", "&99C1F");
+    step_until(&mut h, "the text filter over a million rows", |a| {
+        !a.frame_log_panel().filtering() && a.frame_log_panel().shown(a.pendant()) == 500
+    });
+    replace_text(&mut h, "Filter text", "no such bytes");
+    step_until(&mut h, "nothing to pass", |a| {
+        !a.frame_log_panel().filtering() && a.frame_log_panel().shown(a.pendant()) == 0
+    });
+}
