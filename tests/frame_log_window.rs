@@ -17,8 +17,9 @@ use xsel_pendant::ui::{PendantApp, StartOptions};
 const DEADLINE: Duration = Duration::from_secs(30);
 
 fn app<'a>() -> Harness<'a, PendantApp> {
+    // Tall enough that the frame log, under the arm view by default, shows several rows.
     Harness::builder()
-        .with_size([1280.0, 900.0])
+        .with_size([1280.0, 1300.0])
         .build_eframe(|cc| PendantApp::new(cc, StartOptions::fresh_simulator()))
 }
 
