@@ -1,7 +1,8 @@
 //! Frame log figures, on the real app (egui_kittest driving `PendantApp` on the embedded
 //! simulator) with one million rows logged:
 //!
-//! 1. UI frame CPU time (`harness.step()` plus tessellation, as in `benches/window.rs`)
+//! 1. UI frame CPU time (`harness.step()` plus tessellation, as in `benches/window.rs`,
+//!    and the same app driven as the real window drives it, without AccessKit)
 //!    with the frame log pane open beside the messages, status and teach panes, the
 //!    tail followed while the link polls (new rows arrive all the time);
 //! 2. filtering the million rows by text (the work the filter thread does), and the UI
@@ -61,6 +62,11 @@ fn main() {
         h.state().pendant().frame_log.len()
     );
     report("   thread CPU: step + tessellate", &mut cpu);
+    let mut cpu = window_frame_times(h.state_mut(), frames);
+    report(
+        "   thread CPU: logic + ui + tessellate, no AccessKit (as the real window runs)",
+        &mut cpu,
+    );
 
     println!();
     println!("2. filtering {ROWS} rows by text");
@@ -155,6 +161,41 @@ fn frame_times(h: &mut Harness<'_, PendantApp>, n: usize) -> Vec<Duration> {
         let shapes = h.output().shapes.clone();
         let ppp = h.output().pixels_per_point;
         black_box(h.ctx.tessellate(shapes, ppp));
+        cpu.push(c.elapsed());
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    cpu
+}
+
+/// Frame times of the same app driven as eframe drives it in the real window: a plain
+/// context with AccessKit off (eframe is built without its `accesskit` feature), whereas
+/// the kittest harness builds and consumes the whole AccessKit tree every frame.
+fn window_frame_times(app: &mut PendantApp, n: usize) -> Vec<Duration> {
+    use eframe::App as _;
+    let ctx = egui::Context::default();
+    let mut frame = eframe::Frame::_new_kittest();
+    let input = || egui::RawInput {
+        screen_rect: Some(egui::Rect::from_min_size(
+            egui::Pos2::ZERO,
+            egui::vec2(1280.0, 800.0),
+        )),
+        ..Default::default()
+    };
+    let mut run = |app: &mut PendantApp| {
+        let out = ctx.run_ui(input(), |ui| {
+            app.logic(ui.ctx(), &mut frame);
+            app.ui(ui, &mut frame);
+        });
+        black_box(ctx.tessellate(out.shapes, out.pixels_per_point));
+    };
+    // A few frames to settle (fonts, first layout) before measuring.
+    for _ in 0..10 {
+        run(app);
+    }
+    let mut cpu = Vec::with_capacity(n);
+    for _ in 0..n {
+        let c = cpu_time::ThreadTime::now();
+        run(app);
         cpu.push(c.elapsed());
         std::thread::sleep(Duration::from_millis(10));
     }
