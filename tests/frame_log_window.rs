@@ -17,9 +17,10 @@ use xsel_pendant::ui::{PendantApp, StartOptions};
 const DEADLINE: Duration = Duration::from_secs(30);
 
 fn app<'a>() -> Harness<'a, PendantApp> {
-    // Tall enough that the frame log, under the arm view by default, shows several rows.
+    // Tall enough that the frame log, under the arm view by default, shows its tools and
+    // several rows.
     Harness::builder()
-        .with_size([1280.0, 1300.0])
+        .with_size([1280.0, 1500.0])
         .build_eframe(|cc| PendantApp::new(cc, StartOptions::fresh_simulator()))
 }
 
@@ -368,6 +369,11 @@ fn a_million_rows_scroll_to_any_row_and_filter() {
         assert!(shows(&h, &ascii), "row {seq} not in view");
     }
     click(&mut h, "Close decode");
+    // A pane this short shows rows first: the filter rows come with a click.
+    assert!(h.query_by_label("Errors only").is_none());
+    h.get_by_label("Filter, files, raw").click();
+    h.step();
+    h.step();
     h.get_by_label("Errors only").click();
     step_until(&mut h, "the errors-only filter over a million rows", |a| {
         !a.frame_log_panel().filtering() && a.frame_log_panel().shown(a.pendant()) == 500

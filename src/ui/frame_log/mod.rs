@@ -87,7 +87,14 @@ pub struct FrameLogPanel {
     open_job: Option<Job<Result<FrameLog, String>>>,
     status: Option<(Level, String)>,
     raw_body: String,
+    /// The filter, file and raw-frame rows: as the user chose, else shown only when the
+    /// pane has room for them and rows below (the default layout at 1280x800 has not).
+    tools_open: Option<bool>,
+    pub(super) tools_shown: bool,
 }
+
+/// A pane at least this tall shows the tools rows until the user hides them (px).
+const ROOMY_PANE: f32 = 420.0;
 
 impl Default for FrameLogPanel {
     fn default() -> Self {
@@ -111,11 +118,18 @@ impl Default for FrameLogPanel {
             open_job: None,
             status: None,
             raw_body: String::new(),
+            tools_open: None,
+            tools_shown: true,
         }
     }
 }
 
 impl FrameLogPanel {
+    /// Shows or hides the filter, file and raw-frame rows (the user's choice from now on).
+    pub(super) fn set_tools_open(&mut self, open: bool) {
+        self.tools_open = Some(open);
+    }
+
     /// Whether a filter job is still running (tests and benches wait for it).
     pub fn filtering(&self) -> bool {
         self.job.is_some()
@@ -250,10 +264,15 @@ impl FrameLogPanel {
         if self.job.is_some() {
             ui.ctx().request_repaint();
         }
+        self.tools_shown = self
+            .tools_open
+            .unwrap_or(ui.available_height() >= ROOMY_PANE);
         tools::header(self, ui, pendant);
-        tools::filter_bar(self, ui);
-        tools::file_bar(self, ui, pendant);
-        tools::raw_bar(self, ui, pendant, now);
+        if self.tools_shown {
+            tools::filter_bar(self, ui);
+            tools::file_bar(self, ui, pendant);
+            tools::raw_bar(self, ui, pendant, now);
+        }
         ui.separator();
         let share = if self.selected.is_some() { 0.5 } else { 1.0 };
         let table_height = (ui.available_height() * share).max(80.0);

@@ -63,6 +63,14 @@ pub fn header(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &mut Pendant) {
             }
         }
         ui.checkbox(&mut p.wall_clock, "Wall clock");
+        let shown = p.tools_shown;
+        if ui
+            .selectable_label(shown, "Filter, files, raw")
+            .on_hover_text("Show or hide the filter, file and raw-frame rows")
+            .clicked()
+        {
+            p.set_tools_open(!shown);
+        }
         if p.opened.is_some() {
             if ui.button("Back to live").clicked() {
                 p.opened = None;
