@@ -102,8 +102,9 @@ impl ControllerState {
     }
 
     /// Files a table download of `size` definitions; `records[i]` is definition
-    /// `first + i`, `None` where it could not be read. A whole table (`first` 0) replaces
-    /// the one held; a partial read (a retry) fills in the records it got.
+    /// `first + i`, `None` where it could not be read. A whole table (from record 0, at
+    /// least `size` records) replaces the one held; a partial read (a retry, which may
+    /// start at record 0) fills in the records it got.
     pub fn table(
         &mut self,
         kind: CoordKind,
@@ -130,23 +131,30 @@ impl ControllerState {
             CoordKind::Tool => &mut self.tool_table,
         };
         let first = usize::from(first);
+        // A read of the whole table replaces what was held (records it missed show as
+        // unread); a read of part of it (a retry, which may start at record 0) fills in
+        // the records it got and keeps the rest.
+        let whole = first == 0 && read.len() >= size;
         let records = match slot.take() {
-            Some(mut held) if first > 0 => {
+            _ if whole => read,
+            Some(mut held) => {
+                if held.records.len() < first + read.len() {
+                    held.records.resize(first + read.len(), None);
+                }
                 for (i, r) in read.into_iter().enumerate() {
-                    if let (Some(slot), Some(r)) = (held.records.get_mut(first + i), r) {
-                        *slot = Some(r);
+                    if r.is_some() {
+                        held.records[first + i] = r;
                     }
                 }
                 held.records
             }
-            _ if first > 0 => {
+            None => {
                 let mut all = vec![None; size.max(first + read.len())];
                 for (i, r) in read.into_iter().enumerate() {
                     all[first + i] = r;
                 }
                 all
             }
-            _ => read,
         };
         *slot = Some(ReadTable { records, at });
     }

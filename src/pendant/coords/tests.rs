@@ -311,3 +311,22 @@ fn a_read_cut_short_by_a_lost_line_leaves_no_progress_bar() {
     p.disconnect(now);
     assert_eq!(p.coords.reading(), None);
 }
+
+#[test]
+fn a_retry_from_record_0_fills_in_and_keeps_the_rest_of_the_table() {
+    let mut p = pendant();
+    let now = Instant::now();
+    // The whole tool table read, records 0-2 and 100 missing.
+    let whole: Vec<_> = (0..128)
+        .map(|n| (!matches!(n, 0..=2 | 100)).then(|| record([n * 1000, 0, 0, 0])))
+        .collect();
+    p.handle_event(now, done(CoordKind::Tool, 0, whole));
+    // The retry of 0-2 starts at record 0 and answers 3 records.
+    let retry = (0..3).map(|n| Some(record([n * 1000, 0, 0, 0]))).collect();
+    p.handle_event(now, done(CoordKind::Tool, 0, retry));
+    let read = &p.read_table(FrameKind::Tool).unwrap().records;
+    assert_eq!(read.len(), 128, "the rest of the table is kept");
+    assert_eq!(read[1], Some(cs(1000, 0, 0, 0)));
+    assert_eq!(read[50], Some(cs(50_000, 0, 0, 0)));
+    assert_eq!(read[100], None, "still unread");
+}
