@@ -3,10 +3,9 @@
 //! simulator's own, a read with dropped replies, editing with diff and undo, a refused
 //! entry. Waits are bounded by a deadline; nothing sleeps a fixed time before asserting.
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-use egui::accesskit::Role;
-use egui::{Key, Modifiers};
+use egui::Key;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use xsel_pendant::pendant::coords::{Column, diff};
@@ -15,38 +14,13 @@ use xsel_pendant::sim::runner::Dir;
 use xsel_pendant::sim::{Fault, FaultSpec};
 use xsel_pendant::ui::{PendantApp, StartOptions};
 
-const DEADLINE: Duration = Duration::from_secs(40);
+mod kittest_common;
+use kittest_common::{click, replace_text, step_until};
 
 fn app<'a>() -> Harness<'a, PendantApp> {
     Harness::builder()
         .with_size([1280.0, 900.0])
         .build_eframe(|cc| PendantApp::new(cc, StartOptions::fresh_simulator()))
-}
-
-fn step_until(h: &mut Harness<'_, PendantApp>, what: &str, done: impl Fn(&PendantApp) -> bool) {
-    let end = Instant::now() + DEADLINE;
-    while !done(h.state()) {
-        assert!(
-            Instant::now() < end,
-            "timed out waiting for: {what}; messages: {:?}",
-            h.state()
-                .pendant()
-                .messages
-                .iter()
-                .rev()
-                .take(5)
-                .collect::<Vec<_>>()
-        );
-        h.step();
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    h.step();
-}
-
-fn click(h: &mut Harness<'_, PendantApp>, label: &str) {
-    h.get_by_role_and_label(Role::Button, label).click();
-    h.step();
-    h.step();
 }
 
 fn sim_tables(app: &PendantApp) -> CoordTables {
@@ -223,12 +197,7 @@ fn a_read_with_dropped_replies_marks_exactly_the_missing_records_and_retries_onl
 
 /// Types `text` into a cell and ends the entry with Enter.
 fn type_into(h: &mut Harness<'_, PendantApp>, label: &str, text: &str) {
-    h.get_by_label(label).focus();
-    h.step();
-    h.key_press_modifiers(Modifiers::COMMAND, Key::A);
-    h.step();
-    h.get_by_label(label).type_text(text);
-    h.step();
+    replace_text(h, label, text);
     h.key_press(Key::Enter);
     h.step();
     h.step();

@@ -2,9 +2,8 @@
 //! exact bytes of a jog step and its reply, a corrupted reply flagged, filter, pause,
 //! save, open and raw send, each driven by clicks and typing. Waits have deadlines.
 
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
-use egui::accesskit::Role;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use xsel_pendant::pendant::frame_log::{Dir, FrameLog, Verdict};
@@ -14,7 +13,8 @@ use xsel_pendant::sim::runner::Dir as SimDir;
 use xsel_pendant::sim::{Fault, FaultSpec};
 use xsel_pendant::ui::{PendantApp, StartOptions};
 
-const DEADLINE: Duration = Duration::from_secs(30);
+mod kittest_common;
+use kittest_common::{DEADLINE, click, replace_text, step_until, type_into};
 
 fn app<'a>() -> Harness<'a, PendantApp> {
     // Tall enough that the frame log, under the arm view by default, shows its tools and
@@ -22,52 +22,6 @@ fn app<'a>() -> Harness<'a, PendantApp> {
     Harness::builder()
         .with_size([1280.0, 1500.0])
         .build_eframe(|cc| PendantApp::new(cc, StartOptions::fresh_simulator()))
-}
-
-fn step_until(h: &mut Harness<'_, PendantApp>, what: &str, done: impl Fn(&PendantApp) -> bool) {
-    let end = Instant::now() + DEADLINE;
-    while !done(h.state()) {
-        assert!(
-            Instant::now() < end,
-            "timed out waiting for: {what}; messages: {:?}",
-            h.state()
-                .pendant()
-                .messages
-                .iter()
-                .rev()
-                .take(5)
-                .collect::<Vec<_>>()
-        );
-        h.step();
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    h.step();
-}
-
-fn click(h: &mut Harness<'_, PendantApp>, label: &str) {
-    h.get_by_role_and_label(Role::Button, label).click();
-    h.step();
-    h.step();
-}
-
-fn type_into(h: &mut Harness<'_, PendantApp>, label: &str, text: &str) {
-    let field = h.get_by_label(label);
-    field.focus();
-    h.step();
-    h.get_by_label(label).type_text(text);
-    h.step();
-    h.step();
-}
-
-/// Selects all of a text field's text and types over it.
-fn replace_text(h: &mut Harness<'_, PendantApp>, label: &str, text: &str) {
-    h.get_by_label(label).focus();
-    h.step();
-    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::A);
-    h.step();
-    h.get_by_label(label).type_text(text);
-    h.step();
-    h.step();
 }
 
 fn framed(body: &str) -> Vec<u8> {

@@ -11,34 +11,13 @@ use xsel_pendant::protocol::HomeState;
 use xsel_pendant::sim::runner::Dir;
 use xsel_pendant::ui::{PendantApp, StartOptions};
 
-const DEADLINE: Duration = Duration::from_secs(20);
+mod kittest_common;
+use kittest_common::{DEADLINE, click, step_until};
 
 fn app<'a>() -> Harness<'a, PendantApp> {
     Harness::builder()
         .with_size([1280.0, 800.0])
         .build_eframe(|cc| PendantApp::new(cc, StartOptions::fresh_simulator()))
-}
-
-/// Steps the window until `done` holds, or fails naming `what` after the deadline.
-fn step_until(h: &mut Harness<'_, PendantApp>, what: &str, done: impl Fn(&PendantApp) -> bool) {
-    let end = Instant::now() + DEADLINE;
-    while !done(h.state()) {
-        assert!(
-            Instant::now() < end,
-            "timed out waiting for: {what}; last jog message: {:?}; messages: {:?}",
-            h.state().pendant().jog_feedback,
-            h.state()
-                .pendant()
-                .messages
-                .iter()
-                .rev()
-                .take(5)
-                .collect::<Vec<_>>()
-        );
-        h.step();
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    h.step();
 }
 
 fn sim_in_frames(app: &PendantApp, id: &str) -> Vec<String> {
@@ -90,15 +69,6 @@ fn ready(h: &mut Harness<'_, PendantApp>) {
         a.pendant().motion_ready(Instant::now()).is_ok()
             && a.pendant().controller.tool_table.is_some()
     });
-}
-
-/// Clicks the one button with this label, and lets the window take the click (the
-/// layout may change under the next button).
-fn click(h: &mut Harness<'_, PendantApp>, label: &str) {
-    h.get_by_role_and_label(egui::accesskit::Role::Button, label)
-        .click();
-    h.step();
-    h.step();
 }
 
 /// The `n`-th 2D5H has reached the simulator, its move has run to its end there, and the

@@ -1,31 +1,15 @@
 //! The window's Simulator panel: an operator rehearses an E-stop on the built-in
 //! simulator, and the window shows it and disables motion. Waits have deadlines.
 
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use xsel_pendant::pendant::NotReady;
 use xsel_pendant::ui::{PendantApp, StartOptions};
 
-const DEADLINE: Duration = Duration::from_secs(20);
-
-fn step_until(h: &mut Harness<'_, PendantApp>, what: &str, done: impl Fn(&PendantApp) -> bool) {
-    let end = Instant::now() + DEADLINE;
-    while !done(h.state()) {
-        assert!(Instant::now() < end, "timed out waiting for: {what}");
-        h.step();
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    h.step();
-}
-
-fn click(h: &mut Harness<'_, PendantApp>, label: &str) {
-    h.get_by_role_and_label(egui::accesskit::Role::Button, label)
-        .click();
-    h.step();
-    h.step();
-}
+mod kittest_common;
+use kittest_common::{click, step_until};
 
 #[test]
 fn pressing_e_stop_in_the_simulator_panel_shows_e_stop_and_disables_motion() {

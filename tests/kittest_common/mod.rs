@@ -1,0 +1,63 @@
+//! Helpers shared by the window tests (egui_kittest driving the real app): wait for a
+//! condition with a deadline, click a button, type into a field.
+#![allow(dead_code)] // each test binary uses its own subset
+
+use std::time::{Duration, Instant};
+
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use xsel_pendant::ui::PendantApp;
+
+/// How long a wait may take before the test fails (only a failing test waits this long).
+pub const DEADLINE: Duration = Duration::from_secs(40);
+
+/// Steps the window until `done` holds, or fails naming `what` and the pendant's last
+/// messages after the deadline.
+pub fn step_until(h: &mut Harness<'_, PendantApp>, what: &str, done: impl Fn(&PendantApp) -> bool) {
+    let end = Instant::now() + DEADLINE;
+    while !done(h.state()) {
+        assert!(
+            Instant::now() < end,
+            "timed out waiting for: {what}; last jog message: {:?}; messages: {:?}",
+            h.state().pendant().jog_feedback,
+            h.state()
+                .pendant()
+                .messages
+                .iter()
+                .rev()
+                .take(5)
+                .collect::<Vec<_>>()
+        );
+        h.step();
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    h.step();
+}
+
+/// Clicks the button with this label, then lets the layout settle (two frames).
+pub fn click(h: &mut Harness<'_, PendantApp>, label: &str) {
+    h.get_by_role_and_label(egui::accesskit::Role::Button, label)
+        .click();
+    h.step();
+    h.step();
+}
+
+/// Focuses the field with this label and types `text` after what it holds.
+pub fn type_into(h: &mut Harness<'_, PendantApp>, label: &str, text: &str) {
+    h.get_by_label(label).focus();
+    h.step();
+    h.get_by_label(label).type_text(text);
+    h.step();
+    h.step();
+}
+
+/// Selects all of a field's text and types `text` over it.
+pub fn replace_text(h: &mut Harness<'_, PendantApp>, label: &str, text: &str) {
+    h.get_by_label(label).focus();
+    h.step();
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::A);
+    h.step();
+    h.get_by_label(label).type_text(text);
+    h.step();
+    h.step();
+}
