@@ -42,20 +42,32 @@ impl Pendant {
         jog::plan_step(&self.model, &self.kin, &self.settings.jog, axis, dir, &arm)
     }
 
+    /// Whether a move may go out now: the controller ready for motion and no earlier move
+    /// still waiting for its reply (one outstanding). If not, says why beside the jog
+    /// controls, naming the earlier `what` ("step", "move").
+    pub(super) fn may_send_move(&mut self, what: &str, now: Instant) -> bool {
+        if let Err(why) = self.motion_ready(now) {
+            self.jog_says(Level::Warning, format!("not sent: {why}"), now);
+            return false;
+        }
+        if self.followed.as_ref().is_some_and(|f| f.accepted.is_none()) {
+            self.jog_says(
+                Level::Warning,
+                format!("not sent: the previous {what} is still waiting for its reply"),
+                now,
+            );
+            return false;
+        }
+        true
+    }
+
     /// "Go" on a taught point: 2D4H after the frame check and the same checks as a step.
     pub fn teach_go(&mut self, index: usize, now: Instant) {
         let Some(point) = self.settings.teach.get(index).cloned() else {
             return;
         };
-        if let Err(why) = self.motion_ready(now) {
-            return self.jog_says(Level::Warning, format!("not sent: {why}"), now);
-        }
-        if self.followed.as_ref().is_some_and(|f| f.accepted.is_none()) {
-            return self.jog_says(
-                Level::Warning,
-                "not sent: the previous move is still waiting for its reply",
-                now,
-            );
+        if !self.may_send_move("move", now) {
+            return;
         }
         if let Some((work, tool)) = self.controller.frame_numbers()
             && let Err(why) = super::teach::check_go(&point, work, tool)
@@ -115,15 +127,8 @@ impl Pendant {
     /// A click on a jog button in step mode: plan, check, send (or refuse, or ask to
     /// confirm an arm flip).
     pub fn jog_step(&mut self, axis: JogAxis, dir: Direction, now: Instant) {
-        if let Err(why) = self.motion_ready(now) {
-            return self.jog_says(Level::Warning, format!("not sent: {why}"), now);
-        }
-        if self.followed.as_ref().is_some_and(|f| f.accepted.is_none()) {
-            return self.jog_says(
-                Level::Warning,
-                "not sent: the previous step is still waiting for its reply",
-                now,
-            );
+        if !self.may_send_move("step", now) {
+            return;
         }
         let plan = match self.preview_step(axis, dir, now) {
             Ok(plan) => plan,

@@ -119,15 +119,8 @@ impl Pendant {
         let Some(t) = self.step_target.clone() else {
             return;
         };
-        if let Err(why) = self.motion_ready(now) {
-            return self.jog_says(Level::Warning, format!("not sent: {why}"), now);
-        }
-        if self.followed.as_ref().is_some_and(|f| f.accepted.is_none()) {
-            return self.jog_says(
-                Level::Warning,
-                "not sent: the previous move is still waiting for its reply",
-                now,
-            );
+        if !self.may_send_move("move", now) {
+            return;
         }
         if let Some(why) = self.target_frames_changed(&t) {
             return self.jog_says(Level::Warning, format!("refused: {why}"), now);
@@ -248,6 +241,7 @@ impl Pendant {
 mod tests {
     use super::*;
     use crate::pendant::Settings;
+    use crate::pendant::tests::submitted;
     use crate::protocol::Command;
     use crate::robot::{RobotModel, Scara};
 
@@ -259,16 +253,6 @@ mod tests {
         }
         p.take_requests();
         p
-    }
-
-    fn submitted(p: &mut Pendant) -> Vec<Command> {
-        p.take_requests()
-            .into_iter()
-            .filter_map(|r| match r {
-                Request::Submit(c) => Some(c),
-                _ => None,
-            })
-            .collect()
     }
 
     #[test]

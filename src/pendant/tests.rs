@@ -47,7 +47,8 @@ fn start() -> Joints {
     Joints::new(30.0, 60.0, 50.0, 0.0)
 }
 
-fn submitted(p: &mut Pendant) -> Vec<Command> {
+/// The commands the pendant asked the link to submit (other requests left out).
+pub(super) fn submitted(p: &mut Pendant) -> Vec<Command> {
     p.take_requests()
         .into_iter()
         .filter_map(|r| match r {
