@@ -64,7 +64,7 @@ fn a_saved_log_replays_into_the_simulator_with_the_same_replies() {
             continue;
         }
         let t = Duration::from_nanos(row.t_ns()) + Duration::from_micros(500);
-        let replayed = sim.handle(row.bytes(), t);
+        let replayed = sim.handle(&row.bytes(), t);
         let recorded = opened
             .reply_of(row.seq())
             .and_then(|s| opened.row(s))
@@ -72,7 +72,7 @@ fn a_saved_log_replays_into_the_simulator_with_the_same_replies() {
         match replayed {
             Some(r) => {
                 assert_eq!(recorded.dir(), Dir::Received);
-                assert_eq!(r, recorded.bytes(), "row {}: {}", row.seq(), row.ascii());
+                assert_eq!(r, *recorded.bytes(), "row {}: {}", row.seq(), row.ascii());
                 errors += usize::from(recorded.is_error_reply());
                 compared += 1;
             }

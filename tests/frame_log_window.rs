@@ -111,7 +111,7 @@ fn a_jog_step_and_its_reply_show_with_exact_bytes_decode_and_latency() {
     assert_eq!(rep_row.verdict(), Verdict::Ok);
     assert!(rep_row.latency_us().is_some_and(|us| us > 0));
     assert_eq!(req_row.name(), "2D5H SCARA relative move");
-    let d = describe(req_row.bytes());
+    let d = describe(&req_row.bytes());
     assert!(
         d.is_ok() && d.fields.iter().any(|f| f.name.contains("axis")),
         "{d}"
@@ -180,7 +180,7 @@ fn a_corrupted_reply_is_flagged_with_its_raw_bytes() {
         .filter(|t| t.dir == SimDir::Out)
         .map(|t| t.bytes)
         .collect();
-    assert!(out.iter().any(|o| o.as_slice() == bad.bytes()));
+    assert!(out.iter().any(|o| bad.bytes() == o.as_slice()));
     let ascii = bad.ascii();
     // "Errors only" shows it.
     h.get_by_label("Errors only").click();

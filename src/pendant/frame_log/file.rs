@@ -6,6 +6,7 @@ use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
 use serde::{Deserialize, Serialize};
 
+use super::entry::{MAX_NOTE_BYTES, MAX_ROW_BYTES};
 use super::{Dir, FrameLog, Row};
 
 /// The first line of a JSON Lines log.
@@ -59,7 +60,7 @@ pub fn write_jsonl<'a>(
         let line = Line {
             t_ns: r.t_ns(),
             dir: r.dir().key().into(),
-            hex: hex(r.bytes()),
+            hex: hex(&r.bytes()),
             ascii: r.ascii(),
             note: r.note().into(),
             name: r.name(),
@@ -140,6 +141,15 @@ pub fn read_jsonl(input: impl BufRead, cap: usize) -> Result<FrameLog, String> {
         let row: LineIn =
             serde_json::from_str(&line).map_err(|e| format!("line {}: {e}", i + 1))?;
         let bytes = unhex(&row.hex).ok_or_else(|| format!("line {}: bad hex bytes", i + 1))?;
+        if bytes.len() > MAX_ROW_BYTES || row.note.len() > MAX_NOTE_BYTES {
+            return Err(format!(
+                "line {}: a row longer than any on the line ({} bytes, note {} bytes; \
+                 at most {MAX_ROW_BYTES} and {MAX_NOTE_BYTES})",
+                i + 1,
+                bytes.len(),
+                row.note.len()
+            ));
+        }
         match Dir::from_key(&row.dir) {
             Some(Dir::Sent) => log.push_sent(&bytes, row.t_ns),
             Some(Dir::Received) => log.push_received(&bytes, row.t_ns),

@@ -94,7 +94,7 @@ impl Matcher {
         let hit = if self.escaped {
             contains(row.ascii().as_bytes(), n)
         } else {
-            contains(row.bytes(), n)
+            contains(&row.bytes(), n)
         };
         if hit || contains(row.note().as_bytes(), n) || contains(row.dir().key().as_bytes(), n) {
             return true;
@@ -112,7 +112,7 @@ impl Matcher {
     }
 
     fn decoded_matches(&self, row: &Row<'_>) -> bool {
-        let d = describe(row.bytes());
+        let d = describe(&row.bytes());
         let n = &self.needle;
         contains(d.title.as_bytes(), n)
             || d.fields.iter().any(|f| {

@@ -1,42 +1,29 @@
 //! The frame log: every frame and garbage run on the line, in a capped ring of compact
-//! chunks (times, kinds, verdicts, request/reply pairs; the exact bytes in one buffer per
-//! chunk). Sans-IO: times come in with the events; rows are decoded only when shown.
+//! chunks (16 bytes a row for times, kinds, verdicts and request/reply pairs; the exact
+//! bytes in one buffer per chunk, frames packed as hex nibbles, a frame seen before in the
+//! chunk stored once). Sans-IO: times come in with the events; rows are decoded only
+//! when shown.
 
+mod chunk;
+mod entry;
 pub mod file;
 pub mod filter;
+mod packed;
 mod row;
 
 use std::collections::VecDeque;
 use std::sync::Arc;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
+pub use chunk::Chunk;
+use chunk::OpenIndex;
+use entry::{Entry, MAX_NOTE_BYTES, MAX_ROW_BYTES};
 pub use row::{Dir, Row, Verdict};
-use row::{Entry, NO_ID};
-
-const _: () = assert!(std::mem::size_of::<Entry>() == 24);
 
 /// Rows per chunk. Full chunks are frozen (shared with savers, never changed).
 const CHUNK: usize = 4096;
 /// The default cap on rows kept.
 pub const DEFAULT_CAP: usize = 1_000_000;
-/// How far after a request its reply is looked for (rows).
-const REPLY_REACH: u64 = 64;
-
-/// Rows and the bytes they point into.
-#[derive(Clone, Debug, Default)]
-pub struct Chunk {
-    entries: Vec<Entry>,
-    bytes: Vec<u8>,
-}
-
-impl Chunk {
-    fn with_capacity() -> Self {
-        Self {
-            entries: Vec::with_capacity(CHUNK),
-            bytes: Vec::with_capacity(CHUNK * 24),
-        }
-    }
-}
 
 /// The log of one line (or one opened file).
 #[derive(Clone, Debug)]
@@ -59,6 +46,8 @@ pub struct FrameLog {
     origin_wall: SystemTime,
     /// The request that waits for its reply (its sequence number).
     outstanding: Option<u64>,
+    /// What the open chunk holds, for sharing repeated bytes.
+    index: OpenIndex,
 }
 
 impl FrameLog {
@@ -67,7 +56,7 @@ impl FrameLog {
         Self {
             cap: cap.max(1),
             frozen: VecDeque::new(),
-            open: Chunk::with_capacity(),
+            open: Chunk::new(),
             base: 0,
             head: 0,
             dropped_head: 0,
@@ -75,6 +64,7 @@ impl FrameLog {
             origin: None,
             origin_wall: UNIX_EPOCH,
             outstanding: None,
+            index: OpenIndex::default(),
         }
     }
 
@@ -115,6 +105,11 @@ impl FrameLog {
     /// Sequence number the next row will get.
     pub fn end(&self) -> u64 {
         self.base + (self.frozen.len() * CHUNK + self.open.entries.len()) as u64
+    }
+
+    /// Bytes of memory the rows take (entries and stored bytes, capacity counted).
+    pub fn memory_bytes(&self) -> usize {
+        self.frozen.iter().map(|c| c.memory_bytes()).sum::<usize>() + self.open.memory_bytes()
     }
 
     /// Rows dropped from the head because of the cap.
@@ -173,36 +168,44 @@ impl FrameLog {
         self.dropped_link += n;
     }
 
-    /// Adds `n` rows of status polling (212H queries and replies, 2 ms apart, every
-    /// 1000th reply an `&` error) after the rows there are: for benches and the tests
-    /// of scale.
+    /// Adds `n` rows of the window's status polling after the rows there are, as while
+    /// the arm moves: each cycle asks 2A1H in three systems and 215H, and every 2A1H
+    /// reply (80 bytes) carries a new position, so no two are alike (the worst case for
+    /// the store); every 1000th reply is an `&` error; rows 1 ms apart. For benches and
+    /// the tests of scale. The frames follow PROTOCOL.md 3.17 and 10 [observed].
     pub fn fill_synthetic(&mut self, n: u64) {
+        const MOVING_2A1: &str =
+            "#992A10100000F1C000000000493E01C000000FFFDB6101C00000000004E201C000000";
         let framed = |body: &str| {
             let mut f = body.as_bytes().to_vec();
             let sc = crate::protocol::checksum(&f);
             f.extend_from_slice(format!("{sc:02X}\r\n").as_bytes());
             f
         };
-        let query = framed("!99212");
-        let reply = framed("#9921200000000000000000000000000000000");
+        let queries = ["!992A10F0", "!99215", "!992A10F1", "!992A10F2"].map(framed);
+        let status = framed("#992151000000000006000");
         let start = self
             .row(self.end().wrapping_sub(1))
             .map_or(0, |r| r.t_ns() + 1);
         for i in 0..n / 2 {
             let t = start + i * 2_000_000;
-            self.push_sent(&query, t);
-            if i % 1000 == 999 {
-                self.push_received(b"&99C1F00\r\n", t + 900_000);
+            let which = (i % 4) as usize;
+            self.push_sent(&queries[which], t);
+            let reply = if i % 1000 == 999 {
+                b"&99C1F00\r\n".to_vec()
+            } else if which == 1 {
+                status.clone()
             } else {
-                self.push_received(&reply, t + 900_000);
-            }
+                framed(&format!("{MOVING_2A1}{:08X}", (i as u32).wrapping_mul(37)))
+            };
+            self.push_received(&reply, t + 900_000);
         }
     }
 
     /// A sent frame at `t_ns` after the start.
     pub fn push_sent(&mut self, bytes: &[u8], t_ns: u64) {
         let seq = self.end();
-        self.push(Entry::new(Dir::Sent, t_ns, bytes), bytes, b"");
+        self.push(Entry::new(Dir::Sent, t_ns, bytes), bytes, "");
         self.outstanding = Some(seq);
     }
 
@@ -210,49 +213,57 @@ impl FrameLog {
     pub fn push_received(&mut self, bytes: &[u8], t_ns: u64) {
         let mut e = Entry::new(Dir::Received, t_ns, bytes);
         self.pair(&mut e);
-        self.push(e, bytes, b"");
+        self.push(e, bytes, "");
     }
 
     /// A garbage run at `t_ns`; when a request waits, it is taken as its (bad) answer.
     pub fn push_garbage(&mut self, bytes: &[u8], error: &str, t_ns: u64) {
         let mut e = Entry::new(Dir::Garbage, t_ns, bytes);
         self.pair(&mut e);
-        self.push(e, bytes, error.as_bytes());
+        self.push(e, bytes, error);
     }
 
     /// A time-out row; it ends the outstanding request.
     pub fn push_timeout(&mut self, text: &str, t_ns: u64) {
         let mut e = Entry::new(Dir::Timeout, t_ns, b"");
         self.pair(&mut e);
-        self.push(e, b"", text.as_bytes());
+        self.push(e, b"", text);
     }
 
+    /// Pairs an answer with the request waiting for it: the row just before, since every
+    /// row after a request answers it.
     fn pair(&mut self, e: &mut Entry) {
-        if let Some(seq) = self.outstanding.take() {
-            // Farther back than a u16 reaches: no pair (never, with one outstanding).
-            e.pair_back = u16::try_from(self.end() - seq).unwrap_or(0);
-            if e.id == NO_ID
-                && let Some(req) = self.entry(seq)
-            {
-                // An `&` reply has no ID: it answers the request's.
-                e.id = req.id;
-            }
+        if let Some(seq) = self.outstanding.take()
+            && seq + 1 == self.end()
+        {
+            e.set_answers_previous();
+            // An `&` reply has no ID: it answers the request's.
+            e.take_id(self.entry(seq).and_then(Entry::id));
         }
     }
 
-    fn push(&mut self, mut e: Entry, bytes: &[u8], note: &[u8]) {
-        e.start = self.open.bytes.len() as u32;
-        e.len = bytes.len().min(u32::MAX as usize) as u32;
-        e.note_len = note.len().min(u16::MAX as usize) as u16;
-        self.open.bytes.extend_from_slice(bytes);
-        self.open
-            .bytes
-            .extend_from_slice(&note[..e.note_len as usize]);
+    fn push(&mut self, mut e: Entry, bytes: &[u8], note: &str) {
+        // Longer rows come only from files, which refuse them (`file::read_jsonl`).
+        let bytes = &bytes[..bytes.len().min(MAX_ROW_BYTES)];
+        let note = &note.as_bytes()[..floor_char_boundary(note, MAX_NOTE_BYTES)];
+        let (start, len, packed) = if note.is_empty() {
+            self.index.store(&mut self.open, bytes, &e)
+        } else {
+            self.open.store_alone(bytes)
+        };
+        e.set_stored(start, len, packed, !note.is_empty());
+        if !note.is_empty() {
+            self.open
+                .bytes
+                .extend_from_slice(&(note.len() as u16).to_le_bytes());
+            self.open.bytes.extend_from_slice(note);
+        }
         self.open.entries.push(e);
         if self.open.entries.len() == CHUNK {
-            let mut full = std::mem::replace(&mut self.open, Chunk::with_capacity());
+            let mut full = std::mem::replace(&mut self.open, Chunk::new());
             full.bytes.shrink_to_fit();
             self.frozen.push_back(Arc::new(full));
+            self.index = OpenIndex::default();
         }
         self.trim();
     }
@@ -293,10 +304,11 @@ impl FrameLog {
     pub fn row(&self, seq: u64) -> Option<Row<'_>> {
         let (chunk, o) = self.locate(seq)?;
         let e = &chunk.entries[o];
-        let request_t = (e.pair_back != 0)
-            .then(|| self.entry(seq - u64::from(e.pair_back)))
+        let request_t = e
+            .answers_previous()
+            .then(|| self.entry(seq - 1))
             .flatten()
-            .map(|r| r.t_ns);
+            .map(Entry::t_ns);
         Some(Row::new(seq, e, &chunk.bytes, request_t))
     }
 
@@ -313,9 +325,8 @@ impl FrameLog {
     /// The request a reply, garbage or time-out row answers.
     pub fn request_of(&self, seq: u64) -> Option<u64> {
         let r = self.row(seq)?;
-        let back = r.pair_back()?;
-        let req = seq.checked_sub(back as u64)?;
-        self.row(req).map(|_| req)
+        let req = seq.checked_sub(u64::from(r.answers_previous()))?;
+        (req != seq && self.row(req).is_some()).then_some(req)
     }
 
     /// The reply (or garbage, or time-out) that answers the request `seq`.
@@ -324,7 +335,7 @@ impl FrameLog {
         if r.dir() != Dir::Sent {
             return None;
         }
-        (seq + 1..self.end().min(seq + 1 + REPLY_REACH)).find(|&s| self.request_of(s) == Some(seq))
+        (self.request_of(seq + 1) == Some(seq)).then_some(seq + 1)
     }
 
     /// Time of a row after the start.
@@ -396,12 +407,21 @@ impl Snapshot {
         let i = (seq - self.base) as usize;
         let chunk = self.chunks.get(i / CHUNK)?;
         let e = chunk.entries.get(i % CHUNK)?;
-        let request_t = (e.pair_back != 0)
-            .then(|| self.entry(seq - u64::from(e.pair_back)))
+        let request_t = e
+            .answers_previous()
+            .then(|| self.entry(seq - 1))
             .flatten()
-            .map(|r| r.t_ns);
+            .map(Entry::t_ns);
         Some(Row::new(seq, e, &chunk.bytes, request_t))
     }
+}
+
+/// The longest prefix of `text` of at most `max` bytes that ends on a character boundary.
+fn floor_char_boundary(text: &str, max: usize) -> usize {
+    (0..=max.min(text.len()))
+        .rev()
+        .find(|&i| text.is_char_boundary(i))
+        .unwrap_or(0)
 }
 
 #[cfg(test)]

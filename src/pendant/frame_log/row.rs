@@ -1,10 +1,11 @@
 //! One row of the frame log: the compact stored form and the view handed to readers.
 
+use std::borrow::Cow;
+
+use super::entry::Entry;
+use super::packed;
 use crate::protocol::MessageId;
 use crate::protocol::checksum;
-
-/// No message ID could be read.
-pub(super) const NO_ID: u16 = u16::MAX;
 
 /// Which way a row went, or what it is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -29,7 +30,7 @@ impl Dir {
         }
     }
 
-    fn from_code(c: u8) -> Dir {
+    pub(super) fn from_code(c: u8) -> Dir {
         match c {
             0 => Dir::Sent,
             1 => Dir::Received,
@@ -79,7 +80,7 @@ pub enum Verdict {
 }
 
 impl Verdict {
-    fn code(self) -> u8 {
+    pub(super) fn code(self) -> u8 {
         match self {
             Verdict::Ok => 0,
             Verdict::AtAt => 1,
@@ -88,7 +89,7 @@ impl Verdict {
         }
     }
 
-    fn from_code(c: u8) -> Verdict {
+    pub(super) fn from_code(c: u8) -> Verdict {
         match c {
             0 => Verdict::Ok,
             1 => Verdict::AtAt,
@@ -130,50 +131,6 @@ impl Verdict {
     }
 }
 
-/// A row as stored: 24 bytes, the frame's bytes and note kept in the chunk's buffer (the
-/// header is the first byte; the latency comes from the request's time).
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Entry {
-    pub t_ns: u64,
-    pub start: u32,
-    pub len: u32,
-    /// Rows back to the request this row answers (0: none).
-    pub pair_back: u16,
-    pub id: u16,
-    pub note_len: u16,
-    pub dir: u8,
-    pub verdict: u8,
-}
-
-impl Entry {
-    pub fn new(dir: Dir, t_ns: u64, bytes: &[u8]) -> Entry {
-        let verdict = match dir {
-            Dir::Timeout => Verdict::None,
-            _ => Verdict::of(bytes),
-        };
-        Entry {
-            t_ns,
-            start: 0,
-            len: 0,
-            pair_back: 0,
-            id: message_id(bytes).unwrap_or(NO_ID),
-            note_len: 0,
-            dir: dir.code(),
-            verdict: verdict.code(),
-        }
-    }
-}
-
-/// The message ID in columns 4-6, for a frame with a known header and an ID
-/// [spec: PROTOCOL.md 1.3]; `&` replies carry none.
-fn message_id(bytes: &[u8]) -> Option<u16> {
-    if !matches!(bytes.first(), Some(b'!' | b'#')) {
-        return None;
-    }
-    let id = std::str::from_utf8(bytes.get(3..6)?).ok()?;
-    u16::from_str_radix(id, 16).ok()
-}
-
 /// A row of the log, borrowed.
 #[derive(Clone, Copy, Debug)]
 pub struct Row<'a> {
@@ -200,49 +157,66 @@ impl<'a> Row<'a> {
     }
 
     pub fn dir(&self) -> Dir {
-        Dir::from_code(self.entry.dir)
+        self.entry.dir()
     }
 
     /// Nanoseconds after the log's start.
     pub fn t_ns(&self) -> u64 {
-        self.entry.t_ns
+        self.entry.t_ns()
     }
 
-    /// The exact bytes on the line.
-    pub fn bytes(&self) -> &'a [u8] {
-        let s = self.entry.start as usize;
-        &self.buf[s..s + self.entry.len as usize]
+    /// The exact bytes on the line (rebuilt from the packed form when stored packed).
+    pub fn bytes(&self) -> Cow<'a, [u8]> {
+        packed::original(self.buf, self.entry.stored(), self.entry.packed())
+    }
+
+    /// Appends the exact bytes to `out` (for loops over many rows: one buffer serves).
+    pub fn write_bytes(&self, out: &mut Vec<u8>) {
+        packed::write_original(self.buf, self.entry.stored(), self.entry.packed(), out);
     }
 
     /// The link's reason for garbage, or the time-out text.
     pub fn note(&self) -> &'a str {
-        let s = (self.entry.start + self.entry.len) as usize;
-        std::str::from_utf8(&self.buf[s..s + self.entry.note_len as usize]).unwrap_or("")
+        if !self.entry.has_note() {
+            return "";
+        }
+        let at = self.entry.stored().end;
+        let len = self
+            .buf
+            .get(at..at + 2)
+            .map_or(0, |l| u16::from_le_bytes([l[0], l[1]]));
+        let text = self
+            .buf
+            .get(at + 2..at + 2 + usize::from(len))
+            .unwrap_or_default();
+        std::str::from_utf8(text).unwrap_or("")
     }
 
     /// The message ID (an `&` reply or a time-out takes its request's).
     pub fn id(&self) -> Option<u16> {
-        (self.entry.id != NO_ID).then_some(self.entry.id)
+        self.entry.id()
     }
 
     pub fn verdict(&self) -> Verdict {
-        Verdict::from_code(self.entry.verdict)
+        self.entry.verdict()
     }
 
     /// Request-to-reply time, for answers.
     pub fn latency_us(&self) -> Option<u32> {
         let sent = self.request_t.filter(|_| self.dir() != Dir::Timeout)?;
-        let us = self.entry.t_ns.saturating_sub(sent) / 1000;
+        let us = self.entry.t_ns().saturating_sub(sent) / 1000;
         Some(us.min(u64::from(u32::MAX)) as u32)
     }
 
-    pub(super) fn pair_back(&self) -> Option<u16> {
-        (self.entry.pair_back != 0).then_some(self.entry.pair_back)
+    /// The row answers the row just before it (its request).
+    pub(super) fn answers_previous(&self) -> bool {
+        self.entry.answers_previous()
     }
 
     /// An `&` error reply.
     pub fn is_error_reply(&self) -> bool {
-        self.dir() == Dir::Received && self.bytes().first() == Some(&b'&')
+        self.dir() == Dir::Received
+            && packed::first_byte(self.buf, self.entry.stored(), self.entry.packed()) == Some(b'&')
     }
 
     /// Error replies, garbage, bad checksums and time-outs: the rows to highlight.

@@ -165,6 +165,16 @@ fn jsonl_keeps_exact_bytes_and_times_and_text_is_readable() {
     );
     assert!(bad.unwrap_err().starts_with("line 2"));
     assert!(read_jsonl(&b"hello\n"[..], 10).is_err());
+    let long = format!(
+        "{{\"xsel_pendant_frame_log\":1,\"start_unix_us\":0}}\n\
+         {{\"t_ns\":0,\"dir\":\"garbage\",\"hex\":\"{}\"}}\n",
+        "41".repeat(entry::MAX_ROW_BYTES + 1)
+    );
+    let e = read_jsonl(long.as_bytes(), 10).unwrap_err();
+    assert!(
+        e.starts_with("line 2: a row longer than any on the line"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -181,4 +191,83 @@ fn a_lost_line_ends_the_wait_for_a_reply() {
     log.push_received(&framed("#99212"), 10);
     assert_eq!(log.request_of(1), None);
     assert_eq!(log.nth(1).unwrap().latency_us(), None);
+}
+
+#[test]
+fn polling_while_the_arm_moves_is_kept_small_and_reads_back_byte_for_byte() {
+    let mut log = FrameLog::new(DEFAULT_CAP);
+    let mut pushed: Vec<Vec<u8>> = Vec::new();
+    let mut seed = 0x2545_F491_4F6C_DD1Du64;
+    let mut next = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        seed
+    };
+    let mut axes = [0x0000_AFC8u32, 0xFFFD_B610, 0x0000_4E20, 0x0000_493E];
+    for i in 0..100_000u64 {
+        let query = framed(["!992A10F0", "!99215", "!992A10F1"][(i % 3) as usize]);
+        log.push_sent(&query, i * 10);
+        pushed.push(query);
+        // One or two axes move a little; now and then a reply is garbage or missing.
+        for _ in 0..1 + next() % 2 {
+            let a = (next() % 4) as usize;
+            axes[a] = axes[a]
+                .wrapping_add((next() % 2000) as u32)
+                .wrapping_sub(1000);
+        }
+        let reply = match next() % 500 {
+            0 => {
+                log.push_timeout("no reply", i * 10 + 5);
+                pushed.push(Vec::new());
+                continue;
+            }
+            1 => b"#992A1\x02\xFFgarbage\r\n".to_vec(),
+            2 => framed("#992a1010000").to_vec(),
+            _ => framed(&format!(
+                "#992A1010000001C{:08X}1C{:08X}1C{:08X}1C{:08X}",
+                axes[0], axes[1], axes[2], axes[3]
+            )),
+        };
+        if reply.contains(&0x02) {
+            log.push_garbage(&reply, "bad byte", i * 10 + 5);
+        } else {
+            log.push_received(&reply, i * 10 + 5);
+        }
+        pushed.push(reply);
+    }
+    assert_eq!(log.len(), pushed.len());
+    let mut buf = Vec::new();
+    for (i, bytes) in pushed.iter().enumerate() {
+        let row = log.nth(i).unwrap();
+        assert_eq!(row.bytes().as_ref(), bytes.as_slice(), "row {i}");
+        buf.clear();
+        row.write_bytes(&mut buf);
+        assert_eq!(&buf, bytes, "row {i}");
+    }
+    // 16 bytes a row, and the bytes in under a third of their size on the line.
+    let on_the_line: usize = pushed.iter().map(Vec::len).sum();
+    let rows = log.len() * 16;
+    assert!(
+        log.memory_bytes() < rows + on_the_line / 3,
+        "{} bytes kept for {} rows of {on_the_line} bytes",
+        log.memory_bytes(),
+        log.len()
+    );
+}
+
+#[test]
+fn a_million_polling_rows_take_about_twenty_megabytes() {
+    let mut log = FrameLog::new(DEFAULT_CAP);
+    log.fill_synthetic(1_000_000);
+    assert_eq!(log.len(), 1_000_000);
+    // 16 MB of rows; every 2A1H reply a new position, stored as a delta.
+    assert!(
+        log.memory_bytes() < 21_000_000,
+        "{} bytes",
+        log.memory_bytes()
+    );
+    let last = log.nth(999_997).unwrap();
+    assert_eq!(last.verdict(), Verdict::Ok);
+    assert_eq!(&last.bytes()[..6], b"#992A1");
 }

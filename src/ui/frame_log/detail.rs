@@ -17,7 +17,7 @@ pub fn show(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant) {
         p.selected = None;
         return;
     };
-    let d = describe(row.bytes());
+    let d = describe(&row.bytes());
     let request = log.request_of(seq);
     let reply = log.reply_of(seq);
     let mut goto = None;

@@ -18,12 +18,15 @@ pub fn header(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &mut Pendant) {
         let log = p.log(pendant);
         let (len, head_drops, link_drops, cap) =
             (log.len(), log.dropped_head(), log.dropped_link(), log.cap());
+        let megabytes = log.memory_bytes() as f64 / 1e6;
         let shown = p.view_len(log);
         match &p.opened {
             Some(o) => ui.label(RichText::new(format!("File {} (read-only)", o.name)).strong()),
             None => ui.label(RichText::new("Live").strong()),
         };
-        ui.label(format!("{shown} shown of {len} rows (cap {cap})"));
+        ui.label(format!(
+            "{shown} shown of {len} rows (cap {cap}, {megabytes:.1} MB)"
+        ));
         if head_drops > 0 {
             ui.label(RichText::new(format!("{head_drops} dropped from the head")).color(AMBER));
         }

@@ -1,0 +1,81 @@
+//! A chunk of rows with the buffer their bytes are stored in, and the index that lets a
+//! filling chunk keep a repeated frame once and a changed one as a delta.
+
+use std::collections::HashMap;
+
+use super::CHUNK;
+use super::entry::Entry;
+use super::packed;
+
+/// Rows and the bytes they point into.
+#[derive(Clone, Debug, Default)]
+pub struct Chunk {
+    pub(super) entries: Vec<Entry>,
+    pub(super) bytes: Vec<u8>,
+}
+
+impl Chunk {
+    pub(super) fn new() -> Self {
+        Self {
+            entries: Vec::with_capacity(CHUNK),
+            bytes: Vec::with_capacity(CHUNK * 8),
+        }
+    }
+
+    /// Bytes of memory held (capacity counted).
+    pub(super) fn memory_bytes(&self) -> usize {
+        self.entries.capacity() * size_of::<Entry>() + self.bytes.capacity()
+    }
+
+    /// Stores `bytes` (packed when a clean frame) on their own: start, length, packed.
+    pub(super) fn store_alone(&mut self, bytes: &[u8]) -> (usize, usize, bool) {
+        let start = self.bytes.len();
+        let packed = packed::pack_into(bytes, &mut self.bytes);
+        if !packed {
+            self.bytes.extend_from_slice(bytes);
+        }
+        (start, self.bytes.len() - start, packed)
+    }
+}
+
+/// Same kind, same message ID, same packed length: frames that may be stored as deltas
+/// of each other.
+type Kind = (u8, Option<u16>, usize);
+
+/// What the open chunk holds: each packed form stored (where, how long), and per kind
+/// the last one stored whole.
+#[derive(Clone, Debug, Default)]
+pub(super) struct OpenIndex {
+    seen: HashMap<Box<[u8]>, (usize, usize)>,
+    whole: HashMap<Kind, usize>,
+}
+
+impl OpenIndex {
+    /// Stores `bytes` of the row `e` in `chunk`: a frame seen before in the chunk is
+    /// shared, a packed frame close to the last whole one of its kind becomes a delta.
+    pub(super) fn store(
+        &mut self,
+        chunk: &mut Chunk,
+        bytes: &[u8],
+        e: &Entry,
+    ) -> (usize, usize, bool) {
+        let (start, len, packed) = chunk.store_alone(bytes);
+        let form = &chunk.bytes[start..];
+        if let Some(&(earlier, earlier_len)) = self.seen.get(form) {
+            chunk.bytes.truncate(start);
+            return (earlier, earlier_len, packed);
+        }
+        let form: Box<[u8]> = form.into();
+        let kind = (e.dir().code(), e.id(), len);
+        let delta = packed
+            && self.whole.get(&kind).is_some_and(|&reference| {
+                packed::delta_against(&mut chunk.bytes, start, reference)
+            });
+        if packed && !delta {
+            self.whole.insert(kind, start);
+        }
+        let len = chunk.bytes.len() - start;
+        self.seen.insert(form, (start, len));
+        (start, len, packed)
+    }
+}
