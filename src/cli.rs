@@ -92,6 +92,31 @@ pub struct Args {
     /// For --render-png: the light theme (the default is dark).
     #[arg(long, requires = "render_png")]
     pub light: bool,
+    /// How the window is drawn: glow (OpenGL, the default: the least memory) or wgpu
+    /// (Vulkan, DirectX 12, Metal or OpenGL), for a graphics driver that fails with one.
+    #[arg(long, value_enum, default_value_t = Renderer::Glow)]
+    pub renderer: Renderer,
+}
+
+/// The window's renderer (`--renderer`).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Renderer {
+    Glow,
+    Wgpu,
+}
+
+/// Whether the command line (program name first) names a connection: any flag or value
+/// but `--renderer`, which only says how to draw.
+pub fn names_a_connection(argv: impl IntoIterator<Item = std::ffi::OsString>) -> bool {
+    let mut args = argv.into_iter().skip(1);
+    while let Some(a) = args.next() {
+        if a == "--renderer" {
+            args.next();
+        } else if !a.to_string_lossy().starts_with("--renderer=") {
+            return true;
+        }
+    }
+    false
 }
 
 /// A flag value that cannot be used.
@@ -298,6 +323,33 @@ mod tests {
     fn defaults_make_a_valid_line() {
         let args = parses(&[]).unwrap();
         assert_eq!(args.station, Station(0x99));
+        assert_eq!(args.renderer, Renderer::Glow);
+        assert_eq!(
+            parses(&["--renderer", "wgpu"]).unwrap().renderer,
+            Renderer::Wgpu
+        );
+        let argv = |a: &[&str]| a.iter().map(std::ffi::OsString::from).collect::<Vec<_>>();
+        assert!(!names_a_connection(argv(&["xsel-pendant"])));
+        assert!(!names_a_connection(argv(&[
+            "xsel-pendant",
+            "--renderer",
+            "wgpu"
+        ])));
+        assert!(!names_a_connection(argv(&[
+            "xsel-pendant",
+            "--renderer=glow"
+        ])));
+        assert!(names_a_connection(argv(&[
+            "xsel-pendant",
+            "--renderer",
+            "wgpu",
+            "--sim"
+        ])));
+        assert!(names_a_connection(argv(&[
+            "xsel-pendant",
+            "--baud",
+            "9600"
+        ])));
         assert_eq!(args.line_settings().unwrap(), LineSettings::default());
         let args = parses(&["--station", "0a", "--baud", "9600", "--parity", "E"]).unwrap();
         assert_eq!(args.station, Station(0x0A));

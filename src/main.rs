@@ -18,7 +18,7 @@ fn main() -> ExitCode {
     }
     // Flags name a connection that replaces the saved one; with none the window opens on
     // the built-in simulator and keeps the saved line settings for the panel.
-    let named = std::env::args_os().len() > 1;
+    let named = cli::names_a_connection(std::env::args_os());
     if let Err(e) = args.line_settings().and_then(|_| args.model()) {
         let _ = writeln!(std::io::stderr(), "xsel-pendant: {e}");
         return ExitCode::from(2);
@@ -29,7 +29,11 @@ fn main() -> ExitCode {
         offline: false,
         drafts_dir: None,
     };
-    match run_window(options) {
+    let renderer = match args.renderer {
+        cli::Renderer::Glow => eframe::Renderer::Glow,
+        cli::Renderer::Wgpu => eframe::Renderer::Wgpu,
+    };
+    match run_window(options, renderer) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             let _ = writeln!(std::io::stderr(), "xsel-pendant: {e}");

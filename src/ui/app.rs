@@ -449,7 +449,7 @@ impl eframe::App for PendantApp {
         eframe::set_value(storage, LAYOUT_KEY, &self.dock);
     }
 
-    fn on_exit(&mut self) {
+    fn on_exit(&mut self, _gl: Option<&eframe::glow::Context>) {
         // Dropping the session shuts the link down: queued STOPs, and a STOP of its own
         // when a jog or move may still run, go out before the line closes.
         self.close();

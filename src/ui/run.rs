@@ -2,8 +2,8 @@
 
 use super::app::{APP_ID, PendantApp, StartOptions};
 
-/// Opens the window and runs until it closes.
-pub fn run_window(options: StartOptions) -> Result<(), String> {
+/// Opens the window and runs until it closes, drawn by `renderer`.
+pub fn run_window(options: StartOptions, renderer: eframe::Renderer) -> Result<(), String> {
     if let Some(why) = no_display() {
         return Err(why);
     }
@@ -13,6 +13,7 @@ pub fn run_window(options: StartOptions) -> Result<(), String> {
             .with_inner_size([1280.0, 800.0])
             .with_min_inner_size([900.0, 600.0])
             .with_app_id(APP_ID),
+        renderer,
         ..eframe::NativeOptions::default()
     };
     eframe::run_native(
@@ -20,7 +21,13 @@ pub fn run_window(options: StartOptions) -> Result<(), String> {
         native,
         Box::new(move |cc| Ok(Box::new(PendantApp::new(cc, options)))),
     )
-    .map_err(|e| format!("cannot open the window ({e}); use --headless for text mode"))
+    .map_err(|e| {
+        let other = match renderer {
+            eframe::Renderer::Glow => "--renderer wgpu",
+            _ => "--renderer glow",
+        };
+        format!("cannot open the window ({e}); try {other}, or --headless for text mode")
+    })
 }
 
 /// On Linux and the BSDs a window needs X11 or Wayland.
