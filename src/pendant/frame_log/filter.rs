@@ -2,6 +2,8 @@
 //! range and free text over the raw bytes, the message name and (optionally) the decoded
 //! fields. Pure: [`Filter::matches`] judges one row; the window runs it off its thread.
 
+use std::cell::RefCell;
+
 use super::{Dir, Row};
 use crate::protocol::MessageId;
 use crate::protocol::describe::describe;
@@ -50,6 +52,7 @@ impl Filter {
             filter: self.clone(),
             escaped: needle.contains('\\'),
             needle: needle.into_bytes(),
+            scratch: RefCell::default(),
         }
     }
 }
@@ -61,6 +64,8 @@ pub struct Matcher {
     needle: Vec<u8>,
     /// The needle names an escape (`\r`): match the escaped text.
     escaped: bool,
+    /// Room for one row's bytes, reused from row to row.
+    scratch: RefCell<Vec<u8>>,
 }
 
 impl Matcher {
@@ -94,7 +99,10 @@ impl Matcher {
         let hit = if self.escaped {
             contains(row.ascii().as_bytes(), n)
         } else {
-            contains(&row.bytes(), n)
+            let mut bytes = self.scratch.borrow_mut();
+            bytes.clear();
+            row.write_bytes(&mut bytes);
+            contains(&bytes, n)
         };
         if hit || contains(row.note().as_bytes(), n) || contains(row.dir().key().as_bytes(), n) {
             return true;
@@ -138,12 +146,11 @@ fn contains(hay: &[u8], needle: &[u8]) -> bool {
         return false;
     }
     let last_start = hay.len() - needle.len();
-    (0..=last_start).any(|i| {
-        hay[i].to_ascii_lowercase() == first
-            && hay[i + 1..i + needle.len()]
-                .iter()
-                .zip(rest)
-                .all(|(h, n)| h.to_ascii_lowercase() == *n)
+    memchr::memchr2_iter(first, first.to_ascii_uppercase(), &hay[..=last_start]).any(|i| {
+        hay[i + 1..i + needle.len()]
+            .iter()
+            .zip(rest)
+            .all(|(h, n)| h.to_ascii_lowercase() == *n)
     })
 }
 

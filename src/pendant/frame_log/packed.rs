@@ -31,6 +31,18 @@ fn nibble(b: u8) -> Option<u8> {
 }
 
 const DIGITS: &[u8; 16] = b"0123456789ABCDEF";
+/// The two hex digits of each byte value.
+const DIGIT_PAIRS: [[u8; 2]; 256] = {
+    let mut pairs = [[0; 2]; 256];
+    let mut i = 0;
+    while i < 256 {
+        pairs[i] = [DIGITS[i >> 4], DIGITS[i & 0xF]];
+        i += 1;
+    }
+    pairs
+};
+/// Deltas of packed forms up to this long are rebuilt on the stack.
+const STACK_FORM: usize = 256;
 
 /// Appends the packed form of `bytes` to `out` and returns true, or leaves `out` as it was
 /// and returns false when the bytes are not a packable frame (or would not get smaller).
@@ -70,8 +82,7 @@ pub fn unpack_into(stored: &[u8], out: &mut Vec<u8>) {
     out.reserve(packed.len() * 2 + 5);
     out.push(HEADERS[usize::from(tag & HEADER_MASK).min(2)]);
     for &b in packed {
-        out.push(DIGITS[usize::from(b >> 4)]);
-        out.push(DIGITS[usize::from(b & 0xF)]);
+        out.extend_from_slice(&DIGIT_PAIRS[usize::from(b)]);
     }
     if tag & ODD != 0 {
         out.pop();
@@ -121,31 +132,46 @@ pub fn delta_against(buf: &mut Vec<u8>, start: usize, reference: usize) -> bool 
     true
 }
 
-/// The packed form of the stored form at `buf[at]`: itself, or rebuilt from a delta.
-fn packed_form(buf: &[u8], at: Range<usize>) -> Cow<'_, [u8]> {
+/// Calls `f` with the packed form of the stored form at `buf[at]`: itself, or rebuilt
+/// from a delta (on the stack when short; empty when the delta is damaged).
+fn with_packed_form<R>(buf: &[u8], at: Range<usize>, f: impl FnOnce(&[u8]) -> R) -> R {
     let stored = buf.get(at.clone()).unwrap_or_default();
     if stored.first().is_none_or(|&t| t & DELTA == 0) {
-        return Cow::Borrowed(stored);
+        return f(stored);
     }
-    rebuild(buf, at.start, &stored[1..]).map_or(Cow::Borrowed(&[]), Cow::Owned)
+    let mut delta = &stored[1..];
+    let header = read_varint(&mut delta).zip(read_varint(&mut delta));
+    let Some(old) = header.and_then(|(back, len)| {
+        let from = at.start.checked_sub(back)?;
+        buf.get(from..)?.get(..len)
+    }) else {
+        return f(&[]);
+    };
+    if old.len() <= STACK_FORM {
+        let mut form = [0u8; STACK_FORM];
+        let len = rebuild(old, delta, &mut form).unwrap_or(0);
+        f(&form[..len])
+    } else {
+        let mut form = vec![0u8; old.len()];
+        let len = rebuild(old, delta, &mut form).unwrap_or(0);
+        f(&form[..len])
+    }
 }
 
-/// The packed form a delta (after its first byte) stored at `start` describes.
-fn rebuild(buf: &[u8], start: usize, mut delta: &[u8]) -> Option<Vec<u8>> {
-    let back = read_varint(&mut delta)?;
-    let len = read_varint(&mut delta)?;
-    let old = buf.get(start.checked_sub(back)?..)?.get(..len)?;
-    let mut form = Vec::with_capacity(len);
+/// Writes into `form` the packed form that the runs of `delta` make of `old`; its length.
+fn rebuild(old: &[u8], mut delta: &[u8], form: &mut [u8]) -> Option<usize> {
+    let form = form.get_mut(..old.len())?;
+    form.copy_from_slice(old);
+    let mut at = 0;
     while !delta.is_empty() {
-        let skip = read_varint(&mut delta)?;
+        at += read_varint(&mut delta)?;
         let run = read_varint(&mut delta)?;
-        form.extend_from_slice(old.get(form.len()..form.len() + skip)?);
         let (bytes, rest) = delta.split_at_checked(run)?;
-        form.extend_from_slice(bytes);
+        form.get_mut(at..at + run)?.copy_from_slice(bytes);
+        at += run;
         delta = rest;
     }
-    form.extend_from_slice(old.get(form.len()..)?);
-    Some(form)
+    Some(old.len())
 }
 
 fn push_varint(out: &mut Vec<u8>, mut v: usize) {
@@ -172,7 +198,7 @@ fn read_varint(input: &mut &[u8]) -> Option<usize> {
 /// Appends the original bytes of the row stored at `buf[at]` to `out`.
 pub fn write_original(buf: &[u8], at: Range<usize>, packed: bool, out: &mut Vec<u8>) {
     if packed {
-        unpack_into(&packed_form(buf, at), out);
+        with_packed_form(buf, at, |form| unpack_into(form, out));
     } else {
         out.extend_from_slice(buf.get(at).unwrap_or_default());
     }
@@ -183,7 +209,7 @@ pub fn write_original(buf: &[u8], at: Range<usize>, packed: bool, out: &mut Vec<
 pub fn original(buf: &[u8], at: Range<usize>, packed: bool) -> Cow<'_, [u8]> {
     if packed {
         let mut out = Vec::new();
-        unpack_into(&packed_form(buf, at), &mut out);
+        write_original(buf, at, true, &mut out);
         Cow::Owned(out)
     } else {
         Cow::Borrowed(buf.get(at).unwrap_or_default())
@@ -195,7 +221,7 @@ pub fn first_byte(buf: &[u8], at: Range<usize>, packed: bool) -> Option<u8> {
     if !packed {
         return buf.get(at)?.first().copied();
     }
-    let first = *packed_form(buf, at).first()?;
+    let first = with_packed_form(buf, at, |form| form.first().copied())?;
     Some(HEADERS[usize::from(first & HEADER_MASK).min(2)])
 }
 
