@@ -15,6 +15,7 @@ pub mod state;
 pub mod target;
 pub mod teach;
 pub mod teach_file;
+mod teach_json;
 
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};

@@ -36,22 +36,22 @@ pub struct TaughtPose {
 #[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct TeachPoint {
     /// Unique within its list, trimmed, 1 to 32 characters, no control characters.
-    #[serde(deserialize_with = "super::teach_file::de_name")]
+    #[serde(deserialize_with = "super::teach_json::de_name")]
     pub name: String,
     /// Work X, Y, Z in 0.001 mm and R in 0.001 deg (wire units).
-    #[serde(deserialize_with = "super::teach_file::de_pose")]
+    #[serde(deserialize_with = "super::teach_json::de_pose")]
     pub pose: [i32; 4],
     /// The arm system the point was taught in (`right`, `left`, `undetermined` in files).
     #[serde(
-        serialize_with = "super::teach_file::ser_arm",
-        deserialize_with = "super::teach_file::de_arm"
+        serialize_with = "super::teach_json::ser_arm",
+        deserialize_with = "super::teach_json::de_arm"
     )]
     pub arm: ArmSystem,
     /// The work coordinate system number it was taught in (0-31).
-    #[serde(deserialize_with = "super::teach_file::de_work")]
+    #[serde(deserialize_with = "super::teach_json::de_work")]
     pub work: u8,
     /// The tool coordinate system number it was taught in (0-127).
-    #[serde(deserialize_with = "super::teach_file::de_tool")]
+    #[serde(deserialize_with = "super::teach_json::de_tool")]
     pub tool: u8,
 }
 
@@ -181,7 +181,7 @@ fn check_frames(work: u8, tool: u8) -> Result<(), TeachError> {
 #[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct TeachList {
-    #[serde(deserialize_with = "super::teach_file::de_points")]
+    #[serde(deserialize_with = "super::teach_json::de_points")]
     points: Vec<TeachPoint>,
 }
 

@@ -1,7 +1,8 @@
-//! Tests of `teach_file.rs`.
+//! Tests of `teach_file.rs` and `teach_json.rs`.
 
 use super::*;
 use crate::pendant::teach::TaughtPose;
+use crate::protocol::ArmSystem;
 use proptest::prelude::*;
 
 const H: &str = "name,x_mm,y_mm,z_mm,r_deg,arm,work,tool\n";
