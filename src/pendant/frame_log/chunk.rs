@@ -2,6 +2,7 @@
 //! filling chunk keep a repeated frame once and a changed one as a delta.
 
 use std::collections::HashMap;
+use std::hash::{BuildHasher, RandomState};
 
 use super::CHUNK;
 use super::entry::Entry;
@@ -42,17 +43,19 @@ impl Chunk {
 /// of each other.
 type Kind = (u8, Option<u16>, usize);
 
-/// What the open chunk holds: each packed form stored (where, how long), and per kind
-/// the last one stored whole.
+/// What the open chunk holds: where each packed form is stored (by the form's hash,
+/// checked against the bytes on a hit), and per kind the last one stored whole.
 #[derive(Clone, Debug, Default)]
 pub(super) struct OpenIndex {
-    seen: HashMap<Box<[u8]>, (usize, usize)>,
+    hasher: RandomState,
+    seen: HashMap<u64, (usize, usize)>,
     whole: HashMap<Kind, usize>,
 }
 
 impl OpenIndex {
-    /// Stores `bytes` of the row `e` in `chunk`: a frame seen before in the chunk is
-    /// shared, a packed frame close to the last whole one of its kind becomes a delta.
+    /// Stores `bytes` of the row `e` in `chunk`: a packed frame seen before in the chunk
+    /// is shared, one close to the last whole one of its kind becomes a delta. Raw bytes
+    /// are stored on their own (they could equal a packed form of other bytes).
     pub(super) fn store(
         &mut self,
         chunk: &mut Chunk,
@@ -60,22 +63,33 @@ impl OpenIndex {
         e: &Entry,
     ) -> (usize, usize, bool) {
         let (start, len, packed) = chunk.store_alone(bytes);
-        let form = &chunk.bytes[start..];
-        if let Some(&(earlier, earlier_len)) = self.seen.get(form) {
+        if !packed {
+            return (start, len, packed);
+        }
+        let (before, form) = chunk.bytes.split_at(start);
+        let hash = self.hasher.hash_one(form);
+        if let Some(&(earlier, earlier_len)) = self.seen.get(&hash)
+            && packed::packed_form_is(before, earlier..earlier + earlier_len, form)
+        {
             chunk.bytes.truncate(start);
             return (earlier, earlier_len, packed);
         }
-        let form: Box<[u8]> = form.into();
         let kind = (e.dir().code(), e.id(), len);
-        let delta = packed
-            && self.whole.get(&kind).is_some_and(|&reference| {
-                packed::delta_against(&mut chunk.bytes, start, reference)
-            });
-        if packed && !delta {
+        let delta = self
+            .whole
+            .get(&kind)
+            .is_some_and(|&reference| packed::delta_against(&mut chunk.bytes, start, reference));
+        if !delta {
             self.whole.insert(kind, start);
         }
         let len = chunk.bytes.len() - start;
-        self.seen.insert(form, (start, len));
+        self.seen.insert(hash, (start, len));
         (start, len, packed)
+    }
+
+    /// Bytes of memory held (the tables' capacity).
+    pub(super) fn memory_bytes(&self) -> usize {
+        self.seen.capacity() * (size_of::<(u64, (usize, usize))>() + 1)
+            + self.whole.capacity() * (size_of::<(Kind, usize)>() + 1)
     }
 }

@@ -128,6 +128,12 @@ pub fn read_jsonl(input: impl BufRead, cap: usize) -> Result<FrameLog, String> {
     };
     let header: Header = serde_json::from_str(&first)
         .map_err(|_| "line 1: not an xsel-pendant frame log (JSON Lines header missing)")?;
+    if header.xsel_pendant_frame_log != 1 {
+        return Err(format!(
+            "line 1: frame log format {} (this version reads format 1)",
+            header.xsel_pendant_frame_log
+        ));
+    }
     let mut log = FrameLog::new(cap);
     log.set_origin(
         None,
@@ -181,7 +187,8 @@ fn hex(bytes: &[u8]) -> String {
 }
 
 fn unhex(s: &str) -> Option<Vec<u8>> {
-    if !s.len().is_multiple_of(2) {
+    // Hex digits only (`from_str_radix` would also take a sign).
+    if !s.len().is_multiple_of(2) || !s.bytes().all(|b| b.is_ascii_hexdigit()) {
         return None;
     }
     (0..s.len())

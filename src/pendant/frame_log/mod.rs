@@ -109,7 +109,9 @@ impl FrameLog {
 
     /// Bytes of memory the rows take (entries and stored bytes, capacity counted).
     pub fn memory_bytes(&self) -> usize {
-        self.frozen.iter().map(|c| c.memory_bytes()).sum::<usize>() + self.open.memory_bytes()
+        self.frozen.iter().map(|c| c.memory_bytes()).sum::<usize>()
+            + self.open.memory_bytes()
+            + self.index.memory_bytes()
     }
 
     /// Rows dropped from the head because of the cap.
@@ -170,9 +172,9 @@ impl FrameLog {
 
     /// Adds `n` rows of the window's status polling after the rows there are, as while
     /// the arm moves: each cycle asks 2A1H in three systems and 215H, and every 2A1H
-    /// reply (80 bytes) carries a new position, so no two are alike (the worst case for
-    /// the store); every 1000th reply is an `&` error; rows 1 ms apart. For benches and
-    /// the tests of scale. The frames follow PROTOCOL.md 3.17 and 10 [observed].
+    /// reply (82 bytes) carries a new position, so no two are alike (the worst case for
+    /// the store); every 1000th reply is an `&` error; a request every 2 ms, its reply
+    /// 0.9 ms later. For benches and the tests of scale. The frames follow PROTOCOL.md 3.17 and 10 [observed].
     pub fn fill_synthetic(&mut self, n: u64) {
         const MOVING_2A1: &str =
             "#992A10100000F1C000000000493E01C000000FFFDB6101C00000000004E201C000000";
@@ -186,9 +188,9 @@ impl FrameLog {
         let status = framed("#992151000000000006000");
         let start = self
             .row(self.end().wrapping_sub(1))
-            .map_or(0, |r| r.t_ns() + 1);
+            .map_or(0, |r| r.t_ns().saturating_add(1));
         for i in 0..n / 2 {
-            let t = start + i * 2_000_000;
+            let t = start.saturating_add(i.saturating_mul(2_000_000));
             let which = (i % 4) as usize;
             self.push_sent(&queries[which], t);
             let reply = if i % 1000 == 999 {
@@ -198,7 +200,7 @@ impl FrameLog {
             } else {
                 framed(&format!("{MOVING_2A1}{:08X}", (i as u32).wrapping_mul(37)))
             };
-            self.push_received(&reply, t + 900_000);
+            self.push_received(&reply, t.saturating_add(900_000));
         }
     }
 

@@ -7,7 +7,7 @@
 //! the bytes that were on the line.
 //!
 //! A packed frame may be stored as a delta instead: the same length as an earlier packed
-//! frame in the chunk (its reference), with one span changed. Polling replies differ from
+//! frame in the chunk (its reference), with the runs of bytes that changed. Polling replies differ from
 //! the last one only where a position moved, so they take a tenth of the room.
 
 use std::borrow::Cow;
@@ -45,7 +45,8 @@ const DIGIT_PAIRS: [[u8; 2]; 256] = {
 const STACK_FORM: usize = 256;
 
 /// Appends the packed form of `bytes` to `out` and returns true, or leaves `out` as it was
-/// and returns false when the bytes are not a packable frame (or would not get smaller).
+/// and returns false when the bytes are not a packable frame (or have fewer than two
+/// digits: nothing worth packing).
 pub fn pack_into(bytes: &[u8], out: &mut Vec<u8>) -> bool {
     let Some(body) = bytes.strip_suffix(b"\r\n") else {
         return false;
@@ -60,7 +61,6 @@ pub fn pack_into(bytes: &[u8], out: &mut Vec<u8>) -> bool {
         Some(d) => (d, true),
         None => (&body[1..], false),
     };
-    // Smaller only from two digits up (the tag byte replaces header, CR and LF).
     if digits.len() < 2 || !digits.iter().all(|&b| nibble(b).is_some()) {
         return false;
     }
@@ -130,6 +130,11 @@ pub fn delta_against(buf: &mut Vec<u8>, start: usize, reference: usize) -> bool 
     buf.truncate(start);
     buf.extend_from_slice(&form);
     true
+}
+
+/// Whether the stored form at `buf[at]` is the packed form `form`.
+pub fn packed_form_is(buf: &[u8], at: Range<usize>, form: &[u8]) -> bool {
+    with_packed_form(buf, at, |f| f == form)
 }
 
 /// Calls `f` with the packed form of the stored form at `buf[at]`: itself, or rebuilt

@@ -1,4 +1,5 @@
-//! One row of the frame log: the compact stored form and the view handed to readers.
+//! One row of the frame log as handed to readers (its kind, verdict, bytes and note),
+//! read from the stored entry (`entry.rs`).
 
 use std::borrow::Cow;
 

@@ -175,6 +175,45 @@ fn jsonl_keeps_exact_bytes_and_times_and_text_is_readable() {
         e.starts_with("line 2: a row longer than any on the line"),
         "{e}"
     );
+    let head = "{\"xsel_pendant_frame_log\":1,\"start_unix_us\":0}\n";
+    let signed = format!("{head}{{\"t_ns\":0,\"dir\":\"sent\",\"hex\":\"+1+2\"}}\n");
+    assert_eq!(
+        read_jsonl(signed.as_bytes(), 10).unwrap_err(),
+        "line 2: bad hex bytes"
+    );
+    let later = "{\"xsel_pendant_frame_log\":2,\"start_unix_us\":0}\n";
+    let e = read_jsonl(later.as_bytes(), 10).unwrap_err();
+    assert!(e.contains("format 2"), "{e}");
+}
+
+#[test]
+fn raw_bytes_equal_to_a_packed_form_read_back_as_themselves() {
+    // A raw row whose bytes happen to be the packed form of an earlier frame (stored as a
+    // delta) must not share that frame's storage.
+    let reply = |pos: &str| {
+        framed(&format!(
+            "#992A10100000F1C000000000493E01C000000FFFDB6101C00000000004E201C000000{pos}"
+        ))
+    };
+    let mut log = FrameLog::new(100);
+    log.push_received(&reply("0000AFC8"), 0);
+    log.push_received(&reply("0000AFD0"), 1);
+    let mut packed_second = Vec::new();
+    assert!(packed::pack_into(&reply("0000AFD0"), &mut packed_second));
+    log.push_sent(&packed_second, 2);
+    log.push_garbage(&packed_second, "", 3);
+    for (seq, want) in [
+        (0, reply("0000AFC8")),
+        (1, reply("0000AFD0")),
+        (2, packed_second.clone()),
+        (3, packed_second.clone()),
+    ] {
+        assert_eq!(
+            log.row(seq).unwrap().bytes().as_ref(),
+            want.as_slice(),
+            "row {seq}"
+        );
+    }
 }
 
 #[test]
