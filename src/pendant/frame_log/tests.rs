@@ -310,3 +310,96 @@ fn a_million_polling_rows_take_about_twenty_megabytes() {
     assert_eq!(last.verdict(), Verdict::Ok);
     assert_eq!(&last.bytes()[..6], b"#992A1");
 }
+
+/// A row as pushed, for the model the store is checked against.
+#[derive(Clone, Debug)]
+enum Pushed {
+    Sent(Vec<u8>),
+    Received(Vec<u8>),
+    Garbage(Vec<u8>, String),
+    Timeout(String),
+}
+
+/// Frames and near-frames: the same few replies with a byte changed here and there
+/// (packed, shared and delta forms), lower case, `@@`, no CR LF, and raw bytes.
+fn pushed_row() -> impl proptest::strategy::Strategy<Value = Pushed> {
+    use proptest::prelude::*;
+    let base = prop_oneof![
+        Just(framed("#992A10100000F1C000000000493E01C0000000000AFC8")),
+        Just(framed("#9921510000000000060")),
+        Just(framed("!992A10F0")),
+        Just(b"!99212@@\r\n".to_vec()),
+        Just(b"#992a1000\r\n".to_vec()),
+        Just(b"&99C1F00\r\n".to_vec()),
+        proptest::collection::vec(any::<u8>(), 0..24),
+    ];
+    const SUBSTITUTES: &[u8] = b"0123456789ABCDEFa@\r";
+    let edits = proptest::collection::vec(
+        (any::<prop::sample::Index>(), any::<prop::sample::Index>()),
+        0..3,
+    );
+    let edited = (base, edits).prop_map(|(mut bytes, edits)| {
+        for (at, with) in edits {
+            if !bytes.is_empty() {
+                let i = at.index(bytes.len());
+                bytes[i] = SUBSTITUTES[with.index(SUBSTITUTES.len())];
+            }
+        }
+        bytes
+    });
+    (edited, 0u8..8, "[a-zé ]{0,12}").prop_map(|(bytes, kind, note)| match kind {
+        0..=2 => Pushed::Sent(bytes),
+        3..=5 => Pushed::Received(bytes),
+        6 => Pushed::Garbage(bytes, note),
+        _ => Pushed::Timeout(note),
+    })
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(48))]
+
+    #[test]
+    fn every_row_reads_back_as_pushed_across_chunk_boundaries(
+        filler in 0usize..2 * CHUNK,
+        rows in proptest::collection::vec(pushed_row(), 1..400),
+    ) {
+        let mut log = FrameLog::new(DEFAULT_CAP);
+        let filler_row = framed("!992A10F0");
+        for i in 0..filler {
+            log.push_sent(&filler_row, i as u64);
+        }
+        for (i, row) in rows.iter().enumerate() {
+            let t = (filler + i) as u64;
+            match row {
+                Pushed::Sent(b) => log.push_sent(b, t),
+                Pushed::Received(b) => log.push_received(b, t),
+                Pushed::Garbage(b, note) => log.push_garbage(b, note, t),
+                Pushed::Timeout(note) => log.push_timeout(note, t),
+            }
+        }
+        let snapshot = log.snapshot();
+        for (i, row) in rows.iter().enumerate() {
+            let seq = (filler + i) as u64;
+            let (dir, bytes, note): (Dir, &[u8], &str) = match row {
+                Pushed::Sent(b) => (Dir::Sent, b, ""),
+                Pushed::Received(b) => (Dir::Received, b, ""),
+                Pushed::Garbage(b, n) => (Dir::Garbage, b, n),
+                Pushed::Timeout(n) => (Dir::Timeout, b"", n),
+            };
+            for r in [log.row(seq).unwrap(), snapshot.row(seq).unwrap()] {
+                proptest::prop_assert_eq!(r.dir(), dir, "row {}", i);
+                let read = r.bytes();
+                proptest::prop_assert_eq!(read.as_ref(), bytes, "row {}", i);
+                proptest::prop_assert_eq!(r.note(), note, "row {}", i);
+                proptest::prop_assert_eq!(r.t_ns(), seq);
+                let mut written = Vec::new();
+                r.write_bytes(&mut written);
+                proptest::prop_assert_eq!(written.as_slice(), bytes);
+                proptest::prop_assert_eq!(
+                    r.is_error_reply(),
+                    dir == Dir::Received && bytes.first() == Some(&b'&')
+                );
+            }
+        }
+    }
+}
