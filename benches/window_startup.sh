@@ -9,11 +9,13 @@
 #                                            (default 10): VmRSS and CPU time each minute
 #
 # Needs xvfb-run (xvfb, xauth). Builds target/release/xsel-pendant when it is missing.
+# XSEL_PENDANT_ARGS adds flags to the app's command line (e.g. "--renderer wgpu").
 # The app's probe (XSEL_PENDANT_FIRST_FRAME, XSEL_PENDANT_EXIT_AFTER_FIRST_FRAME) is
 # described in src/ui/app.rs, `first_frame_probe`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BIN=${XSEL_PENDANT_BIN:-target/release/xsel-pendant}
+read -r -a APP_ARGS <<<"${XSEL_PENDANT_ARGS:-}"
 
 if [ -z "${WINDOW_STARTUP_IN_XVFB:-}" ]; then
     [ -x "$BIN" ] || cargo build --release --bin xsel-pendant
@@ -46,7 +48,7 @@ startup() {
         data=$(mktemp -d "$tmp/data.XXXX")
         t0=$(now_us)
         XDG_DATA_HOME=$data XSEL_PENDANT_FIRST_FRAME=1 XSEL_PENDANT_EXIT_AFTER_FIRST_FRAME=1 \
-            timeout 60 "$BIN" >/dev/null 2>"$data/stderr" || {
+            timeout 60 "$BIN" "${APP_ARGS[@]}" >/dev/null 2>"$data/stderr" || {
             echo "run $i failed:" >&2; cat "$data/stderr" >&2; exit 1; }
         t1=$(now_us)
         ff=$(sed -n 's/^first frame unix_us=\([0-9]*\) app_us=\([0-9]*\).*/\1 \2/p' "$data/stderr" | head -n1)
@@ -66,7 +68,7 @@ startup() {
 rss() {
     local minutes=${1:-10} data pid m deadline ticks
     data=$(mktemp -d "$tmp/data.XXXX")
-    XDG_DATA_HOME=$data XSEL_PENDANT_FIRST_FRAME=1 "$BIN" >/dev/null 2>"$data/stderr" &
+    XDG_DATA_HOME=$data XSEL_PENDANT_FIRST_FRAME=1 "$BIN" "${APP_ARGS[@]}" >/dev/null 2>"$data/stderr" &
     pid=$!
     deadline=$(( $(now_us) + 60000000 ))
     until grep -q '^first frame' "$data/stderr"; do
@@ -75,7 +77,7 @@ rss() {
         sleep 0.05
     done
     ticks=$(getconf CLK_TCK)
-    echo "idle window under Xvfb, $minutes minutes, $(nproc) cores (pid $pid)"
+    echo "idle window under Xvfb, $minutes minutes, $(nproc) cores (pid $pid) ${APP_ARGS[*]}"
     echo "minute  VmRSS(kB)  VmHWM(kB)  CPU(s)"
     for m in $(seq 0 "$minutes"); do
         [ "$m" -eq 0 ] || sleep 60
