@@ -113,7 +113,7 @@ impl Matcher {
                 return true;
             }
         }
-        if row.is_error_reply() && contains(b"error reply", n) {
+        if contains(b"error reply", n) && row.is_error_reply() {
             return true;
         }
         self.filter.decoded && row.dir() != Dir::Timeout && self.decoded_matches(row)

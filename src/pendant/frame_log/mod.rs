@@ -306,12 +306,7 @@ impl FrameLog {
     pub fn row(&self, seq: u64) -> Option<Row<'_>> {
         let (chunk, o) = self.locate(seq)?;
         let e = &chunk.entries[o];
-        let request_t = e
-            .answers_previous()
-            .then(|| self.entry(seq - 1))
-            .flatten()
-            .map(Entry::t_ns);
-        Some(Row::new(seq, e, &chunk.bytes, request_t))
+        Some(Row::new(seq, e, &chunk.bytes, || self.entry(seq - 1)))
     }
 
     /// The `index`-th row kept (0 = oldest).
@@ -409,12 +404,7 @@ impl Snapshot {
         let i = (seq - self.base) as usize;
         let chunk = self.chunks.get(i / CHUNK)?;
         let e = chunk.entries.get(i % CHUNK)?;
-        let request_t = e
-            .answers_previous()
-            .then(|| self.entry(seq - 1))
-            .flatten()
-            .map(Entry::t_ns);
-        Some(Row::new(seq, e, &chunk.bytes, request_t))
+        Some(Row::new(seq, e, &chunk.bytes, || self.entry(seq - 1)))
     }
 }
 

@@ -143,7 +143,19 @@ pub struct Row<'a> {
 }
 
 impl<'a> Row<'a> {
-    pub(super) fn new(seq: u64, entry: &'a Entry, buf: &'a [u8], request_t: Option<u64>) -> Self {
+    /// The row `entry` with its bytes in `buf`; `previous` finds the row before it, looked
+    /// up only when this row answers it (for the latency).
+    pub(super) fn new(
+        seq: u64,
+        entry: &'a Entry,
+        buf: &'a [u8],
+        previous: impl FnOnce() -> Option<&'a Entry>,
+    ) -> Self {
+        let request_t = entry
+            .answers_previous()
+            .then(previous)
+            .flatten()
+            .map(Entry::t_ns);
         Row {
             seq,
             entry,
