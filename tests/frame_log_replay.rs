@@ -9,10 +9,8 @@ use xsel_pendant::pendant::frame_log::{Dir, FrameLog};
 use xsel_pendant::robot::RobotModel;
 use xsel_pendant::sim::{Controller, SimSetup};
 
-fn framed(body: &str) -> Vec<u8> {
-    let sc = body.bytes().fold(0u8, |s, b| s.wrapping_add(b));
-    format!("{body}{sc:02X}\r\n").into_bytes()
-}
+mod wire;
+use wire::frame as framed;
 
 /// A capture made against one simulator: servo on, home, status reads, a step.
 fn capture() -> FrameLog {

@@ -6,10 +6,8 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use xsel_pendant::ui::{PendantApp, StartOptions};
 
-fn framed(body: &str) -> Vec<u8> {
-    let sc = body.bytes().fold(0u8, |s, b| s.wrapping_add(b));
-    format!("{body}{sc:02X}\r\n").into_bytes()
-}
+mod wire;
+use wire::frame as framed;
 
 #[test]
 fn frame_log_pane() {

@@ -14,7 +14,10 @@ use xsel_pendant::sim::{Fault, FaultSpec};
 use xsel_pendant::ui::{PendantApp, StartOptions};
 
 mod kittest_common;
-use kittest_common::{DEADLINE, click, replace_text, step_until, type_into};
+use kittest_common::{click, replace_text, step_until, step_until_shown, type_into};
+
+mod wire;
+use wire::frame as framed;
 
 fn app<'a>() -> Harness<'a, PendantApp> {
     // Tall enough that the frame log, under the arm view by default, shows its tools and
@@ -22,11 +25,6 @@ fn app<'a>() -> Harness<'a, PendantApp> {
     Harness::builder()
         .with_size([1280.0, 1500.0])
         .build_eframe(|cc| PendantApp::new(cc, StartOptions::fresh_simulator()))
-}
-
-fn framed(body: &str) -> Vec<u8> {
-    let sc = body.bytes().fold(0u8, |s, b| s.wrapping_add(b));
-    format!("{body}{sc:02X}\r\n").into_bytes()
 }
 
 /// Whether some widget's label contains `text`.
@@ -270,13 +268,7 @@ fn filter_pause_save_open_and_raw_send_through_the_window() {
     h.step();
     replace_text(&mut h, "File", &path.display().to_string());
     click(&mut h, "Save JSONL");
-    let mut saved = false;
-    let end = Instant::now() + DEADLINE;
-    while !saved && Instant::now() < end {
-        h.step();
-        saved = shows(&h, "saved");
-    }
-    assert!(saved, "no 'saved' message");
+    step_until_shown(&mut h, "saved");
     let text = std::fs::read_to_string(&path).unwrap();
     assert_eq!(text.lines().count(), shown + 1, "{text}");
     let hex: String = framed("!99201000")
@@ -285,13 +277,7 @@ fn filter_pause_save_open_and_raw_send_through_the_window() {
         .collect();
     assert!(text.contains(&hex), "{text}");
     click(&mut h, "Open JSONL");
-    let mut opened = false;
-    let end = Instant::now() + DEADLINE;
-    while !opened && Instant::now() < end {
-        h.step();
-        opened = shows(&h, "(read-only)");
-    }
-    assert!(opened, "the file did not open");
+    step_until_shown(&mut h, "(read-only)");
     click(&mut h, "Back to live");
     assert!(shows(&h, "Live"));
     std::fs::remove_dir_all(&dir).ok();

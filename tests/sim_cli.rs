@@ -71,11 +71,21 @@ fn ask(peer: &mut TcpStream) -> Result<String, String> {
     Ok(got.escape_ascii().to_string())
 }
 
-#[test]
-fn closed_stdout_and_stderr_leave_it_serving_with_logging_off() {
+/// `xsel-sim` serving TCP on a free port, with its output read line by line and one
+/// client connected.
+struct Served {
+    sim: std::process::Child,
+    out: std::sync::mpsc::Receiver<String>,
+    err: std::sync::mpsc::Receiver<String>,
+    peer: TcpStream,
+    addr: String,
+}
+
+fn serve_tcp(flags: &[&str], stdin: Stdio) -> Served {
     let mut sim = Command::new(SIM)
         .args(["--tcp", "127.0.0.1:0"])
-        .stdin(Stdio::null())
+        .args(flags)
+        .stdin(stdin)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
@@ -83,9 +93,27 @@ fn closed_stdout_and_stderr_leave_it_serving_with_logging_off() {
     let out = lines_of(sim.stdout.take().expect("stdout"));
     let err = lines_of(sim.stderr.take().expect("stderr"));
     let addr = out.recv_timeout(Duration::from_secs(20)).expect("address");
-    let mut peer = TcpStream::connect(&addr).expect("connects");
+    let peer = TcpStream::connect(&addr).expect("connects");
     peer.set_read_timeout(Some(Duration::from_millis(200)))
         .expect("timeout");
+    Served {
+        sim,
+        out,
+        err,
+        peer,
+        addr,
+    }
+}
+
+#[test]
+fn closed_stdout_and_stderr_leave_it_serving_with_logging_off() {
+    let Served {
+        mut sim,
+        out,
+        err,
+        mut peer,
+        ..
+    } = serve_tcp(&[], Stdio::null());
     let first = ask(&mut peer);
     assert!(
         first.as_ref().is_ok_and(|r| r.starts_with("#99215")),
@@ -131,20 +159,14 @@ fn send(peer: &mut TcpStream, body: &str) -> String {
 
 #[test]
 fn the_operator_console_and_start_flags_set_e_stop_mode_and_alarms() {
-    let mut sim = Command::new(SIM)
-        .args(["--tcp", "127.0.0.1:0", "--estop", "--servo-on-ms", "5"])
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("starts");
+    let Served {
+        mut sim,
+        out,
+        err,
+        mut peer,
+        addr,
+    } = serve_tcp(&["--estop", "--servo-on-ms", "5"], Stdio::piped());
     let mut console = sim.stdin.take().expect("stdin");
-    let out = lines_of(sim.stdout.take().expect("stdout"));
-    let err = lines_of(sim.stderr.take().expect("stderr"));
-    let addr = out.recv_timeout(Duration::from_secs(20)).expect("address");
-    let mut peer = TcpStream::connect(&addr).expect("connects");
-    peer.set_read_timeout(Some(Duration::from_millis(200)))
-        .expect("timeout");
     // Started with the E-stop pressed: servo on is refused (B04).
     assert!(send(&mut peer, "!992320F1").starts_with("&99B04"));
     let mut type_line = |line: &str, want: &str| {

@@ -1,6 +1,6 @@
 #![cfg(unix)]
 //! Conformance of the simulated controller over a real pseudo-terminal, driven by an
-//! independent client: frames are built here by hand with this file's own checksum, not
+//! independent client: frames are built by hand with the checksum of `tests/wire`, not
 //! with the project's protocol encoder, so the two implementations check each other.
 
 use std::io::{Read, Write};
@@ -10,17 +10,8 @@ use serialport::TTYPort;
 use xsel_pendant::sim::runner::{PtyServer, RunOptions, SimCore, start_pty};
 use xsel_pendant::sim::{Controller, FaultSpec, Mode, SimSetup};
 
-/// PROTOCOL.md 1.4, written again here: low byte of the byte sum, two upper-case digits.
-fn sc(body: &str) -> String {
-    format!(
-        "{:02X}",
-        body.bytes().fold(0u32, |s, b| s + u32::from(b)) & 0xFF
-    )
-}
-
-fn frame(body: &str) -> Vec<u8> {
-    format!("{body}{}\r\n", sc(body)).into_bytes()
-}
+mod wire;
+use wire::{frame, sc};
 
 struct Client {
     port: TTYPort,

@@ -11,10 +11,8 @@ use xsel_pendant::sim::framing::Silence;
 use xsel_pendant::sim::runner::{Dir, format_entry};
 use xsel_pendant::sim::{EmbeddedOptions, Fault, FaultSpec, Mode, start_embedded};
 
-fn frame(body: &str) -> Vec<u8> {
-    let sc = body.bytes().fold(0u8, |s, b| s.wrapping_add(b));
-    format!("{body}{sc:02X}\r\n").into_bytes()
-}
+mod wire;
+use wire::frame;
 
 /// Generous: a deadline only bounds how long a failing test waits.
 const PATIENCE: Duration = Duration::from_secs(5);

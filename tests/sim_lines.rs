@@ -12,18 +12,10 @@ use xsel_pendant::line::byte_time_8n1;
 use xsel_pendant::sim::runner::{RunOptions, SimCore, start_tcp};
 use xsel_pendant::sim::{Controller, FaultSpec, SimSetup};
 
+mod wire;
+use wire::{frame, sc};
+
 const FRAMES: usize = 10_000;
-
-fn sc(body: &str) -> String {
-    format!(
-        "{:02X}",
-        body.bytes().fold(0u32, |s, b| s + u32::from(b)) & 0xFF
-    )
-}
-
-fn frame(body: &str) -> Vec<u8> {
-    format!("{body}{}\r\n", sc(body)).into_bytes()
-}
 
 /// 200H test call carrying `i` as 5 digits: the reply echoes it, so order is checked.
 fn numbered(i: usize) -> Vec<u8> {

@@ -8,12 +8,8 @@ use xsel_pendant::protocol::{Frame, Reply};
 use xsel_pendant::sim::faults::SplitMix64;
 use xsel_pendant::sim::{Controller, Mode, SimSetup};
 
-fn sc(body: &str) -> String {
-    format!(
-        "{:02X}",
-        body.bytes().fold(0u32, |s, b| s + u32::from(b)) & 0xFF
-    )
-}
+mod wire;
+use wire::sc;
 
 fn pick<'a>(rng: &mut SplitMix64, items: &[&'a str]) -> &'a str {
     items[rng.range(0, items.len())]

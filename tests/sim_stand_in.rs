@@ -1,23 +1,14 @@
 //! The simulator as a stand-in for a real controller (sans-IO part): relative and
 //! absolute moves go the way and distance they name, jog before homing, servo-on time,
-//! 216H after a refusal, and the habits of third-party host code. Frames are built here
-//! by hand with this file's own checksum.
+//! 216H after a refusal, and the habits of third-party host code. Frames are built
+//! by hand with the checksum of `tests/wire`.
 
 use std::time::Duration;
 
 use xsel_pendant::sim::{Controller, SimSetup};
 
-/// PROTOCOL.md 1.4, written again here: low byte of the byte sum, two upper-case digits.
-fn sc(body: &str) -> String {
-    format!(
-        "{:02X}",
-        body.bytes().fold(0u32, |s, b| s + u32::from(b)) & 0xFF
-    )
-}
-
-fn frame(body: &str) -> Vec<u8> {
-    format!("{body}{}\r\n", sc(body)).into_bytes()
-}
+mod wire;
+use wire::{frame, sc};
 
 fn i32hex(v: i32) -> String {
     format!("{:08X}", v as u32)

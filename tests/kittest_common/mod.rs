@@ -34,6 +34,19 @@ pub fn step_until(h: &mut Harness<'_, PendantApp>, what: &str, done: impl Fn(&Pe
     h.step();
 }
 
+/// Steps the window until some widget's label contains `text`, or fails after the
+/// deadline.
+pub fn step_until_shown(h: &mut Harness<'_, PendantApp>, text: &str) {
+    let end = Instant::now() + DEADLINE;
+    while h.query_all_by_label_contains(text).next().is_none() {
+        assert!(
+            Instant::now() < end,
+            "timed out waiting for '{text}' in the window"
+        );
+        h.step();
+    }
+}
+
 /// Clicks the button with this label, then lets the layout settle (two frames).
 pub fn click(h: &mut Harness<'_, PendantApp>, label: &str) {
     h.get_by_role_and_label(egui::accesskit::Role::Button, label)
