@@ -575,3 +575,55 @@ pub fn continuous_jog(settings: &JogSettings, axis: JogAxis, dir: Direction) -> 
         motion,
     })
 }
+
+/// A jog as the operator's hand means it: the direction in the world, not the sign.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PhysicalJog {
+    XPlus,
+    XMinus,
+    YPlus,
+    YMinus,
+    /// Raise the tool.
+    ZUp,
+    /// Lower the tool.
+    ZDown,
+    /// R counter-clockwise seen from above (R+: angles count counter-clockwise).
+    RCcw,
+    RCw,
+}
+
+impl PhysicalJog {
+    pub fn name(self) -> &'static str {
+        match self {
+            PhysicalJog::XPlus => "X+",
+            PhysicalJog::XMinus => "X-",
+            PhysicalJog::YPlus => "Y+",
+            PhysicalJog::YMinus => "Y-",
+            PhysicalJog::ZUp => "Z up",
+            PhysicalJog::ZDown => "Z down",
+            PhysicalJog::RCcw => "R ccw",
+            PhysicalJog::RCw => "R cw",
+        }
+    }
+
+    /// The axis and sign sent for this motion on `model`.
+    pub fn target(self, model: &RobotModel) -> super::hold::JogTarget {
+        use Direction::{Negative, Positive};
+        let (up, down) = if model.z_counts_down {
+            (Negative, Positive)
+        } else {
+            (Positive, Negative)
+        };
+        let (axis, direction) = match self {
+            PhysicalJog::XPlus => (JogAxis::X, Positive),
+            PhysicalJog::XMinus => (JogAxis::X, Negative),
+            PhysicalJog::YPlus => (JogAxis::Y, Positive),
+            PhysicalJog::YMinus => (JogAxis::Y, Negative),
+            PhysicalJog::ZUp => (JogAxis::Z, up),
+            PhysicalJog::ZDown => (JogAxis::Z, down),
+            PhysicalJog::RCcw => (JogAxis::R, Positive),
+            PhysicalJog::RCw => (JogAxis::R, Negative),
+        };
+        super::hold::JogTarget::new(axis, direction)
+    }
+}

@@ -6,16 +6,20 @@
 pub mod connection;
 pub mod coords;
 pub mod frame_log;
+pub mod hold;
+mod intent;
 pub mod jog;
 mod moving;
 mod raw_send;
 pub mod readiness;
 pub mod script;
+pub mod speed_cap;
 pub mod state;
 pub mod target;
 pub mod teach;
 pub mod teach_file;
 mod teach_json;
+mod transitions;
 
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
@@ -27,9 +31,11 @@ use crate::link::health::LinkHealth;
 use crate::protocol::{AxisPattern, Command, CoordKind, Direction, Home, MmPerSec, Reply, Servo};
 use crate::robot::{Joints, RobotModel, Scara};
 pub use connection::{ConnectionSettings, LineKind, LineState, ParityChoice};
+pub use hold::{HeldJog, JogInput, JogTarget, Press, StopCause};
+pub use intent::Intent;
 pub use jog::{
-    ArmChoice, Interpolation, JogAxis, JogMode, JogSettings, PlannedStep, Refusal, StepBase,
-    StepFrame,
+    ArmChoice, Interpolation, JogAxis, JogMode, JogSettings, PhysicalJog, PlannedStep, Refusal,
+    StepBase, StepFrame,
 };
 pub use readiness::NotReady;
 pub use state::ControllerState;
@@ -107,22 +113,6 @@ pub enum MotionPhase {
     Stopped,
 }
 
-/// What holds a continuous jog: a button under the pointer, or a key.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum HoldSource {
-    Pointer,
-    Key,
-}
-
-/// A continuous jog in progress.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct HeldJog {
-    pub axis: JogAxis,
-    pub direction: Direction,
-    pub source: HoldSource,
-    pub since: Instant,
-}
-
 /// A move the pendant sent and follows.
 #[derive(Clone, Debug)]
 struct Followed {
@@ -147,7 +137,11 @@ pub struct Pendant {
     pub frame_log: frame_log::FrameLog,
     /// The last word on a jog button: the refusal or the controller's answer.
     pub jog_feedback: Option<Message>,
-    held: Option<HeldJog>,
+    /// Hold-to-run: the jog inputs down, the jog they drive, the STOP latch.
+    hold: hold::HoldMachine,
+    /// The jog speed cap at the tool, mm/s (not saved: a restart brings back the
+    /// reduced speed).
+    speed_cap_mm_s: f64,
     followed: Option<Followed>,
     /// End of the last accepted move (joints): the "command position".
     command_position: Option<Joints>,
@@ -174,7 +168,8 @@ impl Pendant {
             messages: VecDeque::new(),
             frame_log: frame_log::FrameLog::new(log_cap),
             jog_feedback: None,
-            held: None,
+            hold: hold::HoldMachine::default(),
+            speed_cap_mm_s: speed_cap::REDUCED_SPEED_MM_S,
             followed: None,
             command_position: None,
             confirm: None,
@@ -198,6 +193,11 @@ impl Pendant {
 
     pub fn kinematics(&self) -> &Scara {
         &self.kin
+    }
+
+    /// The axis and sign a physical jog sends on this robot (PgUp raises the tool).
+    pub fn physical_jog(&self, jog: PhysicalJog) -> JogTarget {
+        jog.target(&self.model)
     }
 
     /// The requests collected since the last call, in order.
@@ -256,7 +256,9 @@ impl Pendant {
     fn line_gone(&mut self, _now: Instant) {
         self.controller.line_lost();
         self.coords.line_gone();
-        self.held = None;
+        if self.hold.stop(StopCause::LineLost).is_some() {
+            self.say(Level::Error, "the line went down during a jog", _now);
+        }
         self.followed = None;
         self.command_position = None;
     }
@@ -266,6 +268,7 @@ impl Pendant {
     /// Applies one event from the link.
     pub fn handle_event(&mut self, now: Instant, event: LinkEvent) {
         self.log_traffic(now, &event);
+        self.link_stop(now, &event);
         match event {
             LinkEvent::Connected { line } | LinkEvent::Reconnected { line } => {
                 self.say(Level::Info, format!("connected: {line}"), now);
@@ -291,8 +294,7 @@ impl Pendant {
                     name(&command)
                 );
                 if is_move(&command) {
-                    self.followed = None;
-                    self.held = None;
+                    self.motion_refused();
                     self.jog_says(Level::Error, text, now);
                 } else {
                     self.say(Level::Error, text, now);
@@ -316,8 +318,7 @@ impl Pendant {
             } => {
                 let text = format!("{} ({}) not sent: {reason}", command.id(), name(&command));
                 if is_move(&command) {
-                    self.followed = None;
-                    self.held = None;
+                    self.motion_refused();
                     self.jog_says(Level::Error, text, now);
                 } else {
                     self.say(Level::Warning, text, now);
@@ -377,9 +378,21 @@ impl Pendant {
     fn reply(&mut self, now: Instant, command: Command, reply: Reply) {
         match reply {
             Reply::SystemStatus(s) => {
+                let old = self.controller.system.as_ref().map(|o| &o.value);
+                for (level, text) in transitions::system(old, &s) {
+                    self.say(level, text, now);
+                }
                 self.controller.system = Some(state::Stamped { value: s, at: now });
             }
-            Reply::ScaraStatus(s) => self.controller.scara_status(s, now),
+            Reply::ScaraStatus(s) => {
+                if s.common.system == crate::protocol::PositionSystem::Work {
+                    let old = self.controller.work.as_ref().map(|o| &o.value.axes);
+                    for (level, text) in transitions::axes(old, &s.axes) {
+                        self.say(level, text, now);
+                    }
+                }
+                self.controller.scara_status(s, now);
+            }
             Reply::Version(v) => self.controller.version = Some(v),
             Reply::Ack(_) => match command {
                 Command::ScaraMoveRelative(_) | Command::ScaraMoveAbsolute(_) => {
@@ -469,15 +482,69 @@ impl Pendant {
 
     // ---- STOP ----
 
-    /// STOP: 238H at the head of the queue. Always allowed, whatever the state.
+    /// STOP from the STOP button: 238H at the head of the queue. Always allowed.
     pub fn stop(&mut self, now: Instant) {
+        self.stop_by(StopCause::Button, now);
+    }
+
+    /// STOP, saying who sent it: 238H at the head of the queue, whatever the state; the
+    /// latch holds while any jog control is still down.
+    pub fn stop_by(&mut self, cause: StopCause, now: Instant) {
+        // Motion asked for earlier this frame has not gone out: it never will.
+        self.requests
+            .retain(|r| !matches!(r, Request::Submit(c) if is_move(c)));
         self.requests.push(Request::Stop);
-        self.held = None;
+        self.hold.stop(cause);
         self.confirm = None;
         if let Some(f) = self.followed.as_mut() {
             f.stopped = true;
         }
-        self.jog_says(Level::Info, "STOP sent", now);
+        self.jog_says(Level::Info, format!("STOP sent ({})", cause.name()), now);
+    }
+
+    /// A move or jog the controller (or the link) refused: the jog ends, latched.
+    fn motion_refused(&mut self) {
+        self.followed = None;
+        self.hold.stop(StopCause::Refused);
+    }
+
+    /// The link's own STOPs (lapsed lease, stalled line) reach Messages and latch.
+    fn link_stop(&mut self, now: Instant, event: &LinkEvent) {
+        let origin = match event {
+            LinkEvent::Reply {
+                origin, command, ..
+            }
+            | LinkEvent::ErrorReply {
+                origin, command, ..
+            } if command.is_stop() => *origin,
+            _ => return,
+        };
+        let cause = match origin {
+            crate::link::Origin::LeaseLapsed => StopCause::LeaseLapsed,
+            crate::link::Origin::SafetyStop => StopCause::LinkSafety,
+            _ => return,
+        };
+        self.hold.stop(cause);
+        if let Some(f) = self.followed.as_mut() {
+            f.stopped = true;
+        }
+        self.command_position = None;
+        self.jog_says(
+            Level::Warning,
+            format!("STOP sent by the link: {}", cause.name()),
+            now,
+        );
+    }
+
+    /// Once a frame: a jog held while the controller leaves the state that allows motion
+    /// is stopped (and latched).
+    pub fn tick(&mut self, now: Instant) {
+        if self.hold.jog().is_none() {
+            return;
+        }
+        if let Err(why) = self.motion_ready(now) {
+            self.stop_by(StopCause::NotReady(why), now);
+        }
     }
 }
 
@@ -499,5 +566,7 @@ fn name(command: &Command) -> &'static str {
     command.id().name().unwrap_or("command")
 }
 
+#[cfg(test)]
+mod hold_tests;
 #[cfg(test)]
 mod tests;

@@ -3,8 +3,9 @@
 
 use std::time::Instant;
 
-use super::jog::{self, JogAxis, PlannedStep, Refusal};
-use super::{CONFIRM_FOR, Followed, HeldJog, HoldSource, Level, MotionPhase, Pendant, Request};
+use super::hold::{HeldJog, HoldAction, JogInput, JogTarget, Press, StopCause};
+use super::jog::{self, JogAxis, JogMode, JogSettings, PlannedStep, Refusal};
+use super::{CONFIRM_FOR, Followed, Level, MotionPhase, Pendant, Request, speed_cap};
 use crate::protocol::Direction;
 use crate::robot::{Move, in_position};
 
@@ -39,7 +40,7 @@ impl Pendant {
         now: Instant,
     ) -> Result<PlannedStep, Refusal> {
         let arm = self.arm_now(now)?;
-        jog::plan_step(&self.model, &self.kin, &self.settings.jog, axis, dir, &arm)
+        jog::plan_step(&self.model, &self.kin, &self.jog_sent(), axis, dir, &arm)
     }
 
     /// Whether a move may go out now: the controller ready for motion and no earlier move
@@ -76,7 +77,7 @@ impl Pendant {
         }
         let plan = self
             .arm_now(now)
-            .and_then(|arm| jog::plan_go(&self.model, &self.kin, &self.settings.jog, &point, &arm));
+            .and_then(|arm| jog::plan_go(&self.model, &self.kin, &self.jog_sent(), &point, &arm));
         match plan {
             Ok(plan) => {
                 self.requests.push(Request::Submit(plan.command));
@@ -169,49 +170,130 @@ impl Pendant {
         });
     }
 
-    /// A jog button pressed in continuous mode: 236H until released.
-    pub fn jog_press(&mut self, axis: JogAxis, dir: Direction, source: HoldSource, now: Instant) {
-        if let Err(why) = self.motion_ready(now) {
-            return self.jog_says(Level::Warning, format!("not sent: {why}"), now);
+    /// One jog input's state this frame (the hold-to-run machine decides what it means).
+    pub(super) fn jog_input(&mut self, input: JogInput, press: Press, now: Instant) {
+        match self.hold.report(input, press) {
+            HoldAction::None => {}
+            HoldAction::Press(target) => match self.settings.jog.mode {
+                JogMode::Step => self.jog_step(target.axis, target.direction, now),
+                JogMode::Continuous => self.jog_press(input, target, now),
+            },
+            HoldAction::Renew => self.requests.push(Request::RenewJogLease),
+            HoldAction::Release => {
+                self.requests.push(Request::Stop);
+                self.jog_says(Level::Info, "jog released: STOP sent", now);
+            }
+            HoldAction::Latched(target) => self.jog_says(
+                Level::Warning,
+                format!(
+                    "{} not sent: STOP is latched until every jog control is released",
+                    target.label()
+                ),
+                now,
+            ),
         }
-        self.requests.push(Request::Submit(jog::continuous_jog(
-            &self.settings.jog,
-            axis,
-            dir,
-        )));
-        self.held = Some(HeldJog {
-            axis,
-            direction: dir,
-            source,
-            since: now,
-        });
+    }
+
+    /// A fresh press in continuous mode: one 236H, held until released.
+    fn jog_press(&mut self, input: JogInput, target: JogTarget, now: Instant) {
+        if let Err(why) = self.motion_ready(now) {
+            return self.jog_says(
+                Level::Warning,
+                format!("{} not sent: {why}", target.label()),
+                now,
+            );
+        }
+        let command = jog::continuous_jog(&self.jog_sent(), target.axis, target.direction);
+        self.requests.push(Request::Submit(command));
+        self.hold.started(input, target, now);
         self.followed = None;
         self.command_position = None;
-        self.jog_says(Level::Info, format!("jogging {}", axis.name()), now);
+        self.jog_says(Level::Info, format!("jogging {}", target.label()), now);
     }
 
-    /// Called every frame while the button or key is still held: renews the lease.
-    pub fn jog_held(&mut self) {
-        if self.held.is_some() {
-            self.requests.push(Request::RenewJogLease);
-        }
-    }
-
-    /// The button or key was released, or the window lost focus: 238H.
-    pub fn jog_release(&mut self, now: Instant) {
-        if self.held.take().is_some() {
+    /// The window lost focus: it cannot see a key or button come up, so the jog stops.
+    pub(super) fn focus_lost(&mut self, now: Instant) {
+        if self.hold.focus_lost().is_some() {
             self.requests.push(Request::Stop);
-            self.jog_says(Level::Info, "jog released: STOP sent", now);
+            self.jog_says(
+                Level::Info,
+                format!("STOP sent ({})", StopCause::FocusLost.name()),
+                now,
+            );
         }
     }
 
+    /// The continuous jog running on a held input.
     pub fn held_jog(&self) -> Option<HeldJog> {
-        self.held
+        self.hold.jog()
+    }
+
+    /// The control `input` is held on now, if any (the pad lights it).
+    pub fn held_on(&self, input: JogInput) -> Option<JogTarget> {
+        self.hold.on(input)
+    }
+
+    /// The STOP latch beside the pad: "STOP (Esc): release the jog controls".
+    pub fn stop_latch(&self) -> Option<String> {
+        self.hold.latch_text()
+    }
+
+    /// New jog choices; a refusal or an armed confirmation made under the old ones goes.
+    pub(super) fn set_jog_settings(&mut self, settings: JogSettings) {
+        if settings == self.settings.jog {
+            return;
+        }
+        self.settings.jog = settings;
+        self.confirm = None;
+        if self
+            .jog_feedback
+            .as_ref()
+            .is_some_and(|m| m.level != Level::Info)
+        {
+            self.jog_feedback = None;
+        }
+    }
+
+    /// The jog settings as they go on the line: speeds within the cap.
+    pub fn jog_sent(&self) -> JogSettings {
+        speed_cap::apply(&self.settings.jog, &self.model, self.speed_cap_mm_s)
+    }
+
+    /// The jog speed cap at the tool, mm/s.
+    pub fn speed_cap(&self) -> f64 {
+        self.speed_cap_mm_s
+    }
+
+    /// Raises (or lowers) the cap until the window closes; a raise is said in Messages.
+    pub(super) fn raise_speed_cap(&mut self, mm_s: f64, now: Instant) {
+        if !mm_s.is_finite() || mm_s <= 0.0 {
+            return;
+        }
+        let mm_s = mm_s.min(speed_cap::MAX_CAP_MM_S);
+        self.speed_cap_mm_s = mm_s;
+        self.say(
+            Level::Warning,
+            format!("jog speed cap set to {mm_s:.0} mm/s at the tool until the window closes"),
+            now,
+        );
+    }
+
+    /// Back to the reduced jog speed.
+    pub(super) fn reset_speed_cap(&mut self, now: Instant) {
+        self.speed_cap_mm_s = speed_cap::REDUCED_SPEED_MM_S;
+        self.say(
+            Level::Info,
+            format!(
+                "jog speed cap back to the reduced speed, {:.0} mm/s",
+                speed_cap::REDUCED_SPEED_MM_S
+            ),
+            now,
+        );
     }
 
     /// The motion phase of the move being followed.
     pub fn motion_phase(&self, now: Instant) -> MotionPhase {
-        if self.held.is_some() {
+        if self.hold.jog().is_some() {
             return MotionPhase::Jogging;
         }
         let Some(f) = &self.followed else {
@@ -233,8 +315,20 @@ impl Pendant {
     }
 
     /// The polled joints within the model's positioning band of the command position.
+    /// Off while a jog runs or a followed move's profile has not ended, whatever the
+    /// polled joints say.
     pub fn in_position(&self) -> Option<bool> {
         let actual = self.controller.joint_position()?;
+        if self.hold.jog().is_some() {
+            return Some(false);
+        }
+        let now_moving = self
+            .followed
+            .as_ref()
+            .is_some_and(|f| !f.stopped && f.accepted.is_none());
+        if now_moving {
+            return Some(false);
+        }
         let command = self.command_position.unwrap_or(actual);
         Some(in_position(&actual, &command, &self.model.in_position))
     }

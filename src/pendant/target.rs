@@ -101,9 +101,7 @@ impl Pendant {
         let plan = match (self.target_frames_changed(t), arm) {
             (Some(why), _) => Err(Refusal::FramesChanged(why)),
             (None, None) => Err(Refusal::NoPosition),
-            (None, Some(a)) => {
-                jog::plan_to(&self.model, &self.kin, &self.settings.jog, &t.pose, &a)
-            }
+            (None, Some(a)) => jog::plan_to(&self.model, &self.kin, &self.jog_sent(), &t.pose, &a),
         };
         Some(StepPreview {
             label: "target".into(),
@@ -127,7 +125,7 @@ impl Pendant {
         }
         let plan = self
             .arm_now(now)
-            .and_then(|a| jog::plan_to(&self.model, &self.kin, &self.settings.jog, &t.pose, &a));
+            .and_then(|a| jog::plan_to(&self.model, &self.kin, &self.jog_sent(), &t.pose, &a));
         let plan = match plan {
             Ok(p) => p,
             Err(why) => return self.jog_says(Level::Warning, format!("refused: {why}"), now),

@@ -259,7 +259,7 @@ impl ErrorCode {
     /// C74: actual position beyond the soft limit (vendor manual; PROTOCOL.md section 2).
     pub const SOFT_LIMIT: ErrorCode = ErrorCode(0xC74);
 
-    /// The known meaning of this number, if any.
+    /// The meaning a real controller gives this number, where known.
     pub const fn text(self) -> Option<&'static str> {
         match self.0 {
             0 => Some("no error"),
@@ -268,16 +268,52 @@ impl ErrorCode {
             _ => None,
         }
     }
+
+    /// The meaning the built-in simulator gives this number: the one table of its codes
+    /// (`sim::CODE_TABLE` takes its texts from here). [inferred] Only C74 and CC1 are
+    /// real controller numbers (PROTOCOL.md section 2); the others are the simulator's.
+    pub const fn sim_text(self) -> Option<&'static str> {
+        match self.0 {
+            0xA01 => Some("unknown message ID"),
+            0xA02 => Some("wrong data length for this message"),
+            0xA03 => Some("field value invalid or out of range"),
+            0xA04 => Some("axis pattern invalid for this message or controller"),
+            0xB01 => Some("servo off on an axis to move"),
+            0xB02 => Some("axis not homed"),
+            0xB03 => Some("axis busy (moving, homing or switching servo)"),
+            0xB04 => Some("emergency stop active"),
+            0xB05 => Some("controller in MANUAL mode"),
+            0xB06 => Some("drive source cut off"),
+            0xB07 => Some("alarm pending (reset with 252H)"),
+            0xB08 => Some("target or path outside the arm's reach"),
+            0xB09 => Some("target needs the other arm system; switching not allowed"),
+            0xB0A => Some("position number holds no data for these axes"),
+            0xC74 => Some("target beyond a joint soft limit"),
+            0xCC1 => Some("speed change condition error (no move to change)"),
+            _ => None,
+        }
+    }
+
+    /// Words for an operator: the controller's meaning, else the simulator's (said to be
+    /// the simulator's), else that the number is not in the table.
+    pub fn describe(self) -> String {
+        match (self.text(), self.sim_text()) {
+            (Some(t), _) => t.to_owned(),
+            (None, Some(t)) => format!("{t} (the simulator's meaning)"),
+            (None, None) => "not in the pendant's code table".to_owned(),
+        }
+    }
 }
 
 impl fmt::Display for ErrorCode {
     /// The 3 hex digits, plus the meaning where known: `CC1 (speed change condition error)`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{:03X}", self.0)?;
-        if let Some(t) = self.text() {
-            write!(f, " ({t})")?;
+        match (self.text(), self.sim_text()) {
+            (Some(t), _) => write!(f, " ({t})"),
+            (None, Some(t)) => write!(f, " ({t}, the simulator's meaning)"),
+            (None, None) => Ok(()),
         }
-        Ok(())
     }
 }
 

@@ -71,6 +71,9 @@ pub struct RobotModel {
     pub j1: JointSpec,
     pub j2: JointSpec,
     pub z: JointSpec,
+    /// Z counts downward: its 0 is the top of the stroke, so raising the tool is Z-.
+    /// [inferred] IAI SCARA Z axes home at the top and count down (`[z] counts`).
+    pub z_counts_down: bool,
     /// The R joint (J4).
     pub r: JointSpec,
     pub cp_max_speed_mm_s: f64,
@@ -160,6 +163,7 @@ impl RobotModel {
             j1: spec(-125.0, 125.0, 420.0, 2100.0),
             j2: spec(-145.0, 145.0, 720.0, 3600.0),
             z: spec(0.0, 200.0, 1120.0, 5600.0),
+            z_counts_down: true,
             r: spec(-360.0, 360.0, 1800.0, 9000.0),
             cp_max_speed_mm_s: 2000.0,
             cp_max_accel_mm_s2: G_MM_S2,
@@ -259,6 +263,9 @@ struct RawJoint {
     max: Spanned<f64>,
     max_speed: Spanned<f64>,
     max_accel: Spanned<f64>,
+    /// Z only: "down" (the default) or "up", the way the coordinate counts.
+    #[serde(default)]
+    counts: Option<Spanned<String>>,
 }
 
 #[derive(Deserialize)]
@@ -367,6 +374,22 @@ impl Checker<'_> {
         })
     }
 
+    fn z_counts(&self, z: &RawJoint) -> Result<bool, ModelError> {
+        match z
+            .counts
+            .as_ref()
+            .map(|v| (v.get_ref().as_str(), v.span().start))
+        {
+            None | Some(("down", _)) => Ok(true),
+            Some(("up", _)) => Ok(false),
+            Some((other, at)) => self.fail(
+                "z.counts",
+                at,
+                format!("must be \"down\" or \"up\", got \"{other}\""),
+            ),
+        }
+    }
+
     fn table(
         &self,
         field: &str,
@@ -397,6 +420,16 @@ impl RawModel {
         let j2 = c.joint("j2", &self.j2)?;
         let z = c.joint("z", &self.z)?;
         let r = c.joint("r", &self.r)?;
+        let z_counts_down = c.z_counts(&self.z)?;
+        for (name, j) in [("j1", &self.j1), ("j2", &self.j2), ("r", &self.r)] {
+            if let Some(v) = &j.counts {
+                return c.fail(
+                    &format!("{name}.counts"),
+                    v.span().start,
+                    "only [z] says which way it counts".into(),
+                );
+            }
+        }
         // Both arm systems must exist outside the band: j2.min < -band, j2.max > band.
         let band_hi = j2.max.min(-j2.min).min(90.0);
         let band = c.positive("arms.singular_band_deg", &self.arms.singular_band_deg)?;
@@ -442,6 +475,7 @@ impl RawModel {
             j1,
             j2,
             z,
+            z_counts_down,
             r,
             cp_max_speed_mm_s: c.positive("cp.max_speed_mm_s", &self.cp.max_speed_mm_s)?,
             cp_max_accel_mm_s2: c.positive("cp.max_accel_g", &self.cp.max_accel_g)? * G_MM_S2,

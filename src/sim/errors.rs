@@ -58,65 +58,30 @@ pub struct CodeRow {
 /// Every code the simulator sends, in one place (also printed by `xsel-sim --codes` and
 /// copied into the README).
 pub const CODE_TABLE: &[CodeRow] = &[
-    row(0xA01, SimError::UnknownMessage, "unknown message ID"),
-    row(
-        0xA02,
-        SimError::WrongLength,
-        "wrong data length for this message",
-    ),
-    row(
-        0xA03,
-        SimError::BadValue,
-        "field value invalid or out of range",
-    ),
-    row(
-        0xA04,
-        SimError::BadAxis,
-        "axis pattern invalid for this message or controller",
-    ),
-    row(0xB01, SimError::ServoOff, "servo off on an axis to move"),
-    row(0xB02, SimError::NotHomed, "axis not homed"),
-    row(
-        0xB03,
-        SimError::AxisBusy,
-        "axis busy (moving, homing or switching servo)",
-    ),
-    row(0xB04, SimError::EmergencyStop, "emergency stop active"),
-    row(0xB05, SimError::ManualMode, "controller in MANUAL mode"),
-    row(0xB06, SimError::DriveCutOff, "drive source cut off"),
-    row(
-        0xB07,
-        SimError::AlarmPending,
-        "alarm pending (reset with 252H)",
-    ),
-    row(
-        0xB08,
-        SimError::Unreachable,
-        "target or path outside the arm's reach",
-    ),
-    row(
-        0xB09,
-        SimError::ArmSystem,
-        "target needs the other arm system; switching not allowed",
-    ),
-    row(
-        0xB0A,
-        SimError::NoPosition,
-        "position number holds no data for these axes",
-    ),
-    row(
-        0xC74,
-        SimError::SoftLimit,
-        "target beyond a joint soft limit",
-    ),
-    row(
-        0xCC1,
-        SimError::SpeedChange,
-        "speed change condition error (no move to change)",
-    ),
+    row(0xA01, SimError::UnknownMessage),
+    row(0xA02, SimError::WrongLength),
+    row(0xA03, SimError::BadValue),
+    row(0xA04, SimError::BadAxis),
+    row(0xB01, SimError::ServoOff),
+    row(0xB02, SimError::NotHomed),
+    row(0xB03, SimError::AxisBusy),
+    row(0xB04, SimError::EmergencyStop),
+    row(0xB05, SimError::ManualMode),
+    row(0xB06, SimError::DriveCutOff),
+    row(0xB07, SimError::AlarmPending),
+    row(0xB08, SimError::Unreachable),
+    row(0xB09, SimError::ArmSystem),
+    row(0xB0A, SimError::NoPosition),
+    row(0xC74, SimError::SoftLimit),
+    row(0xCC1, SimError::SpeedChange),
 ];
 
-const fn row(code: u16, error: SimError, text: &'static str) -> CodeRow {
+/// A row whose text is the protocol's one table of the simulator's codes.
+const fn row(code: u16, error: SimError) -> CodeRow {
+    let text = match crate::protocol::ErrorCode(code).sim_text() {
+        Some(t) => t,
+        None => "",
+    };
     CodeRow { code, error, text }
 }
 

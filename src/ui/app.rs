@@ -10,13 +10,18 @@ use super::arm_view::ArmView;
 use super::connection::ConnectionPanel;
 use super::coords::CoordsPanel;
 use super::frame_log::FrameLogPanel;
+use super::jog::JogPanel;
+use super::keys::{self, Keys};
 use super::layout::{self, Tab, Tabs};
+use super::pad::PadOutput;
 use super::simulator::{SimState, SimulatorPanel};
 use super::teach::TeachPanel;
-use super::{jog, keys, top_bar};
+use super::{safety_band, top_bar};
 use crate::link::{Priority, TableRequest};
 use crate::pendant::coords::SavedDrafts;
-use crate::pendant::{ConnectionSettings, Pendant, Request, Settings};
+use crate::pendant::{
+    ConnectionSettings, Intent, JogInput, Pendant, Press, Request, Settings, StopCause,
+};
 use crate::protocol::{AxisPattern, CoordKind};
 use crate::robot::RobotModel;
 use crate::session::{Session, load_model};
@@ -78,6 +83,8 @@ pub struct PendantApp {
     pendant: Pendant,
     session: Option<Session>,
     connection: ConnectionPanel,
+    jog: JogPanel,
+    keys: Keys,
     teach: TeachPanel,
     simulator: SimulatorPanel,
     coords: CoordsPanel,
@@ -137,6 +144,8 @@ impl PendantApp {
             pendant,
             session: None,
             connection: ConnectionPanel::default(),
+            jog: JogPanel::default(),
+            keys: Keys::default(),
             teach: TeachPanel::default(),
             simulator: SimulatorPanel::default(),
             coords: CoordsPanel::default(),
@@ -256,6 +265,13 @@ impl PendantApp {
 
     /// Closes the session as the window does on exit: the link stops any jog or move.
     pub fn close(&mut self) {
+        if self.pendant.held_jog().is_some() {
+            let now = Instant::now();
+            self.pendant.apply(Intent::Stop(StopCause::Exit), now);
+            if let Some(s) = &self.session {
+                s.link.stop_all();
+            }
+        }
         self.session = None;
     }
 
@@ -366,8 +382,9 @@ impl eframe::App for PendantApp {
         self.drain_events(now);
         // A window that lost focus cannot see a key or button come up: stop the jog.
         if ctx.input(|i| i.viewport().focused) == Some(false) {
-            self.pendant.jog_release(now);
+            self.pendant.apply(Intent::FocusLost, now);
         }
+        self.pendant.tick(now);
         self.run_requests(ctx, now);
         if self.pendant.held_jog().is_some() {
             ctx.request_repaint_after(HELD_REFRESH);
@@ -380,21 +397,22 @@ impl eframe::App for PendantApp {
         let ctx = ui.ctx().clone();
         self.apply_theme(&ctx);
         let now = Instant::now();
-        let keys = keys::handle(&ctx, &mut self.pendant, now);
-        let mut stop = keys.stop;
+        let mut intents = Vec::new();
+        let keys = self.keys.handle(&ctx, &self.pendant, now, &mut intents);
         if keys.toggle_help {
             self.help_open = !self.help_open;
         }
         Panel::top("top-bar").show(ui, |ui| {
-            stop |= top_bar::show(ui, &mut self.pendant, now).stop;
+            top_bar::show(ui, &self.pendant, now, &mut intents);
         });
-        if stop {
+        if intents.iter().any(|i| matches!(i, Intent::Stop(_))) {
             // STOP goes to the link now, ahead of everything drawn below.
-            self.pendant.stop(now);
+            self.pendant.apply_all(std::mem::take(&mut intents), now);
             self.run_requests(&ctx, now);
         }
+        Panel::top("safety-band").show(ui, |ui| safety_band::show(ui, &self.pendant, now));
         let mut sim_action = None;
-        self.arm.hovered_step = None;
+        let mut pad = PadOutput::default();
         Panel::left("left")
             .resizable(true)
             .default_size(370.0)
@@ -406,7 +424,7 @@ impl eframe::App for PendantApp {
                     egui::CollapsingHeader::new("Jog")
                         .default_open(true)
                         .show(ui, |ui| {
-                            self.arm.hovered_step = jog::show(ui, &mut self.pendant, now);
+                            pad = self.jog.show(ui, &self.pendant, now, &mut intents);
                         });
                     if let Some(state) = self.sim_state() {
                         egui::CollapsingHeader::new("Simulator")
@@ -420,9 +438,11 @@ impl eframe::App for PendantApp {
                     }
                 });
             });
+        self.arm.hovered_step = pad.hovered.map(|t| (t.axis, t.direction));
         egui::CentralPanel::default().show(ui, |ui| {
             let mut tabs = Tabs {
                 pendant: &mut self.pendant,
+                intents: &mut intents,
                 arm: &mut self.arm,
                 teach: &mut self.teach,
                 coords: &mut self.coords,
@@ -432,7 +452,18 @@ impl eframe::App for PendantApp {
             };
             layout::show(ui, &mut self.dock, &mut tabs);
         });
-        keys::help(&ctx, &mut self.help_open);
+        keys::help(&ctx, &self.pendant, &mut self.help_open);
+        // The pointer's jog input: on the pad button it was pressed on, aside, or up.
+        if let Some(target) = pad.tapped {
+            intents.push(Intent::Jog(JogInput::Pointer, Press::On(target)));
+        }
+        let press = match (ctx.input(|i| i.pointer.primary_down()), pad.held_on) {
+            (false, _) => Press::Up,
+            (true, Some(target)) => Press::On(target),
+            (true, None) => Press::Aside,
+        };
+        intents.push(Intent::Jog(JogInput::Pointer, press));
+        self.pendant.apply_all(intents, now);
         if let Some(action) = sim_action
             && let Some(sim) = self.sim()
         {

@@ -1,103 +1,115 @@
-//! The keyboard map: arrows, PgUp/PgDn and , . jog; + and - walk the step ladder; Esc is
-//! STOP. Jog keys act only when no text field has the keyboard.
+//! The keyboard map: arrows, PgUp/PgDn and , . jog by the physical direction; + and -
+//! walk the step ladder; Esc is STOP; F1 the help. The keys only report what is down:
+//! the pendant's hold-to-run machine decides what a press does.
 
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use egui::{Context, Event, Key};
 
-use crate::pendant::{HoldSource, JogAxis, JogMode, Pendant};
-use crate::protocol::Direction;
+use crate::pendant::{Intent, JogInput, Pendant, PhysicalJog, Press, StopCause};
 
-/// Every mapped key with what it does, for the help overlay.
-pub const MAP: [(Key, JogAxis, Direction, &str); 8] = [
-    (Key::ArrowRight, JogAxis::X, Direction::Positive, "Right"),
-    (Key::ArrowLeft, JogAxis::X, Direction::Negative, "Left"),
-    (Key::ArrowUp, JogAxis::Y, Direction::Positive, "Up"),
-    (Key::ArrowDown, JogAxis::Y, Direction::Negative, "Down"),
-    (Key::PageUp, JogAxis::Z, Direction::Positive, "PgUp"),
-    (Key::PageDown, JogAxis::Z, Direction::Negative, "PgDn"),
-    (Key::Period, JogAxis::R, Direction::Positive, "."),
-    (Key::Comma, JogAxis::R, Direction::Negative, ","),
+/// Every mapped jog key with the physical motion it asks for, and its name.
+pub const MAP: [(Key, PhysicalJog, &str); 8] = [
+    (Key::ArrowRight, PhysicalJog::XPlus, "Right"),
+    (Key::ArrowLeft, PhysicalJog::XMinus, "Left"),
+    (Key::ArrowUp, PhysicalJog::YPlus, "Up"),
+    (Key::ArrowDown, PhysicalJog::YMinus, "Down"),
+    (Key::PageUp, PhysicalJog::ZUp, "PgUp"),
+    (Key::PageDown, PhysicalJog::ZDown, "PgDn"),
+    (Key::Period, PhysicalJog::RCcw, "."),
+    (Key::Comma, PhysicalJog::RCw, ","),
 ];
 
-/// What the keys asked for this frame.
+/// A key found down this soon after the window got its focus back is not a press: the
+/// window cannot tell a key held through the focus change (whose auto-repeat arrives as
+/// a first press) from a new one. [inferred] Auto-repeat delays are 200-600 ms.
+const FOCUS_GRACE: Duration = Duration::from_millis(500);
+
+/// What the keys remember between frames: which jog keys went down as a real press.
+#[derive(Default)]
+pub struct Keys {
+    armed: [bool; MAP.len()],
+    focus_gained: Option<Instant>,
+}
+
+/// What the keys asked for this frame beyond the pendant's intents.
 #[derive(Default)]
 pub struct KeyOutput {
-    /// Esc: STOP, run at once.
-    pub stop: bool,
     /// F1: show or hide the help overlay.
     pub toggle_help: bool,
 }
 
-/// Reads this frame's keys and turns them into pendant calls.
-pub fn handle(ctx: &Context, pendant: &mut Pendant, now: Instant) -> KeyOutput {
-    let mut out = KeyOutput::default();
-    let typing = ctx.egui_wants_keyboard_input();
-    let (events, down): (Vec<Event>, Vec<bool>) = ctx.input(|i| {
-        (
-            i.events.clone(),
-            MAP.iter().map(|(k, ..)| i.key_down(*k)).collect(),
-        )
-    });
-    for event in &events {
-        let Event::Key {
-            key,
-            pressed: true,
-            repeat,
-            ..
-        } = event
-        else {
-            continue;
-        };
-        match key {
-            Key::Escape => out.stop = true,
-            Key::F1 => out.toggle_help = true,
-            _ if typing => {}
-            Key::Plus | Key::Equals if !repeat => pendant.settings.jog.step_ladder(true),
-            Key::Minus if !repeat => pendant.settings.jog.step_ladder(false),
-            _ if *repeat || pendant.settings.jog.mode != JogMode::Step => {}
-            _ => {
-                if let Some((_, axis, dir, _)) = MAP.iter().find(|(k, ..)| k == key) {
-                    pendant.jog_step(*axis, *dir, now);
-                }
+impl Keys {
+    /// Reads this frame's keys: pushes a STOP for Esc, the step ladder for + and -, and
+    /// every jog key's state.
+    pub fn handle(
+        &mut self,
+        ctx: &Context,
+        pendant: &Pendant,
+        now: Instant,
+        intents: &mut Vec<Intent>,
+    ) -> KeyOutput {
+        let mut out = KeyOutput::default();
+        let typing = ctx.egui_wants_keyboard_input();
+        let (events, down): (Vec<Event>, Vec<bool>) = ctx.input(|i| {
+            (
+                i.events.clone(),
+                MAP.iter().map(|(k, ..)| i.key_down(*k)).collect(),
+            )
+        });
+        let mut jog = pendant.settings.jog.clone();
+        for event in &events {
+            match event {
+                Event::WindowFocused(true) => self.focus_gained = Some(now),
+                Event::Key {
+                    key,
+                    pressed: true,
+                    repeat,
+                    ..
+                } => match key {
+                    Key::Escape => intents.push(Intent::Stop(StopCause::Esc)),
+                    Key::F1 => out.toggle_help = true,
+                    _ if typing || *repeat => {}
+                    Key::Plus | Key::Equals => jog.step_ladder(true),
+                    Key::Minus => jog.step_ladder(false),
+                    _ => {
+                        let fresh = self
+                            .focus_gained
+                            .is_none_or(|at| now.saturating_duration_since(at) > FOCUS_GRACE);
+                        if let Some(i) = MAP.iter().position(|(k, ..)| k == key) {
+                            self.armed[i] = fresh;
+                        }
+                    }
+                },
+                _ => {}
             }
         }
-    }
-    if pendant.settings.jog.mode == JogMode::Continuous {
-        continuous(pendant, &down, typing, now);
-    }
-    out
-}
-
-/// Holds a continuous jog while its key is down; releases it when the key comes up.
-fn continuous(pendant: &mut Pendant, down: &[bool], typing: bool, now: Instant) {
-    let held = pendant.held_jog().filter(|h| h.source == HoldSource::Key);
-    if let Some(h) = held {
-        let still = MAP
-            .iter()
-            .zip(down)
-            .any(|((_, a, d, _), &is_down)| is_down && *a == h.axis && *d == h.direction);
-        if still && !typing {
-            pendant.jog_held();
-        } else {
-            pendant.jog_release(now);
+        if jog != pendant.settings.jog {
+            intents.push(Intent::JogSettings(jog));
         }
-        return;
-    }
-    if typing || pendant.held_jog().is_some() {
-        return;
-    }
-    if let Some(((_, axis, dir, _), _)) = MAP.iter().zip(down).find(|(_, d)| **d) {
-        pendant.jog_press(*axis, *dir, HoldSource::Key, now);
+        for (i, ((_, physical, _), is_down)) in MAP.iter().zip(down).enumerate() {
+            if !is_down {
+                self.armed[i] = false;
+            }
+            let press = match (is_down, self.armed[i] && !typing) {
+                (false, _) => Press::Up,
+                (true, true) => Press::On(pendant.physical_jog(*physical)),
+                (true, false) => Press::Aside,
+            };
+            // Up is reported every frame too: the pendant ignores an input it holds none of.
+            intents.push(Intent::Jog(JogInput::Key(i as u8), press));
+        }
+        out
     }
 }
 
-/// The help overlay listing the map.
-pub fn help(ctx: &Context, open: &mut bool) {
+/// The help overlay listing the map, at the bottom right (never over STOP).
+pub fn help(ctx: &Context, pendant: &Pendant, open: &mut bool) {
     egui::Window::new("Keyboard")
         .open(open)
         .collapsible(false)
         .resizable(false)
+        .anchor(egui::Align2::RIGHT_BOTTOM, [-12.0, -12.0])
         .show(ctx, |ui| {
             egui::Grid::new("key-map")
                 .num_columns(2)
@@ -106,10 +118,10 @@ pub fn help(ctx: &Context, open: &mut bool) {
                     ui.label("Esc");
                     ui.label("STOP (always)");
                     ui.end_row();
-                    for (_, axis, dir, name) in MAP {
+                    for (_, physical, name) in MAP {
                         ui.label(name);
-                        let sign = if dir == Direction::Positive { "+" } else { "-" };
-                        ui.label(format!("jog {}{sign}", axis.name()));
+                        let target = pendant.physical_jog(physical);
+                        ui.label(format!("{} (sends {})", physical.name(), target.label()));
                         ui.end_row();
                     }
                     ui.label("+ / -");
@@ -120,5 +132,6 @@ pub fn help(ctx: &Context, open: &mut bool) {
                     ui.end_row();
                 });
             ui.label("Continuous mode: the jog runs while the key is held and stops on release.");
+            ui.label("After STOP, release every jog key before the next jog.");
         });
 }

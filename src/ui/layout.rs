@@ -21,7 +21,7 @@ use super::coords::CoordsPanel;
 use super::frame_log::FrameLogPanel;
 use super::teach::TeachPanel;
 use super::{messages, readout, status};
-use crate::pendant::Pendant;
+use crate::pendant::{Intent, Pendant};
 
 /// One tab of the centre.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -100,6 +100,8 @@ pub fn checked_layout(saved: Option<Tree<Tab>>) -> Tree<Tab> {
 /// What the panes draw with.
 pub struct Tabs<'a> {
     pub pendant: &'a mut Pendant,
+    /// What the panels that draw `&Pendant` ask for, applied after drawing.
+    pub intents: &'a mut Vec<Intent>,
     pub arm: &'a mut ArmView,
     pub teach: &'a mut TeachPanel,
     pub coords: &'a mut CoordsPanel,
@@ -120,8 +122,9 @@ impl Behavior<Tab> for Tabs<'_> {
             Tab::Arm => self.arm.show(ui, self.pendant, self.now),
             Tab::Position => readout::show(ui, self.pendant, self.now),
             Tab::Status => {
-                egui::ScrollArea::vertical()
-                    .show(ui, |ui| status::show(ui, self.pendant, self.now));
+                egui::ScrollArea::vertical().show(ui, |ui| {
+                    status::show(ui, self.pendant, self.now, self.intents)
+                });
             }
             Tab::Teach => {
                 egui::ScrollArea::vertical()

@@ -6,12 +6,12 @@ use std::time::Instant;
 use egui::{Button, RichText, Ui};
 
 use super::widgets::{AMBER, GREEN, RED, lamp, reason};
-use crate::pendant::{MotionPhase, Pendant};
+use crate::pendant::{Intent, MotionPhase, Pendant};
 use crate::protocol::HomeState;
 
 const AXIS_NAMES: [&str; 4] = ["1 (J1 / X)", "2 (J2 / Y)", "3 (Z)", "4 (R)"];
 
-pub fn show(ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
+pub fn show(ui: &mut Ui, pendant: &Pendant, now: Instant, intents: &mut Vec<Intent>) {
     let ready = pendant.controller_ready(now);
     let why = ready
         .as_ref()
@@ -25,7 +25,7 @@ pub fn show(ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
             .on_disabled_hover_text(&why)
             .clicked()
         {
-            pendant.servo(true, now);
+            intents.push(Intent::Servo(true));
         }
         let off = ui.add_enabled(ready.is_ok(), Button::new("Servo OFF"));
         if off
@@ -33,7 +33,7 @@ pub fn show(ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
             .on_disabled_hover_text(&why)
             .clicked()
         {
-            pendant.servo(false, now);
+            intents.push(Intent::Servo(false));
         }
         let home = ui.add_enabled(ready.is_ok(), Button::new("Home"));
         if home
@@ -41,7 +41,7 @@ pub fn show(ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
             .on_disabled_hover_text(&why)
             .clicked()
         {
-            pendant.home(now);
+            intents.push(Intent::Home);
         }
     });
     if let Err(why) = &ready {

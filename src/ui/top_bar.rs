@@ -6,18 +6,11 @@ use std::time::Instant;
 use egui::{Button, Color32, RichText, Ui, vec2};
 
 use super::widgets::{AMBER, GREEN, RED, lamp};
-use crate::pendant::{LineState, Pendant};
+use crate::pendant::{Intent, LineState, Pendant, StopCause};
 use crate::protocol::SystemMode;
 
-/// What the bar asks of the app beyond the pendant's own calls.
-#[derive(Default)]
-pub struct TopBarOutput {
-    /// STOP was pressed: run it before anything else this frame.
-    pub stop: bool,
-}
-
-pub fn show(ui: &mut Ui, pendant: &mut Pendant, now: Instant) -> TopBarOutput {
-    let mut out = TopBarOutput::default();
+/// Draws the bar; STOP pushes [`Intent::Stop`], which the app runs before anything else.
+pub fn show(ui: &mut Ui, pendant: &Pendant, now: Instant, intents: &mut Vec<Intent>) {
     ui.horizontal(|ui| {
         let stop = Button::new(
             RichText::new("STOP")
@@ -32,7 +25,7 @@ pub fn show(ui: &mut Ui, pendant: &mut Pendant, now: Instant) -> TopBarOutput {
             .on_hover_text("238H to all axes, ahead of everything (Esc)")
             .clicked()
         {
-            out.stop = true;
+            intents.push(Intent::Stop(StopCause::Button));
         }
         ui.separator();
         ui.vertical(|ui| {
@@ -55,7 +48,7 @@ pub fn show(ui: &mut Ui, pendant: &mut Pendant, now: Instant) -> TopBarOutput {
             ui.label(version);
         });
         ui.separator();
-        system_lamps(ui, pendant, now);
+        system_lamps(ui, pendant, now, intents);
         ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
             let light = pendant.settings.light_theme;
             if ui
@@ -63,14 +56,13 @@ pub fn show(ui: &mut Ui, pendant: &mut Pendant, now: Instant) -> TopBarOutput {
                 .on_hover_text("Switch between the dark and light themes")
                 .clicked()
             {
-                pendant.settings.light_theme = !light;
+                intents.push(Intent::LightTheme(!light));
             }
         });
     });
-    out
 }
 
-fn system_lamps(ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
+fn system_lamps(ui: &mut Ui, pendant: &Pendant, now: Instant, intents: &mut Vec<Intent>) {
     let system = pendant.controller.system.map(|s| s.value);
     let stale = pendant.controller.is_stale(now);
     ui.vertical(|ui| {
@@ -86,7 +78,11 @@ fn system_lamps(ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
                 if estop { "E-STOP ACTIVE" } else { "E-stop off" },
             );
             let ready = system.is_some_and(|s| s.status3.ready());
-            lamp(ui, ready, GREEN, "Ready");
+            ui.horizontal(|ui| lamp(ui, ready, GREEN, "Controller ready"))
+                .response
+                .on_hover_text(
+                    "215H's ready bit: the controller's own state, not whether a jog may go",
+                );
             if stale && pendant.line.is_up() {
                 ui.label(RichText::new("status stale").color(AMBER));
             }
@@ -111,7 +107,7 @@ fn system_lamps(ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
                         .on_hover_text("252H alarm reset")
                         .clicked()
                     {
-                        pendant.reset_alarm(now);
+                        intents.push(Intent::ResetAlarm);
                     }
                 }
                 _ => lamp(ui, false, RED, "No alarm"),

@@ -28,12 +28,28 @@ pub fn level_color(level: Level) -> Color32 {
     }
 }
 
-/// A message in its level's colour.
-pub fn message(ui: &mut Ui, level: Level, text: &str) {
-    ui.label(RichText::new(text).color(level_color(level)));
-}
-
 /// The reason beside a disabled control, in the warning colour.
 pub fn reason(ui: &mut Ui, text: impl std::fmt::Display) {
     ui.label(RichText::new(format!("Not available: {text}")).color(AMBER));
+}
+
+/// One line of text in space that is always there: empty when `text` is `None`, cut to
+/// the width when too long (the whole of it on hover), so nothing below it moves.
+pub fn reserved_line(ui: &mut Ui, text: Option<(Color32, &str)>, hover: Option<&str>) {
+    let height = ui.text_style_height(&egui::TextStyle::Body) + 2.0;
+    let width = ui.available_width();
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(width, height), egui::Sense::hover());
+    let Some((color, text)) = text else {
+        return;
+    };
+    let label = egui::Label::new(RichText::new(text).color(color)).truncate();
+    let layout = egui::Layout::left_to_right(egui::Align::Center);
+    let resp = ui
+        .scope_builder(egui::UiBuilder::new().max_rect(rect).layout(layout), |ui| {
+            ui.add(label)
+        })
+        .inner;
+    if let Some(hover) = hover {
+        resp.on_hover_text(hover);
+    }
 }

@@ -1,0 +1,377 @@
+//! Hold-to-run through the pendant, on scripted inputs and a virtual clock: what an
+//! operator's hand does, frame by frame, and exactly what goes to the link.
+
+use std::time::{Duration, Instant};
+
+use super::script::{poll_reply, ready_system, scara_status};
+use super::*;
+use crate::link::{LinkEvent, NotSentReason, Origin, RequestId};
+use crate::protocol::{ErrorCode, PositionSystem, Stop, SystemMode, SystemStatus};
+use crate::robot::{Joints, Scara};
+
+const FRAME: Duration = Duration::from_millis(16);
+const KEY: JogInput = JogInput::Key(0);
+
+fn x_plus() -> JogTarget {
+    JogTarget::new(JogAxis::X, Direction::Positive)
+}
+
+/// A pendant connected to a ready, homed controller, in continuous mode.
+fn continuous(now: Instant) -> Pendant {
+    let mut p = Pendant::new(
+        Settings::default(),
+        crate::robot::RobotModel::default_model(),
+    );
+    let kin = Scara::new(&p.model);
+    for event in script::ready_controller(&kin, Joints::new(30.0, 60.0, 50.0, 0.0)) {
+        p.handle_event(now, event);
+    }
+    p.settings.jog.mode = JogMode::Continuous;
+    p.take_requests();
+    p
+}
+
+/// The controller keeps answering its polls: a fresh status at `now`, `system` as given.
+fn poll(p: &mut Pendant, now: Instant, system: SystemStatus) {
+    let polls = state::poll_commands();
+    p.handle_event(now, poll_reply(polls[1], Reply::SystemStatus(system)));
+    let joints = Joints::new(30.0, 60.0, 50.0, 0.0);
+    let tip = p.kinematics().forward(&joints).to_array();
+    for (i, sys, values) in [
+        (0, PositionSystem::Work, tip),
+        (2, PositionSystem::Joint, joints.to_array()),
+    ] {
+        let s = scara_status(sys, values, true, true);
+        p.handle_event(now, poll_reply(polls[i], Reply::ScaraStatus(s)));
+    }
+}
+
+/// What went to the link, counted: 236H jogs, STOPs and lease renewals.
+#[derive(Debug, Default, PartialEq)]
+struct Sent {
+    jogs: usize,
+    stops: usize,
+    renewals: usize,
+}
+
+fn count(p: &mut Pendant, sent: &mut Sent) {
+    for r in p.take_requests() {
+        match r {
+            Request::Submit(Command::Jog(_)) => sent.jogs += 1,
+            Request::Stop => sent.stops += 1,
+            Request::RenewJogLease => sent.renewals += 1,
+            _ => {}
+        }
+    }
+}
+
+/// Holds `input` on `target` for `frames` frames from `*now`, with the controller polled
+/// every 100 ms; answers what went out.
+fn hold_for(p: &mut Pendant, now: &mut Instant, input: JogInput, frames: usize) -> Sent {
+    let mut sent = Sent::default();
+    for i in 0..frames {
+        if i % 6 == 0 {
+            poll(p, *now, ready_system());
+        }
+        p.apply(Intent::Jog(input, Press::On(x_plus())), *now);
+        p.tick(*now);
+        count(p, &mut sent);
+        *now += FRAME;
+    }
+    sent
+}
+
+fn release(p: &mut Pendant, now: Instant, input: JogInput) -> Sent {
+    let mut sent = Sent::default();
+    p.apply(Intent::Jog(input, Press::Up), now);
+    count(p, &mut sent);
+    sent
+}
+
+#[test]
+fn a_press_held_two_seconds_is_one_236h_and_no_stop_until_release() {
+    for input in [KEY, JogInput::Pointer] {
+        let mut now = Instant::now();
+        let mut p = continuous(now);
+        let held = hold_for(&mut p, &mut now, input, 125);
+        assert_eq!(held.jogs, 1, "{input:?}: {held:?}");
+        assert_eq!(held.stops, 0, "{input:?}: {held:?}");
+        assert_eq!(
+            held.renewals, 124,
+            "the lease is renewed every frame while held"
+        );
+        let released = release(&mut p, now, input);
+        assert_eq!((released.jogs, released.stops), (0, 1));
+        assert!(p.held_jog().is_none());
+    }
+}
+
+#[test]
+fn stop_with_the_input_still_down_latches_until_release_and_a_new_press() {
+    for cause in [StopCause::Esc, StopCause::Button] {
+        let mut now = Instant::now();
+        let mut p = continuous(now);
+        hold_for(&mut p, &mut now, KEY, 10);
+        p.apply(Intent::Stop(cause), now);
+        assert!(p.take_requests().contains(&Request::Stop));
+        assert!(p.stop_latch().is_some_and(|t| t.contains("release")));
+        let held = hold_for(&mut p, &mut now, KEY, 60);
+        assert_eq!(
+            held.jogs, 0,
+            "{cause:?}: the latch holds while the key stays down"
+        );
+        // Another jog key pressed meanwhile is swallowed too.
+        p.apply(Intent::Jog(JogInput::Key(5), Press::On(x_plus())), now);
+        assert_eq!(submitted_jogs(&mut p), 0);
+        release(&mut p, now, JogInput::Key(5));
+        release(&mut p, now, KEY);
+        assert_eq!(p.stop_latch(), None);
+        assert_eq!(
+            hold_for(&mut p, &mut now, KEY, 5).jogs,
+            1,
+            "a new press jogs"
+        );
+    }
+}
+
+fn submitted_jogs(p: &mut Pendant) -> usize {
+    let mut sent = Sent::default();
+    count(p, &mut sent);
+    sent.jogs
+}
+
+#[test]
+fn a_reconnection_with_the_input_held_sends_no_236h() {
+    let mut now = Instant::now();
+    let mut p = continuous(now);
+    hold_for(&mut p, &mut now, KEY, 10);
+    p.handle_event(
+        now,
+        LinkEvent::Disconnected {
+            reason: crate::link::LineDownReason::Closed,
+        },
+    );
+    assert!(p.held_jog().is_none());
+    p.handle_event(
+        now,
+        LinkEvent::Reconnected {
+            line: "bridge".into(),
+        },
+    );
+    let held = hold_for(&mut p, &mut now, KEY, 120);
+    assert_eq!(held.jogs, 0, "{held:?}");
+}
+
+#[test]
+fn manual_to_auto_with_the_input_held_sends_no_236h() {
+    let mut now = Instant::now();
+    let mut p = continuous(now);
+    hold_for(&mut p, &mut now, KEY, 10);
+    let manual = SystemStatus {
+        mode: SystemMode::MANUAL,
+        ..ready_system()
+    };
+    poll(&mut p, now, manual);
+    p.apply(Intent::Jog(KEY, Press::On(x_plus())), now);
+    p.tick(now);
+    let r = p.take_requests();
+    assert!(
+        r.contains(&Request::Stop),
+        "leaving AUTO stops the jog: {r:?}"
+    );
+    assert!(p.messages.iter().any(|m| m.text.contains("MANUAL")));
+    // Back to AUTO, the key still down: nothing moves.
+    let held = hold_for(&mut p, &mut now, KEY, 120);
+    assert_eq!(held.jogs, 0, "{held:?}");
+}
+
+#[test]
+fn a_refused_jog_is_never_resent_while_held_and_says_so_once() {
+    let mut now = Instant::now();
+    let mut p = continuous(now);
+    let first = hold_for(&mut p, &mut now, KEY, 2);
+    assert_eq!(first.jogs, 1);
+    let jog = jog::continuous_jog(&p.jog_sent(), JogAxis::X, Direction::Positive);
+    p.handle_event(
+        now,
+        LinkEvent::ErrorReply {
+            id: RequestId(7),
+            origin: Origin::User,
+            command: jog,
+            code: ErrorCode(0xB08),
+        },
+    );
+    let before = p.messages.len();
+    let held = hold_for(&mut p, &mut now, KEY, 125);
+    assert_eq!(held.jogs, 0, "{held:?}");
+    assert_eq!(p.messages.len(), before, "no message per frame");
+    let refusal = p.messages.iter().rev().find(|m| m.text.contains("B08"));
+    assert!(
+        refusal.is_some_and(|m| m.text.contains("outside the arm's reach")),
+        "the code comes with its text: {:?}",
+        p.messages
+    );
+}
+
+#[test]
+fn a_press_while_not_ready_says_not_sent_once_per_press() {
+    let mut now = Instant::now();
+    let mut p = continuous(now);
+    let manual = SystemStatus {
+        mode: SystemMode::MANUAL,
+        ..ready_system()
+    };
+    let not_sent = |p: &Pendant| {
+        p.messages
+            .iter()
+            .filter(|m| m.text.contains("not sent"))
+            .count()
+    };
+    for press in 1..=3 {
+        for _ in 0..60 {
+            poll(&mut p, now, manual);
+            p.apply(Intent::Jog(KEY, Press::On(x_plus())), now);
+            now += FRAME;
+        }
+        assert_eq!(submitted_jogs(&mut p), 0);
+        assert_eq!(not_sent(&p), press, "one message per press");
+        release(&mut p, now, KEY);
+    }
+}
+
+#[test]
+fn a_not_sent_jog_from_the_link_ends_the_hold_and_is_not_resent() {
+    let mut now = Instant::now();
+    let mut p = continuous(now);
+    hold_for(&mut p, &mut now, KEY, 2);
+    let jog = jog::continuous_jog(&p.jog_sent(), JogAxis::X, Direction::Positive);
+    p.handle_event(
+        now,
+        LinkEvent::NotSent {
+            id: RequestId(3),
+            command: jog,
+            reason: NotSentReason::LineDown,
+        },
+    );
+    assert!(p.held_jog().is_none());
+    assert_eq!(hold_for(&mut p, &mut now, KEY, 60).jogs, 0);
+}
+
+#[test]
+fn the_link_lease_stop_is_said_in_messages_and_latches() {
+    let mut now = Instant::now();
+    let mut p = continuous(now);
+    hold_for(&mut p, &mut now, KEY, 2);
+    let stop = Command::Stop(Stop {
+        axes: crate::protocol::AxisPattern::ALL,
+        cancel_held_outputs: false,
+    });
+    p.handle_event(
+        now,
+        LinkEvent::Reply {
+            id: RequestId(11),
+            origin: Origin::LeaseLapsed,
+            command: stop,
+            reply: Reply::Ack(stop.id()),
+            round_trip: Duration::from_millis(2),
+        },
+    );
+    assert!(p.messages.iter().any(|m| m.text.contains("lease")));
+    assert!(p.stop_latch().is_some());
+    assert_eq!(hold_for(&mut p, &mut now, KEY, 30).jogs, 0);
+}
+
+#[test]
+fn focus_loss_stops_and_a_key_still_down_after_it_starts_nothing() {
+    let mut now = Instant::now();
+    let mut p = continuous(now);
+    hold_for(&mut p, &mut now, KEY, 5);
+    p.apply(Intent::FocusLost, now);
+    assert!(p.take_requests().contains(&Request::Stop));
+    assert_eq!(hold_for(&mut p, &mut now, KEY, 30).jogs, 0);
+}
+
+#[test]
+fn a_stop_in_the_same_frame_as_a_press_wins() {
+    let now = Instant::now();
+    let mut p = continuous(now);
+    p.apply_all(
+        [
+            Intent::Stop(StopCause::Esc),
+            Intent::Jog(KEY, Press::On(x_plus())),
+        ],
+        now,
+    );
+    let r = p.take_requests();
+    assert_eq!(r, vec![Request::Stop], "the press never goes out");
+    assert!(p.stop_latch().is_some());
+}
+
+#[test]
+fn step_mode_steps_once_per_press_however_long_held() {
+    let mut now = Instant::now();
+    let mut p = continuous(now);
+    p.settings.jog.mode = JogMode::Step;
+    let mut steps = 0;
+    for _ in 0..60 {
+        p.apply(Intent::Jog(KEY, Press::On(x_plus())), now);
+        steps += submitted(&mut p)
+            .iter()
+            .filter(|c| matches!(c, Command::ScaraMoveRelative(_)))
+            .count();
+        now += FRAME;
+    }
+    assert_eq!(steps, 1);
+}
+
+fn submitted(p: &mut Pendant) -> Vec<Command> {
+    super::tests::submitted(p)
+}
+
+#[test]
+fn servo_and_e_stop_changes_reach_messages() {
+    let now = Instant::now();
+    let mut p = continuous(now);
+    let estop = SystemStatus {
+        status1: crate::protocol::SystemStatus1::default().with_emergency_stop(true),
+        ..ready_system()
+    };
+    poll(&mut p, now, estop);
+    poll(&mut p, now, ready_system());
+    let texts: Vec<&str> = p.messages.iter().map(|m| m.text.as_str()).collect();
+    assert!(
+        texts.iter().any(|t| t.contains("E-stop pressed")),
+        "{texts:?}"
+    );
+    assert!(
+        texts.iter().any(|t| t.contains("E-stop released")),
+        "{texts:?}"
+    );
+    let polls = state::poll_commands();
+    let off = scara_status(PositionSystem::Work, [0.0; 4], false, true);
+    p.handle_event(now, poll_reply(polls[0], Reply::ScaraStatus(off)));
+    assert!(p.messages.back().is_some_and(|m| m.text == "servo off"));
+}
+
+#[test]
+fn the_speed_cap_limits_the_speed_a_jog_sends() {
+    let mut now = Instant::now();
+    let mut p = continuous(now);
+    p.settings.jog.cp_speed_mm_s = 900;
+    poll(&mut p, now, ready_system());
+    now += FRAME;
+    p.apply(Intent::Jog(KEY, Press::On(x_plus())), now);
+    let sent = submitted(&mut p);
+    let Some(Command::Jog(j)) = sent.first() else {
+        panic!("{sent:?}");
+    };
+    assert_eq!(
+        j.motion,
+        crate::protocol::JogMotion::Cartesian {
+            frame: crate::protocol::JogFrame::Work,
+            acc: crate::protocol::CentiG(30),
+            dec: crate::protocol::CentiG(30),
+            speed: crate::protocol::MmPerSec(250),
+        }
+    );
+}

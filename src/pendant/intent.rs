@@ -1,0 +1,80 @@
+//! What the window's panels ask of the pendant: one type for every intent, collected
+//! while drawing and applied after it with [`Pendant::apply`] (STOP at once), as in the
+//! egui demo app and rerun's viewer. No panel writes a model field.
+
+use std::time::Instant;
+
+use super::Pendant;
+use super::hold::{JogInput, Press, StopCause};
+use super::jog::JogSettings;
+use crate::robot::Pose;
+
+/// One thing an operator asked for.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Intent {
+    /// A jog input's state this frame (reported every frame while it is down, and once
+    /// when it comes up).
+    Jog(JogInput, Press),
+    /// The window lost the keyboard and pointer: it will see no release.
+    FocusLost,
+    /// STOP, and who pressed it.
+    Stop(StopCause),
+    /// The jog panel's new choices (it edits a copy).
+    JogSettings(JogSettings),
+    /// 232H servo on or off, SCARA axes.
+    Servo(bool),
+    /// 233H home return.
+    Home,
+    /// 252H alarm reset.
+    ResetAlarm,
+    /// 2D4H to the target filled in from the arm view.
+    GoToTarget,
+    /// The target's coordinates, edited.
+    EditTarget(Pose),
+    ClearTarget,
+    /// "Go" on a taught point.
+    TeachGo(usize),
+    /// Allow jogs up to this speed at the tool (mm/s) until the window closes.
+    RaiseSpeedCap(f64),
+    /// Back to the reduced jog speed.
+    ResetSpeedCap,
+    /// The light (or dark) theme.
+    LightTheme(bool),
+}
+
+impl Pendant {
+    /// Applies one intent.
+    pub fn apply(&mut self, intent: Intent, now: Instant) {
+        match intent {
+            Intent::Jog(input, press) => self.jog_input(input, press, now),
+            Intent::FocusLost => self.focus_lost(now),
+            Intent::Stop(cause) => self.stop_by(cause, now),
+            Intent::JogSettings(settings) => self.set_jog_settings(settings),
+            Intent::Servo(on) => self.servo(on, now),
+            Intent::Home => self.home(now),
+            Intent::ResetAlarm => self.reset_alarm(now),
+            Intent::GoToTarget => self.go_to_target(now),
+            Intent::EditTarget(pose) => self.edit_step_target(pose),
+            Intent::ClearTarget => self.clear_step_target(),
+            Intent::TeachGo(index) => self.teach_go(index, now),
+            Intent::RaiseSpeedCap(mm_s) => self.raise_speed_cap(mm_s, now),
+            Intent::ResetSpeedCap => self.reset_speed_cap(now),
+            Intent::LightTheme(light) => self.settings.light_theme = light,
+        }
+    }
+
+    /// Applies a frame's intents: the jog inputs' states first (so a STOP latches every
+    /// input down this frame), then STOPs, then the rest in order.
+    pub fn apply_all(&mut self, intents: impl IntoIterator<Item = Intent>, now: Instant) {
+        let rank = |i: &Intent| match i {
+            Intent::Jog(..) | Intent::FocusLost => 0,
+            Intent::Stop(_) => 1,
+            _ => 2,
+        };
+        let mut intents: Vec<Intent> = intents.into_iter().collect();
+        intents.sort_by_key(rank);
+        for intent in intents {
+            self.apply(intent, now);
+        }
+    }
+}
