@@ -1,9 +1,12 @@
 //! Window figures, measured headlessly on the real app (egui_kittest driving
 //! `PendantApp` on the embedded simulator, its line paced at the configured baud rate):
 //!
-//! 1. click to 2D5H: from the frame that delivers an X+/X- click (0.01 mm steps, servo on
-//!    and homed, idle, polling) to the simulator holding the whole 2D5H frame, and the
-//!    time its first byte went on the line (that, less the frame's wire time);
+//! 1. click to 2D5H: from the frame that delivers the press on X+/X- (a step goes on the
+//!    press; 0.01 mm steps, servo on and homed, idle, polling) to the simulator holding
+//!    the whole 2D5H frame, and the time its first byte went on the line (that, less the
+//!    frame's wire time);
+//! 3. Esc to 238H: from the frame that delivers Esc (idle, polling) to the simulator
+//!    holding the whole 238H, and its first byte (less the wire time);
 //! 2. UI frame CPU time: `harness.step()` (logic, layout, AccessKit update) plus
 //!    tessellation of the frame's shapes, on the idle main window while the link polls.
 //!
@@ -37,6 +40,7 @@ fn main() {
     ready(&mut h);
     click_to_2d5h(&mut h, steps);
     frame_time(&mut h, frames);
+    esc_to_238h(&mut h, steps);
 }
 
 fn env_count(name: &str, default: usize) -> usize {
@@ -71,8 +75,13 @@ fn all_axes(app: &PendantApp, f: impl Fn(&xsel_pendant::protocol::AxisState) -> 
         .is_some_and(|axes| axes.iter().all(|(_, a)| f(&a)))
 }
 
+/// Clicks the first button with this label (Servo ON and Home are beside the pad and in
+/// the Status tab).
 fn click(h: &mut Harness<'_, PendantApp>, label: &str) {
-    h.get_by_role_and_label(Role::Button, label).click();
+    h.get_all_by_role_and_label(Role::Button, label)
+        .next()
+        .unwrap_or_else(|| panic!("no button {label:?}"))
+        .click();
     h.step();
     h.step();
 }
@@ -136,10 +145,11 @@ fn click_to_2d5h(h: &mut Harness<'_, PendantApp>, n: usize) {
     let mut lens = std::collections::BTreeSet::new();
     for i in 0..n {
         let label = if i % 2 == 0 { "X+" } else { "X-" };
-        // Pointer move and press first; the release (the click) gets a frame of its own,
-        // as a real window would run one for it.
+        // Pointer move first; the press (which steps) and the release get frames of their
+        // own, as a real window would run one for each.
         let pos = h.get_by_role_and_label(Role::Button, label).rect().center();
         h.event(egui::Event::PointerMoved(pos));
+        h.step();
         let press = |pressed| egui::Event::PointerButton {
             pos,
             button: egui::PointerButton::Primary,
@@ -147,11 +157,11 @@ fn click_to_2d5h(h: &mut Harness<'_, PendantApp>, n: usize) {
             modifiers: egui::Modifiers::default(),
         };
         h.event(press(true));
-        h.step();
-        h.event(press(false));
         let clicked = Instant::now();
         h.step();
         click_frame.push(clicked.elapsed());
+        h.event(press(false));
+        h.step();
         // Wait for the frame without running more frames: only the link and the
         // simulator threads work meanwhile.
         let sim = h.state().sim().expect("the embedded simulator").watch();
@@ -177,7 +187,7 @@ fn click_to_2d5h(h: &mut Harness<'_, PendantApp>, n: usize) {
     }
     println!();
     println!("1. click to 2D5H on the line ({n} steps of 0.01 mm, X+/X-, line {line})");
-    report("   click frame (step() of the release)", &mut click_frame);
+    report("   click frame (step() of the press)", &mut click_frame);
     report("   click to whole 2D5H at the sim", &mut whole);
     println!(
         "   (includes each frame's wire time: {} ms for {} bytes; lengths seen {lens:?}; \
@@ -187,6 +197,78 @@ fn click_to_2d5h(h: &mut Harness<'_, PendantApp>, n: usize) {
         String::from_utf8_lossy(&frame).trim_end()
     );
     report("   click to first byte (less wire time)", &mut first_byte);
+}
+
+/// Figure 3: Esc to 238H on the line, the link polling meanwhile.
+fn esc_to_238h(h: &mut Harness<'_, PendantApp>, n: usize) {
+    let line = h.state().pendant().settings.connection.line();
+    let sim_started = h
+        .state()
+        .sim()
+        .expect("the embedded simulator")
+        .with_core(|c| c.started());
+    let sim = h.state().sim().expect("the embedded simulator").watch();
+    let mut whole = Vec::with_capacity(n);
+    let mut first_byte = Vec::with_capacity(n);
+    let mut len = 0;
+    for i in 0..n {
+        // Let a poll or two go by, so Esc lands at any point of a transaction.
+        let settle = Instant::now() + Duration::from_millis(20 + (i as u64 * 7) % 60);
+        while Instant::now() < settle {
+            h.step();
+            std::thread::sleep(Duration::from_millis(2));
+        }
+        h.event(egui::Event::Key {
+            key: egui::Key::Escape,
+            physical_key: None,
+            pressed: true,
+            repeat: false,
+            modifiers: egui::Modifiers::default(),
+        });
+        let pressed = Instant::now();
+        h.step();
+        let end = Instant::now() + DEADLINE;
+        let at = loop {
+            let found = sim
+                .traffic()
+                .iter()
+                .filter(|t| t.dir == Dir::In && t.bytes.get(3..6) == Some(b"238".as_slice()))
+                .find(|t| sim_started + t.at >= pressed)
+                .map(|t| (sim_started + t.at, t.bytes.len()));
+            if let Some((at, l)) = found {
+                len = l;
+                break at;
+            }
+            assert!(Instant::now() < end, "no 238H after Esc {i}");
+            std::thread::sleep(Duration::from_micros(200));
+        };
+        h.event(egui::Event::Key {
+            key: egui::Key::Escape,
+            physical_key: None,
+            pressed: false,
+            repeat: false,
+            modifiers: egui::Modifiers::default(),
+        });
+        h.step();
+        let latency = at.saturating_duration_since(pressed);
+        whole.push(latency);
+        first_byte.push(latency.saturating_sub(line.wire_time(len)));
+    }
+    let polls = h
+        .state()
+        .pendant()
+        .health
+        .as_ref()
+        .map(|h| h.median_round_trip);
+    println!();
+    println!("3. Esc to 238H on the line ({n} presses, idle and polling, line {line})");
+    report("   Esc to whole 238H at the sim", &mut whole);
+    report("   Esc to first byte (less wire time)", &mut first_byte);
+    println!(
+        "   (one transaction: median round trip {:?}; 238H wire time {} ms)",
+        polls.flatten(),
+        ms(line.wire_time(len))
+    );
 }
 
 /// Figure 2: the UI thread's work for one frame of the idle, polling main window.

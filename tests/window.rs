@@ -12,7 +12,7 @@ use xsel_pendant::sim::runner::Dir;
 use xsel_pendant::ui::{PendantApp, StartOptions};
 
 mod kittest_common;
-use kittest_common::{DEADLINE, click, step_until};
+use kittest_common::{DEADLINE, click, show_tab, step_until};
 
 fn app<'a>() -> Harness<'a, PendantApp> {
     Harness::builder()
@@ -105,9 +105,10 @@ fn servo_home_and_a_10_mm_step_move_the_simulated_arm() {
         (sim_x(a) - x0 - 10.0).abs() < 0.0015
     });
     let sent = sim_in_frames(h.state(), "2D5");
-    // PROTOCOL.md 3.20: pattern 01, acc 30 %, dec 30 %, speed 20 %, type 02 (PTP, work
-    // frame, current arm), distance +10.000 mm.
-    let expected = checksum_frame("!992D501001E001E00140200002710");
+    // PROTOCOL.md 3.20: pattern 01, acc 30 %, dec 30 %, speed 3 % (the 20 % asked for,
+    // capped at the reduced jog speed of 250 mm/s), type 02 (PTP, work frame, current
+    // arm), distance +10.000 mm.
+    let expected = checksum_frame("!992D501001E001E00030200002710");
     assert_eq!(sent, vec![expected], "exactly one 2D5H, with these bytes");
 }
 
@@ -305,4 +306,221 @@ fn after_a_jog_the_arm_view_shows_the_new_pose() {
         panic!("tip drawn")
     };
     assert!((shown.x - tip.x).abs() < 0.001 && (shown.y - tip.y).abs() < 0.001);
+}
+
+/// The frames of message `id` the simulator has received.
+fn count_in(app: &PendantApp, id: &str) -> usize {
+    sim_in_frames(app, id).len()
+}
+
+/// Steps the window for `d` of real time (the simulator runs on the clock), checking
+/// `each` after every frame.
+fn hold_for(h: &mut Harness<'_, PendantApp>, d: Duration, each: impl Fn(&PendantApp)) {
+    let end = Instant::now() + d;
+    while Instant::now() < end {
+        h.step();
+        each(h.state());
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+fn button_rect(h: &Harness<'_, PendantApp>, label: &str) -> egui::Rect {
+    h.get_by_role_and_label(egui::accesskit::Role::Button, label)
+        .rect()
+}
+
+#[test]
+fn a_mouse_held_continuous_jog_is_one_236h_and_one_238h_on_release() {
+    let mut h = app();
+    ready(&mut h);
+    click(&mut h, "Continuous");
+    let (jogs, stops) = (count_in(h.state(), "236"), count_in(h.state(), "238"));
+    let at = button_rect(&h, "X+").center();
+    h.hover_at(at);
+    h.drag_at(at);
+    step_until(&mut h, "the jog to run", sim_busy);
+    // Held still for 2 s: one 236H, no STOP, no stutter.
+    hold_for(&mut h, Duration::from_secs(2), |a| {
+        assert_eq!(count_in(a, "236"), jogs + 1, "a held jog is sent once");
+        assert_eq!(count_in(a, "238"), stops, "no STOP while held");
+    });
+    h.drop_at(at);
+    step_until(&mut h, "the jog to stop on release", |a| !sim_busy(a));
+    h.run_steps(3);
+    assert_eq!(count_in(h.state(), "236"), jogs + 1);
+    assert_eq!(
+        count_in(h.state(), "238"),
+        stops + 1,
+        "one STOP, on release"
+    );
+}
+
+#[test]
+fn esc_with_a_jog_key_held_stops_until_the_key_is_released_and_pressed_again() {
+    let mut h = app();
+    ready(&mut h);
+    click(&mut h, "Continuous");
+    h.key_down(egui::Key::ArrowRight);
+    step_until(&mut h, "the jog to run", sim_busy);
+    let jogs = count_in(h.state(), "236");
+    h.key_press(egui::Key::Escape);
+    step_until(&mut h, "the arm to stop", |a| !sim_busy(a));
+    assert_eq!(
+        h.query_all_by_label_contains("release the jog keys")
+            .count(),
+        2,
+        "the pad and the safety band show the latch"
+    );
+    // The key still held: nothing moves again.
+    hold_for(&mut h, Duration::from_secs(1), |a| {
+        assert!(!sim_busy(a), "the arm moved again with the key still held");
+        assert_eq!(count_in(a, "236"), jogs);
+    });
+    h.key_up(egui::Key::ArrowRight);
+    // The release is applied after the frame that sees it is drawn: the next shows it.
+    h.run_steps(2);
+    assert_eq!(
+        h.query_all_by_label_contains("release the jog keys")
+            .count(),
+        0
+    );
+    h.key_down(egui::Key::ArrowRight);
+    step_until(&mut h, "a new press to jog", sim_busy);
+    assert_eq!(count_in(h.state(), "236"), jogs + 1);
+    h.key_up(egui::Key::ArrowRight);
+    step_until(&mut h, "the jog to stop on release", |a| !sim_busy(a));
+}
+
+/// Every pad button's label.
+const PAD: [&str; 16] = [
+    "X+",
+    "X-",
+    "Y+",
+    "Y-",
+    "Z up\nZ-",
+    "Z down\nZ+",
+    "R ccw\nR+",
+    "R cw\nR-",
+    "J1-",
+    "J1+",
+    "J2-",
+    "J2+",
+    "J3-",
+    "J3+",
+    "J4-",
+    "J4+",
+];
+
+fn pad_rects(h: &Harness<'_, PendantApp>) -> Vec<egui::Rect> {
+    PAD.iter().map(|l| button_rect(h, l)).collect()
+}
+
+#[test]
+fn the_pad_keeps_every_rectangle_whatever_the_state() {
+    let mut h = app();
+    ready(&mut h);
+    let base = pad_rects(&h);
+    for r in &base {
+        assert!(
+            r.width() >= 56.0 && r.height() >= 40.0,
+            "{r:?} too small to hit"
+        );
+    }
+    let same = |h: &mut Harness<'_, PendantApp>, after: &str| {
+        h.run_steps(2);
+        assert_eq!(pad_rects(h), base, "the pad moved after {after}");
+    };
+    for (label, after) in [
+        ("Continuous", "Step -> Continuous"),
+        ("Step", "Continuous -> Step"),
+        ("CP", "PTP -> CP"),
+        ("PTP", "CP -> PTP"),
+        ("base", "the base frame"),
+        ("tool", "the tool frame"),
+        ("work", "the work frame"),
+    ] {
+        click(&mut h, label);
+        same(&mut h, after);
+    }
+    show_tab(&mut h, "Simulator");
+    click(&mut h, "Press E-stop");
+    step_until(&mut h, "the E-stop to show", |a| {
+        a.pendant().motion_ready(Instant::now()).is_err()
+    });
+    same(&mut h, "an E-stop");
+    click(&mut h, "Release E-stop");
+    step_until(&mut h, "the E-stop to clear", |a| {
+        a.pendant().controller_ready(Instant::now()).is_ok()
+    });
+    same(&mut h, "the E-stop's release");
+    // A refusal: J1 steps of 50 deg until the joint limit refuses one.
+    click(&mut h, "Servo ON");
+    step_until(&mut h, "motion allowed", |a| {
+        a.pendant().motion_ready(Instant::now()).is_ok()
+    });
+    click(&mut h, "50");
+    for _ in 0..4 {
+        click(&mut h, "J1+");
+        step_until(&mut h, "the step to end or be refused", |a| {
+            refused(a)
+                || (!sim_busy(a) && a.pendant().motion_phase(Instant::now()) == MotionPhase::Done)
+        });
+        if refused(h.state()) {
+            break;
+        }
+    }
+    assert!(refused(h.state()), "a J1 step beyond its limit is refused");
+    same(&mut h, "a refusal");
+}
+
+#[test]
+fn e_stop_shows_the_band_and_every_change_reaches_messages() {
+    let mut h = app();
+    ready(&mut h);
+    show_tab(&mut h, "Simulator");
+    click(&mut h, "Press E-stop");
+    step_until(&mut h, "the band", |a| {
+        a.pendant().motion_ready(Instant::now()).is_err()
+    });
+    assert!(h.query_by_label_contains("EMERGENCY STOP").is_some());
+    let texts: Vec<String> = h
+        .state()
+        .pendant()
+        .messages
+        .iter()
+        .map(|m| m.text.clone())
+        .collect();
+    for said in [
+        "servo on",
+        "homing started",
+        "homing done",
+        "E-stop pressed",
+    ] {
+        assert!(
+            texts.iter().any(|t| t.starts_with(said)),
+            "{said:?} not in {texts:?}"
+        );
+    }
+}
+
+/// The simulator's Z joint, mm (counting down from the top of the stroke).
+fn sim_z(app: &PendantApp) -> f64 {
+    app.sim()
+        .map_or(f64::NAN, |s| s.with(|c| c.snapshot().joints.z))
+}
+
+#[test]
+fn pgup_raises_the_tool_and_pgdn_lowers_it() {
+    let mut h = app();
+    ready(&mut h);
+    click(&mut h, "10");
+    let z0 = sim_z(h.state());
+    h.key_press(egui::Key::PageDown);
+    step_until(&mut h, "the tool to go down 10 mm", |a| {
+        (sim_z(a) - z0 - 10.0).abs() < 0.0015 && step_ended(1)(a)
+    });
+    h.key_press(egui::Key::PageUp);
+    step_until(&mut h, "the tool to come back up", |a| {
+        (sim_z(a) - z0).abs() < 0.0015 && step_ended(2)(a)
+    });
 }

@@ -9,7 +9,7 @@ use xsel_pendant::pendant::NotReady;
 use xsel_pendant::ui::{PendantApp, StartOptions};
 
 mod kittest_common;
-use kittest_common::{click, step_until};
+use kittest_common::{click, show_tab, step_until};
 
 #[test]
 fn pressing_e_stop_in_the_simulator_panel_shows_e_stop_and_disables_motion() {
@@ -20,6 +20,7 @@ fn pressing_e_stop_in_the_simulator_panel_shows_e_stop_and_disables_motion() {
         a.pendant().controller_ready(Instant::now()).is_ok()
     });
     assert!(h.query_by_label("E-stop off").is_some());
+    show_tab(&mut h, "Simulator");
     click(&mut h, "Press E-stop");
     step_until(&mut h, "the pendant to see the E-stop", |a| {
         a.pendant().controller_ready(Instant::now()) == Err(NotReady::EmergencyStop)
@@ -62,6 +63,7 @@ fn an_alarm_raised_in_the_simulator_panel_reaches_the_top_bar() {
     step_until(&mut h, "the controller to accept commands", |a| {
         a.pendant().controller_ready(Instant::now()).is_ok()
     });
+    show_tab(&mut h, "Simulator");
     h.get_by_label("Code").focus();
     h.step();
     h.step();

@@ -413,32 +413,27 @@ impl eframe::App for PendantApp {
         Panel::top("safety-band").show(ui, |ui| safety_band::show(ui, &self.pendant, now));
         let mut sim_action = None;
         let mut pad = PadOutput::default();
+        // The jog panel first, at the top of the column: the pad never moves.
         Panel::left("left")
             .resizable(true)
             .default_size(370.0)
             .show(ui, |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| {
-                    egui::CollapsingHeader::new("Connection")
-                        .default_open(true)
-                        .show(ui, |ui| self.connection.show(ui, &mut self.pendant, now));
                     egui::CollapsingHeader::new("Jog")
                         .default_open(true)
                         .show(ui, |ui| {
                             pad = self.jog.show(ui, &self.pendant, now, &mut intents);
                         });
-                    if let Some(state) = self.sim_state() {
-                        egui::CollapsingHeader::new("Simulator")
-                            .default_open(true)
-                            .show(ui, |ui| {
-                                sim_action = self.simulator.show(ui, &state);
-                            });
-                    }
+                    egui::CollapsingHeader::new("Connection")
+                        .default_open(true)
+                        .show(ui, |ui| self.connection.show(ui, &mut self.pendant, now));
                     if ui.button("Keyboard (F1)").clicked() {
                         self.help_open = !self.help_open;
                     }
                 });
             });
         self.arm.hovered_step = pad.hovered.map(|t| (t.axis, t.direction));
+        let sim_state = self.sim_state();
         egui::CentralPanel::default().show(ui, |ui| {
             let mut tabs = Tabs {
                 pendant: &mut self.pendant,
@@ -447,6 +442,9 @@ impl eframe::App for PendantApp {
                 teach: &mut self.teach,
                 coords: &mut self.coords,
                 frame_log: &mut self.frame_log,
+                simulator: &mut self.simulator,
+                sim_state,
+                sim_action: &mut sim_action,
                 now,
                 started: self.started,
             };

@@ -7,7 +7,7 @@ use egui::{ComboBox, RichText, Ui};
 
 use super::detect::Detect;
 use super::ports::PortList;
-use super::widgets::{AMBER, RED};
+use super::widgets::{AMBER, GREY, RED, reserved_line};
 use crate::link::line::STANDARD_BAUDS;
 use crate::pendant::{LineKind, ParityChoice, Pendant};
 use crate::robot::BUILTIN_MODELS;
@@ -211,39 +211,41 @@ fn parse_station(text: &str) -> Result<u8, String> {
     Err(format!("station `{t}`: 2 hex digits, 00 to FF"))
 }
 
+/// The link's figures in four lines that are always there (cut to the width, whole on
+/// hover), so the panels below never move when a figure grows or polling pauses.
 fn health(ui: &mut Ui, pendant: &Pendant) {
-    let Some(h) = &pendant.health else {
+    ui.separator();
+    let Some(h) = pendant.health.as_ref().filter(|_| pendant.line.is_up()) else {
+        let idle = if pendant.line.is_up() {
+            "waiting for the link's first figures"
+        } else {
+            "no line"
+        };
+        reserved_line(ui, Some((GREY, idle)), None);
+        for _ in 0..3 {
+            reserved_line(ui, None, None);
+        }
         return;
     };
-    if !pendant.line.is_up() {
-        return;
-    }
-    ui.separator();
+    let text = ui.visuals().text_color();
     let rt = h
         .median_round_trip
         .map_or("-".into(), |d| format!("{:.1} ms", d.as_secs_f64() * 1e3));
-    ui.label(format!(
+    let line = format!(
         "round trip {rt}, {:.0} polls/s, line busy {:.0} %",
         h.polls_per_second,
         h.line_busy * 100.0
-    ));
-    let (timeouts, errors) = pendant.faults_last_minute().unwrap_or((0, 0));
-    let color = if timeouts + errors > 0 {
-        AMBER
-    } else {
-        ui.visuals().text_color()
-    };
-    ui.label(
-        RichText::new(format!(
-            "last minute: {timeouts} time-outs, {errors} errors (bad frames, refusals)"
-        ))
-        .color(color),
     );
-    ui.label(format!(
+    reserved_line(ui, Some((text, &line)), Some(&line));
+    let (timeouts, errors) = pendant.faults_last_minute().unwrap_or((0, 0));
+    let color = if timeouts + errors > 0 { AMBER } else { text };
+    let line = format!("last minute: {timeouts} time-outs, {errors} errors (bad frames, refusals)");
+    reserved_line(ui, Some((color, &line)), Some(&line));
+    let line = format!(
         "since connected: {} transactions, {} time-outs, {} bad frames, {} refusals",
         h.transactions, h.timeouts, h.bad_frames, h.error_replies
-    ));
-    if h.polling_paused {
-        ui.label(RichText::new("polling paused: the window fell behind the link").color(AMBER));
-    }
+    );
+    reserved_line(ui, Some((text, &line)), Some(&line));
+    let paused = "polling paused: the window fell behind the link";
+    reserved_line(ui, h.polling_paused.then_some((AMBER, paused)), None);
 }

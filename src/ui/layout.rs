@@ -19,6 +19,7 @@ use serde::{Deserialize, Serialize};
 use super::arm_view::ArmView;
 use super::coords::CoordsPanel;
 use super::frame_log::FrameLogPanel;
+use super::simulator::{SimState, SimulatorPanel};
 use super::teach::TeachPanel;
 use super::{messages, readout, status};
 use crate::pendant::{Intent, Pendant};
@@ -33,6 +34,7 @@ pub enum Tab {
     Messages,
     Coords,
     FrameLog,
+    Simulator,
 }
 
 impl Tab {
@@ -45,11 +47,12 @@ impl Tab {
             Tab::Messages => "Messages",
             Tab::Coords => "Coordinate tables",
             Tab::FrameLog => "Frame log",
+            Tab::Simulator => "Simulator",
         }
     }
 }
 
-const ALL: [Tab; 7] = [
+const ALL: [Tab; 8] = [
     Tab::Arm,
     Tab::Position,
     Tab::Status,
@@ -57,6 +60,7 @@ const ALL: [Tab; 7] = [
     Tab::Messages,
     Tab::Coords,
     Tab::FrameLog,
+    Tab::Simulator,
 ];
 
 /// The first layout: the arm view large on the left over the messages and the frame log
@@ -70,7 +74,10 @@ pub fn default_layout() -> Tree<Tab> {
     };
     let arm = tabs(&mut tiles, &[Tab::Arm]);
     let position = tabs(&mut tiles, &[Tab::Position]);
-    let status = tabs(&mut tiles, &[Tab::Status, Tab::Teach, Tab::Coords]);
+    let status = tabs(
+        &mut tiles,
+        &[Tab::Status, Tab::Teach, Tab::Coords, Tab::Simulator],
+    );
     let traffic = tabs(&mut tiles, &[Tab::Messages, Tab::FrameLog]);
     let left = tiles.insert_container(Linear::new_binary(
         LinearDir::Vertical,
@@ -106,6 +113,11 @@ pub struct Tabs<'a> {
     pub teach: &'a mut TeachPanel,
     pub coords: &'a mut CoordsPanel,
     pub frame_log: &'a mut FrameLogPanel,
+    pub simulator: &'a mut SimulatorPanel,
+    /// The built-in simulator's operator states, when the line is the built-in one.
+    pub sim_state: Option<SimState>,
+    /// The simulator action clicked, applied after drawing.
+    pub sim_action: &'a mut Option<crate::sim::console::OperatorAction>,
     pub now: Instant,
     pub started: Instant,
 }
@@ -133,6 +145,16 @@ impl Behavior<Tab> for Tabs<'_> {
             Tab::Messages => messages::show(ui, self.pendant, self.started),
             Tab::Coords => self.coords.show(ui, self.pendant, self.now),
             Tab::FrameLog => self.frame_log.show(ui, self.pendant, self.now),
+            Tab::Simulator => match &self.sim_state {
+                Some(state) => {
+                    if let Some(action) = self.simulator.show(ui, state) {
+                        *self.sim_action = Some(action);
+                    }
+                }
+                None => {
+                    ui.label("Not on the built-in simulator: the line goes to a real controller.");
+                }
+            },
         }
         UiResponse::None
     }

@@ -132,7 +132,11 @@ fn button(
     };
     let running = pendant.held_jog().is_some_and(|j| j.target == target);
     let held = pendant.held_on(JogInput::Pointer) == Some(target) || running;
-    let widget = Button::new(RichText::new(text).size(15.0)).selected(held);
+    // Two-line labels (direction and sign) a little smaller, never wrapped further.
+    let size = if text.contains('\n') { 13.0 } else { 15.0 };
+    let widget = Button::new(RichText::new(text).size(size))
+        .wrap_mode(egui::TextWrapMode::Extend)
+        .selected(held);
     let resp = ui
         .put(rect, |ui: &mut Ui| ui.add_enabled(enabled, widget))
         .on_disabled_hover_text(why);

@@ -67,6 +67,14 @@ pub fn show(ui: &mut Ui, pendant: &Pendant, _now: Instant) {
         egui::Sense::hover(),
     );
     let Some(first) = alerts.first() else {
+        let quiet = "No E-stop, alarm or STOP latch";
+        ui.painter().text(
+            rect.left_center() + egui::vec2(8.0, 0.0),
+            egui::Align2::LEFT_CENTER,
+            quiet,
+            egui::FontId::proportional(13.0),
+            ui.visuals().weak_text_color(),
+        );
         return;
     };
     ui.painter().rect_filled(rect, 3.0, first.color);

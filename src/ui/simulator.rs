@@ -5,7 +5,7 @@
 
 use egui::{RichText, Ui};
 
-use super::widgets::{AMBER, GREEN, RED, lamp};
+use super::widgets::{AMBER, GREEN, RED, lamp, reserved_line};
 use crate::sim::Mode;
 use crate::sim::console::{OperatorAction, parse_code};
 
@@ -104,10 +104,12 @@ impl SimulatorPanel {
                 action = Some(OperatorAction::ClearAlarm);
             }
         });
-        if let Some((ok, text)) = &self.feedback {
-            let color = if *ok { GREEN } else { AMBER };
-            ui.label(RichText::new(text).color(color));
-        }
+        // What the last action did, in a line that is always there.
+        let feedback = self
+            .feedback
+            .as_ref()
+            .map(|(ok, text)| (if *ok { GREEN } else { AMBER }, text.as_str()));
+        reserved_line(ui, feedback, feedback.map(|(_, t)| t));
         action
     }
 

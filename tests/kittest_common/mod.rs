@@ -47,10 +47,21 @@ pub fn step_until_shown(h: &mut Harness<'_, PendantApp>, text: &str) {
     }
 }
 
-/// Clicks the button with this label, then lets the layout settle (two frames).
+/// Clicks the button with this label (the first, where the window has it twice: Servo
+/// ON beside the pad and in the Status tab do the same), then lets the layout settle (two
+/// frames).
 pub fn click(h: &mut Harness<'_, PendantApp>, label: &str) {
-    h.get_by_role_and_label(egui::accesskit::Role::Button, label)
+    h.get_all_by_role_and_label(egui::accesskit::Role::Button, label)
+        .next()
+        .unwrap_or_else(|| panic!("no button labelled {label:?}"))
         .click();
+    h.step();
+    h.step();
+}
+
+/// Brings the centre tab with this title to the front.
+pub fn show_tab(h: &mut Harness<'_, PendantApp>, title: &str) {
+    h.get_by_label(title).click();
     h.step();
     h.step();
 }
