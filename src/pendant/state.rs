@@ -196,6 +196,19 @@ impl ControllerState {
         Some(Pose::new(x, y, z, r))
     }
 
+    /// Work and base positions of one sample, as the readouts show them: the work
+    /// position of the latest 2A1H in the work system, and its base position through the
+    /// selected work frame (so work No. 0 reads the same in both), each to 0.001. The
+    /// polled base-system 2A1H, a poll apart, is used only until the work table is read.
+    pub fn sample(&self) -> Option<(Pose, Pose)> {
+        let work = self.work_position()?;
+        let base = match self.work_frame() {
+            Some(frame) => round_pose(frame.work_to_base(&work)),
+            None => self.base_position()?,
+        };
+        Some((work, base))
+    }
+
     /// The selected work and tool numbers (from 2A1H).
     pub fn frame_numbers(&self) -> Option<(u8, u8)> {
         let s = &self.work.as_ref()?.value;
@@ -223,4 +236,10 @@ impl ControllerState {
             .or(self.joints.as_ref())
             .map(|s| &s.value.axes)
     }
+}
+
+/// Every coordinate to the wire's 0.001.
+fn round_pose(p: Pose) -> Pose {
+    let r = |v: f64| (v * 1000.0).round() / 1000.0;
+    Pose::new(r(p.x), r(p.y), r(p.z), r(p.r))
 }

@@ -111,6 +111,30 @@ impl Pendant {
         })
     }
 
+    /// What "Go" on taught point `index` would do now, for its ghost.
+    pub fn preview_go(&self, index: usize, now: Instant) -> Option<StepPreview> {
+        let point = self.settings.teach.get(index)?;
+        let pose = Pose::from_wire(point.pose);
+        let arm = self.arm_now(now).ok();
+        let tip_base = arm.map_or(pose, |a| a.work.work_to_base(&pose));
+        let frames = self.controller.frame_numbers().and_then(|(work, tool)| {
+            super::teach::check_go(point, work, tool)
+                .err()
+                .map(|e| e.to_string())
+        });
+        let plan = match (frames, arm) {
+            (Some(why), _) => Err(Refusal::FramesChanged(why)),
+            (None, None) => Err(Refusal::NoPosition),
+            (None, Some(a)) => jog::plan_go(&self.model, &self.kin, &self.jog_sent(), point, &a),
+        };
+        Some(StepPreview {
+            label: point.name.clone(),
+            tip_base,
+            joints: plan.as_ref().ok().map(|p| p.end),
+            plan,
+        })
+    }
+
     /// "Go to target": 2D4H after the readiness, frame and move checks; an arm flip
     /// asks for a second press. The target stays set (a refused one can be edited).
     pub fn go_to_target(&mut self, now: Instant) {

@@ -433,6 +433,7 @@ impl eframe::App for PendantApp {
                 });
             });
         self.arm.hovered_step = pad.hovered.map(|t| (t.axis, t.direction));
+        self.arm.hovered_point = self.teach.hovered_go;
         let sim_state = self.sim_state();
         egui::CentralPanel::default().show(ui, |ui| {
             let mut tabs = Tabs {

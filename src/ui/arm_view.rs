@@ -52,6 +52,8 @@ pub struct ArmView {
     last_poll: Option<Instant>,
     /// The jog button under the pointer this frame (its step is the ghost).
     pub hovered_step: Option<(JogAxis, Direction)>,
+    /// The taught point whose Go is under the pointer (last frame).
+    pub hovered_point: Option<usize>,
     /// Where the context menu was opened, scene mm.
     menu_at: Option<Mm>,
     /// The last scene painted (tests read it).
@@ -233,6 +235,7 @@ impl ArmView {
             .hovered_step
             .filter(|_| stepping)
             .and_then(|(axis, dir)| pendant.preview_jog(axis, dir, now))
+            .or_else(|| self.hovered_point.and_then(|i| pendant.preview_go(i, now)))
             .or_else(|| pendant.preview_target(now))
             .or_else(|| pendant.preview_followed(now))?;
         Some(ghost_of(preview))
@@ -252,12 +255,13 @@ impl ArmView {
         let joints = c.joint_position();
         let tip = joints.map(|j| tool.flange_to_tip(&kin.forward(&j)));
         ui.horizontal_wrapped(|ui| {
-            match (tip, c.work_position()) {
-                (Some(b), Some(w)) => ui.label(format!(
+            // The same sample as the Position pane, not the joints' forward kinematics.
+            match c.sample() {
+                Some((w, b)) => ui.label(format!(
                     "Tool tip  base X {:.3} Y {:.3}  |  work X {:.3} Y {:.3} Z {:.3} R {:.3}",
                     b.x, b.y, w.x, w.y, w.z, w.r
                 )),
-                _ => ui.label("Tool tip: no position yet"),
+                None => ui.label("Tool tip: no position yet"),
             };
             if let Some(Ghost {
                 check: GhostCheck::Refused(why),

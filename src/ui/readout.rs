@@ -21,9 +21,11 @@ pub fn show(ui: &mut Ui, pendant: &Pendant, now: Instant) {
         ui.label(RichText::new("out of date: no fresh status from the controller").color(AMBER));
     }
     let c = &pendant.controller;
+    // Work and base from one sample (the same poll, rounded alike).
+    let sample = c.sample();
     let columns = [
-        c.work_position().map(|p| p.to_array()),
-        c.base_position().map(|p| p.to_array()),
+        sample.map(|(w, _)| w.to_array()),
+        sample.map(|(_, b)| b.to_array()),
         c.joint_position().map(|j| j.to_array()),
     ];
     let value = |v: Option<[f64; 4]>, i: usize| {

@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use egui::{Button, RichText, TextEdit, Ui};
 
-use super::widgets::{RED, reason};
+use super::widgets::RED;
 use crate::pendant::Pendant;
 use crate::pendant::teach::arm_word;
 
@@ -18,6 +18,8 @@ pub struct TeachPanel {
     rename: String,
     path: String,
     file_message: Option<(bool, String)>,
+    /// The row whose Go is under the pointer (the arm view shows its ghost).
+    pub hovered_go: Option<usize>,
 }
 
 impl TeachPanel {
@@ -41,13 +43,22 @@ impl TeachPanel {
                 self.name.clear();
             }
         });
-        self.rows(ui, pendant);
-        self.actions(ui, pendant, now);
+        self.rows(ui, pendant, now);
+        self.actions(ui, pendant);
         ui.separator();
         self.files(ui, pendant);
     }
 
-    fn rows(&mut self, ui: &mut Ui, pendant: &Pendant) {
+    fn rows(&mut self, ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
+        self.hovered_go = None;
+        let ready = pendant.motion_ready(now);
+        let why = ready
+            .as_ref()
+            .err()
+            .map(|e| e.to_string())
+            .unwrap_or_default();
+        let how = go_words(pendant);
+        let mut go = None;
         let list = &pendant.settings.teach;
         if list.is_empty() {
             ui.label("No points taught yet.");
@@ -58,13 +69,23 @@ impl TeachPanel {
             .show(ui, |ui| {
                 egui::Grid::new("teach-list")
                     .striped(true)
-                    .num_columns(4)
+                    .num_columns(5)
                     .show(ui, |ui| {
-                        for h in ["Name", "X / Y / Z / R (work)", "Arm", "Work / Tool"] {
+                        for h in ["", "Name", "X / Y / Z / R (work)", "Arm", "Work / Tool"] {
                             ui.label(RichText::new(h).strong());
                         }
                         ui.end_row();
                         for (i, p) in list.iter().enumerate() {
+                            let b = ui
+                                .add_enabled(ready.is_ok(), Button::new("Go"))
+                                .on_hover_text(format!("Go to \"{}\": {how}", p.name))
+                                .on_disabled_hover_text(&why);
+                            if b.hovered() {
+                                self.hovered_go = Some(i);
+                            }
+                            if b.clicked() {
+                                go = Some(i);
+                            }
                             let selected = self.selected == Some(i);
                             if ui.selectable_label(selected, &p.name).clicked() {
                                 self.selected = Some(i);
@@ -78,21 +99,16 @@ impl TeachPanel {
                         }
                     });
             });
+        if let Some(i) = go {
+            pendant.teach_go(i, now);
+        }
     }
 
-    fn actions(&mut self, ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
+    fn actions(&mut self, ui: &mut Ui, pendant: &mut Pendant) {
         let Some(i) = self.selected.filter(|&i| i < pendant.settings.teach.len()) else {
             return;
         };
-        let ready = pendant.motion_ready(now);
         ui.horizontal_wrapped(|ui| {
-            if ui
-                .add_enabled(ready.is_ok(), Button::new("Go"))
-                .on_hover_text("Move there with 2D4H (PTP or CP as chosen in the jog panel)")
-                .clicked()
-            {
-                pendant.teach_go(i, now);
-            }
             let list = &mut pendant.settings.teach;
             if ui.button("Up").clicked() {
                 self.selected = list.move_up(i).ok();
@@ -105,9 +121,6 @@ impl TeachPanel {
                 self.selected = None;
             }
         });
-        if let Err(why) = ready {
-            reason(ui, why);
-        }
         ui.horizontal(|ui| {
             let label = ui.label("Rename");
             ui.add(TextEdit::singleline(&mut self.rename).desired_width(120.0))
@@ -193,5 +206,20 @@ fn load(path: &str, pendant: &mut Pendant) -> (bool, String) {
     match result {
         Ok(()) => (true, format!("loaded {} points from {path}", list.len())),
         Err(e) => (false, format!("{path}: {e} (nothing changed)")),
+    }
+}
+
+/// How a Go moves, said before it is pressed: 2D4H, PTP or CP, the speed sent.
+fn go_words(pendant: &Pendant) -> String {
+    let sent = pendant.jog_sent();
+    match sent.interpolation {
+        crate::pendant::Interpolation::Ptp => format!(
+            "2D4H PTP at {} % with the point's arm system (the ghost shows the end)",
+            sent.ptp_speed_pct
+        ),
+        crate::pendant::Interpolation::Cp => format!(
+            "2D4H CP (straight line) at {} mm/s (the ghost shows the line)",
+            sent.cp_speed_mm_s
+        ),
     }
 }
