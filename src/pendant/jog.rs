@@ -264,6 +264,52 @@ pub enum Refusal {
     },
 }
 
+impl Refusal {
+    /// One short sentence for the line beside the pad; [`Refusal`]'s `Display` has the
+    /// details (check point, distances), shown on hover and in Messages.
+    pub fn short(&self) -> String {
+        use crate::robot::IkError;
+        let ik = |e: &IkError| match e {
+            IkError::TooFar { .. } => "out of reach".to_owned(),
+            IkError::TooNear { .. } => "too close to the base".to_owned(),
+            IkError::Singular { .. } => "in the singular zone (arm nearly straight)".to_owned(),
+            IkError::JointLimit { joint, .. } => format!("{joint:?} beyond its limit"),
+            IkError::NotFinite => "not a number".to_owned(),
+        };
+        match self {
+            Refusal::Move(MoveError::CpLine {
+                position, reason, ..
+            }) => {
+                let what = match reason {
+                    IkError::TooFar { .. } => "leaves the reach".to_owned(),
+                    IkError::TooNear { .. } => "comes too close to the base".to_owned(),
+                    IkError::Singular { .. } => "crosses the singular zone".to_owned(),
+                    IkError::JointLimit { joint, .. } => {
+                        format!("takes {joint:?} beyond its limit")
+                    }
+                    IkError::NotFinite => "is not a number".to_owned(),
+                };
+                format!(
+                    "CP line {what} near X {:.0}, Y {:.0}",
+                    position.x, position.y
+                )
+            }
+            Refusal::Move(MoveError::CpAroundBase { .. }) => {
+                "CP line would swing the arm around the base".to_owned()
+            }
+            Refusal::Move(MoveError::Unreachable(e)) => format!("target {}", ik(e)),
+            Refusal::Move(MoveError::ArmSwitchNotAllowed { .. }) => {
+                "needs the other arm system (this move may not switch)".to_owned()
+            }
+            Refusal::Move(MoveError::NotReachableWithArm { arm, reason }) => {
+                format!("{} with the {arm} arm", ik(reason))
+            }
+            Refusal::JointLimit { joint, .. } => format!("{joint} would leave its limit"),
+            other => other.to_string(),
+        }
+    }
+}
+
 /// What the planner needs to know of the arm now.
 #[derive(Clone, Copy, Debug)]
 pub struct ArmNow {

@@ -99,6 +99,9 @@ pub struct Message {
     pub level: Level,
     pub text: String,
     pub at: Instant,
+    /// The whole story where `text` is the short form (a refusal's check point and
+    /// distances): shown on hover.
+    pub detail: Option<String>,
 }
 
 /// The motion phase the lamps show.
@@ -213,6 +216,7 @@ impl Pendant {
             level,
             text: text.into(),
             at: now,
+            detail: None,
         });
     }
 
@@ -227,8 +231,22 @@ impl Pendant {
             level,
             text: text.clone(),
             at: now,
+            detail: None,
         });
         self.say(level, text, now);
+    }
+
+    /// A refusal beside the pad in one short sentence, the whole of it in Messages and on
+    /// hover.
+    fn jog_refused(&mut self, why: &Refusal, now: Instant) {
+        let full = format!("refused: {why}");
+        self.jog_feedback = Some(Message {
+            level: Level::Warning,
+            text: format!("refused: {}", why.short()),
+            at: now,
+            detail: Some(full.clone()),
+        });
+        self.say(Level::Warning, full, now);
     }
 
     // ---- the line ----

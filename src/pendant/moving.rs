@@ -88,7 +88,7 @@ impl Pendant {
                     stopped: false,
                 });
             }
-            Err(why) => self.jog_says(Level::Warning, format!("refused: {why}"), now),
+            Err(why) => self.jog_refused(&why, now),
         }
     }
 
@@ -133,7 +133,7 @@ impl Pendant {
         }
         let plan = match self.preview_step(axis, dir, now) {
             Ok(plan) => plan,
-            Err(why) => return self.jog_says(Level::Warning, format!("refused: {why}"), now),
+            Err(why) => return self.jog_refused(&why, now),
         };
         let confirmed = self.confirm.take().is_some_and(|(a, d, at)| {
             a == axis && d == dir && now.duration_since(at) < CONFIRM_FOR

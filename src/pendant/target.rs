@@ -152,7 +152,7 @@ impl Pendant {
             .and_then(|a| jog::plan_to(&self.model, &self.kin, &self.jog_sent(), &t.pose, &a));
         let plan = match plan {
             Ok(p) => p,
-            Err(why) => return self.jog_says(Level::Warning, format!("refused: {why}"), now),
+            Err(why) => return self.jog_refused(&why, now),
         };
         let confirmed = t
             .confirm
@@ -323,7 +323,12 @@ mod tests {
             .as_ref()
             .map(|m| m.text.clone())
             .unwrap_or_default();
-        assert!(said.starts_with("refused: out of reach"), "{said}");
+        assert_eq!(said, "refused: target out of reach", "one short sentence");
+        let detail = p.jog_feedback.as_ref().and_then(|m| m.detail.clone());
+        assert!(
+            detail.is_some_and(|d| d.starts_with("refused: out of reach") && d.contains(" mm")),
+            "the details are kept for the hover"
+        );
         assert!(
             p.step_target().is_some(),
             "a refused target stays to be edited"

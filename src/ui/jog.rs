@@ -70,11 +70,12 @@ impl JogPanel {
         reserved_line(ui, line.as_ref().map(|(c, t)| (*c, t.as_str())), None);
         let out = pad::show(ui, pendant, ready.is_ok() && latch.is_none(), &why);
         // The last word on a jog: one reserved line, cut to fit, the whole on hover.
-        let feedback = pendant
-            .jog_feedback
-            .as_ref()
-            .map(|m| (super::widgets::level_color(m.level), m.text.as_str()));
-        reserved_line(ui, feedback, feedback.map(|(_, t)| t));
+        let feedback = pendant.jog_feedback.as_ref();
+        reserved_line(
+            ui,
+            feedback.map(|m| (super::widgets::level_color(m.level), m.text.as_str())),
+            feedback.map(|m| m.detail.as_deref().unwrap_or(&m.text)),
+        );
         target(ui, pendant, ready.is_ok(), &why, intents);
         out
     }
