@@ -517,7 +517,12 @@ impl Pendant {
         if let Some(f) = self.followed.as_mut() {
             f.stopped = true;
         }
-        self.jog_says(Level::Info, format!("STOP sent ({})", cause.name()), now);
+        // The operator's own STOP is news of the expected kind; any other is a warning.
+        let level = match cause {
+            StopCause::Button | StopCause::Esc | StopCause::Exit => Level::Info,
+            _ => Level::Warning,
+        };
+        self.jog_says(level, format!("STOP sent ({})", cause.name()), now);
     }
 
     /// A move or jog the controller (or the link) refused: the jog ends, latched.
