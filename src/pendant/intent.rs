@@ -34,6 +34,18 @@ pub enum Intent {
     ClearTarget,
     /// "Go" on a taught point.
     TeachGo(usize),
+    /// "Record" the current pose under this name (empty: one is made up).
+    TeachRecord(String),
+    /// The teach list after an edit (reorder, delete, rename, load), as a whole.
+    TeachList(super::teach::TeachList),
+    /// "Step here" from the arm view: the target, tool tip in the selected work frame.
+    SetTarget(Pose),
+    /// The connection panel's new settings (it edits a copy).
+    ConnectionSettings(super::ConnectionSettings),
+    /// Open the line in the settings (closing the current one).
+    Connect,
+    /// Close the line.
+    Disconnect,
     /// Allow jogs up to this speed at the tool (mm/s) until the window closes.
     RaiseSpeedCap(f64),
     /// Back to the reduced jog speed.
@@ -57,6 +69,12 @@ impl Pendant {
             Intent::EditTarget(pose) => self.edit_step_target(pose),
             Intent::ClearTarget => self.clear_step_target(),
             Intent::TeachGo(index) => self.teach_go(index, now),
+            Intent::TeachRecord(name) => self.teach_record(&name, now),
+            Intent::TeachList(list) => self.settings.teach = list,
+            Intent::SetTarget(pose) => self.set_step_target(pose, now),
+            Intent::ConnectionSettings(c) => self.settings.connection = c,
+            Intent::Connect => self.connect(now),
+            Intent::Disconnect => self.disconnect(now),
             Intent::RaiseSpeedCap(mm_s) => self.raise_speed_cap(mm_s, now),
             Intent::ResetSpeedCap => self.reset_speed_cap(now),
             Intent::LightTheme(light) => self.settings.light_theme = light,

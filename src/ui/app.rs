@@ -426,7 +426,9 @@ impl eframe::App for PendantApp {
                         });
                     egui::CollapsingHeader::new("Connection")
                         .default_open(true)
-                        .show(ui, |ui| self.connection.show(ui, &mut self.pendant, now));
+                        .show(ui, |ui| {
+                            self.connection.show(ui, &self.pendant, &mut intents)
+                        });
                     if ui.button("Keyboard (F1)").clicked() {
                         self.help_open = !self.help_open;
                     }

@@ -9,9 +9,9 @@ use std::time::Instant;
 use egui::{Color32, RichText, Sense, Ui};
 
 use super::arm_export::Export;
-use crate::pendant::Pendant;
 use crate::pendant::jog::JogAxis;
 use crate::pendant::target::StepPreview;
+use crate::pendant::{Intent, Pendant};
 use crate::protocol::Direction;
 use crate::render::{
     Ghost, GhostCheck, Mm, OverlayFrame, Palette, Scene, SceneInput, SelectedFrame, View,
@@ -94,7 +94,14 @@ impl ArmView {
         }
     }
 
-    pub fn show(&mut self, ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
+    /// Draws the view; "Step here" goes to `intents`.
+    pub fn show(
+        &mut self,
+        ui: &mut Ui,
+        pendant: &Pendant,
+        now: Instant,
+        intents: &mut Vec<Intent>,
+    ) {
         self.record_trail(pendant);
         let ghost = self.ghost(pendant, now);
         let overlays = overlay_frames(pendant);
@@ -135,7 +142,7 @@ impl ArmView {
             Some(v) if self.moved => v.on_area(area.0, area.1),
             _ => View::fit(&scene.bounds, area.0, area.1, 12.0),
         };
-        self.interact(ui, &response, &mut view, pendant, now);
+        self.interact(ui, &response, &mut view, pendant, intents);
         self.view = Some(view);
         paint_egui::paint(&ui.painter_at(rect), &scene, &palette, &view);
         self.readout(ui, &response, &view, pendant, ghost.as_ref());
@@ -170,8 +177,8 @@ impl ArmView {
         ui: &Ui,
         r: &egui::Response,
         view: &mut View,
-        pendant: &mut Pendant,
-        now: Instant,
+        pendant: &Pendant,
+        intents: &mut Vec<Intent>,
     ) {
         if r.hovered() {
             let (zoom, scroll) = ui.input(|i| (i.zoom_delta(), i.smooth_scroll_delta.y));
@@ -220,7 +227,7 @@ impl ArmView {
                 "Fills the jog panel's target (Z and R kept); nothing moves until \"Go to target\"",
             );
             if step.clicked() {
-                pendant.set_step_target(Pose::new(p.x, p.y, tip.z, tip.r), now);
+                intents.push(Intent::SetTarget(Pose::new(p.x, p.y, tip.z, tip.r)));
                 ui.close();
             }
         });

@@ -1,15 +1,13 @@
 //! The connection panel: simulator, serial port or TCP bridge; line settings; station;
 //! robot model; connect and disconnect; live link health.
 
-use std::time::Instant;
-
 use egui::{ComboBox, RichText, Ui};
 
 use super::detect::Detect;
 use super::ports::PortList;
 use super::widgets::{AMBER, GREY, RED, reserved_line};
 use crate::link::line::STANDARD_BAUDS;
-use crate::pendant::{LineKind, ParityChoice, Pendant};
+use crate::pendant::{Intent, LineKind, ParityChoice, Pendant};
 use crate::robot::BUILTIN_MODELS;
 
 /// The panel's own state (the text being typed in the station field, the port list).
@@ -21,7 +19,9 @@ pub struct ConnectionPanel {
 }
 
 impl ConnectionPanel {
-    pub fn show(&mut self, ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
+    /// Draws the panel, editing a copy of the connection settings: a change, Connect and
+    /// Disconnect go to `intents`.
+    pub fn show(&mut self, ui: &mut Ui, pendant: &Pendant, intents: &mut Vec<Intent>) {
         self.ports.poll();
         if !self.ports.listed_once && !self.ports.is_listing() {
             let ctx = ui.ctx().clone();
@@ -31,7 +31,8 @@ impl ConnectionPanel {
             pendant.line,
             crate::pendant::LineState::Closed | crate::pendant::LineState::Down { .. }
         );
-        let s = &mut pendant.settings.connection;
+        let mut edited = pendant.settings.connection.clone();
+        let s = &mut edited;
         ui.horizontal(|ui| {
             for kind in [LineKind::Simulator, LineKind::Serial, LineKind::Tcp] {
                 ui.selectable_value(&mut s.kind, kind, kind.name());
@@ -181,19 +182,22 @@ impl ConnectionPanel {
         if let Err(e) = s.line().validate() {
             ui.label(RichText::new(e.to_string()).color(RED));
         }
+        if edited != pendant.settings.connection {
+            intents.push(Intent::ConnectionSettings(edited));
+        }
         ui.horizontal(|ui| {
             let up = !matches!(pendant.line, crate::pendant::LineState::Closed);
             if ui
                 .button(if up { "Reconnect" } else { "Connect" })
                 .clicked()
             {
-                pendant.connect(now);
+                intents.push(Intent::Connect);
             }
             if ui
                 .add_enabled(up, egui::Button::new("Disconnect"))
                 .clicked()
             {
-                pendant.disconnect(now);
+                intents.push(Intent::Disconnect);
             }
         });
         health(ui, pendant);

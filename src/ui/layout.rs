@@ -131,7 +131,7 @@ impl Behavior<Tab> for Tabs<'_> {
         let mut ui = ui.new_child(egui::UiBuilder::new().max_rect(ui.max_rect().shrink(6.0)));
         let ui = &mut ui;
         match pane {
-            Tab::Arm => self.arm.show(ui, self.pendant, self.now),
+            Tab::Arm => self.arm.show(ui, self.pendant, self.now, self.intents),
             Tab::Position => readout::show(ui, self.pendant, self.now),
             Tab::Status => {
                 egui::ScrollArea::vertical().show(ui, |ui| {
@@ -139,8 +139,9 @@ impl Behavior<Tab> for Tabs<'_> {
                 });
             }
             Tab::Teach => {
-                egui::ScrollArea::vertical()
-                    .show(ui, |ui| self.teach.show(ui, self.pendant, self.now));
+                egui::ScrollArea::vertical().show(ui, |ui| {
+                    self.teach.show(ui, self.pendant, self.now, self.intents)
+                });
             }
             Tab::Messages => messages::show(ui, self.pendant, self.started),
             Tab::Coords => self.coords.show(ui, self.pendant, self.now),

@@ -7,8 +7,8 @@ use std::time::Instant;
 use egui::{Button, RichText, TextEdit, Ui};
 
 use super::widgets::RED;
-use crate::pendant::Pendant;
-use crate::pendant::teach::arm_word;
+use crate::pendant::teach::{TeachList, arm_word};
+use crate::pendant::{Intent, Pendant};
 
 /// The panel's own state: the name being typed, the selected row, the file path.
 #[derive(Default)]
@@ -23,7 +23,14 @@ pub struct TeachPanel {
 }
 
 impl TeachPanel {
-    pub fn show(&mut self, ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
+    /// Draws the list; what is asked for goes to `intents` (a changed list as a whole).
+    pub fn show(
+        &mut self,
+        ui: &mut Ui,
+        pendant: &Pendant,
+        now: Instant,
+        intents: &mut Vec<Intent>,
+    ) {
         ui.horizontal(|ui| {
             let label = ui.label("Name");
             ui.add(
@@ -39,17 +46,16 @@ impl TeachPanel {
                 .on_disabled_hover_text("No position read from the controller")
                 .clicked()
             {
-                pendant.teach_record(&self.name, now);
-                self.name.clear();
+                intents.push(Intent::TeachRecord(std::mem::take(&mut self.name)));
             }
         });
-        self.rows(ui, pendant, now);
-        self.actions(ui, pendant);
+        self.rows(ui, pendant, now, intents);
+        self.actions(ui, pendant, intents);
         ui.separator();
-        self.files(ui, pendant);
+        self.files(ui, pendant, intents);
     }
 
-    fn rows(&mut self, ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
+    fn rows(&mut self, ui: &mut Ui, pendant: &Pendant, now: Instant, intents: &mut Vec<Intent>) {
         self.hovered_go = None;
         let ready = pendant.motion_ready(now);
         let why = ready
@@ -100,24 +106,35 @@ impl TeachPanel {
                     });
             });
         if let Some(i) = go {
-            pendant.teach_go(i, now);
+            intents.push(Intent::TeachGo(i));
         }
     }
 
-    fn actions(&mut self, ui: &mut Ui, pendant: &mut Pendant) {
+    /// Up, Down, Delete and Rename, each on a copy of the list pushed whole.
+    fn actions(&mut self, ui: &mut Ui, pendant: &Pendant, intents: &mut Vec<Intent>) {
         let Some(i) = self.selected.filter(|&i| i < pendant.settings.teach.len()) else {
             return;
         };
+        let edit = |f: &mut dyn FnMut(&mut TeachList)| {
+            let mut list = pendant.settings.teach.clone();
+            f(&mut list);
+            list
+        };
         ui.horizontal_wrapped(|ui| {
-            let list = &mut pendant.settings.teach;
             if ui.button("Up").clicked() {
-                self.selected = list.move_up(i).ok();
+                intents.push(Intent::TeachList(edit(&mut |l| {
+                    self.selected = l.move_up(i).ok();
+                })));
             }
             if ui.button("Down").clicked() {
-                self.selected = list.move_down(i).ok();
+                intents.push(Intent::TeachList(edit(&mut |l| {
+                    self.selected = l.move_down(i).ok();
+                })));
             }
             if ui.button("Delete").clicked() {
-                let _ = list.remove(i);
+                intents.push(Intent::TeachList(edit(&mut |l| {
+                    let _ = l.remove(i);
+                })));
                 self.selected = None;
             }
         });
@@ -125,15 +142,17 @@ impl TeachPanel {
             let label = ui.label("Rename");
             ui.add(TextEdit::singleline(&mut self.rename).desired_width(120.0))
                 .labelled_by(label.id);
-            if ui.button("Apply").clicked()
-                && let Err(e) = pendant.settings.teach.rename(i, &self.rename)
-            {
-                self.file_message = Some((false, e.to_string()));
+            if ui.button("Apply").clicked() {
+                let mut list = pendant.settings.teach.clone();
+                match list.rename(i, &self.rename) {
+                    Ok(()) => intents.push(Intent::TeachList(list)),
+                    Err(e) => self.file_message = Some((false, e.to_string())),
+                }
             }
         });
     }
 
-    fn files(&mut self, ui: &mut Ui, pendant: &mut Pendant) {
+    fn files(&mut self, ui: &mut Ui, pendant: &Pendant, intents: &mut Vec<Intent>) {
         ui.horizontal(|ui| {
             let label = ui.label("File");
             ui.add(
@@ -152,8 +171,12 @@ impl TeachPanel {
                 .on_hover_text("Replaces the list; a file with an error changes nothing")
                 .clicked()
             {
-                self.file_message = Some(load(&self.path, pendant));
-                self.selected = None;
+                let (message, list) = load(&self.path, pendant);
+                self.file_message = Some(message);
+                if let Some(list) = list {
+                    intents.push(Intent::TeachList(list));
+                    self.selected = None;
+                }
             }
         });
         if let Some((ok, text)) = &self.file_message {
@@ -187,25 +210,29 @@ fn save(path: &str, pendant: &Pendant) -> (bool, String) {
     }
 }
 
-/// Reads a list; on any error the list in the window is left as it was.
-fn load(path: &str, pendant: &mut Pendant) -> (bool, String) {
+/// Reads a list: the message, and the new list unless anything was wrong (then the list
+/// in the window is left as it was).
+fn load(path: &str, pendant: &Pendant) -> ((bool, String), Option<TeachList>) {
     let path = path.trim();
     if path.is_empty() {
-        return (false, "enter a file name first".into());
+        return ((false, "enter a file name first".into()), None);
     }
     let bytes = match std::fs::read(path) {
         Ok(b) => b,
-        Err(e) => return (false, format!("cannot read {path}: {e}")),
+        Err(e) => return ((false, format!("cannot read {path}: {e}")), None),
     };
-    let list = &mut pendant.settings.teach;
+    let mut list = pendant.settings.teach.clone();
     let result = if is_json(path) {
         list.load_json(&bytes)
     } else {
         list.load_csv(&bytes)
     };
     match result {
-        Ok(()) => (true, format!("loaded {} points from {path}", list.len())),
-        Err(e) => (false, format!("{path}: {e} (nothing changed)")),
+        Ok(()) => {
+            let said = format!("loaded {} points from {path}", list.len());
+            ((true, said), Some(list))
+        }
+        Err(e) => ((false, format!("{path}: {e} (nothing changed)")), None),
     }
 }
 
