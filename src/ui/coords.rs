@@ -7,7 +7,7 @@ use std::time::{Instant, SystemTime};
 use egui::{Button, ProgressBar, RichText, TextEdit, Ui};
 
 use super::coords_table::{CellEdit, table};
-use super::widgets::{AMBER, GREEN, RED};
+use super::widgets::{AMBER, GREEN, RED, reserved_line};
 use crate::pendant::Pendant;
 use crate::pendant::coords::diff;
 use crate::pendant::coords::file::TableFormat;
@@ -67,9 +67,14 @@ impl CoordsPanel {
         self.tabs_and_reading(ui, pendant, now);
         self.draft_bar(ui, pendant);
         self.files(ui, pendant, now);
-        if let Some(e) = self.edit.as_ref().and_then(|e| e.refused.as_ref()) {
-            ui.label(RichText::new(format!("Refused, the draft is unchanged: {e}")).color(RED));
-        }
+        // The refusal and the file result in lines that are always there: the table
+        // below never jumps when one appears.
+        let refused = self
+            .edit
+            .as_ref()
+            .and_then(|e| e.refused.as_ref())
+            .map(|e| format!("Refused, the draft is unchanged: {e}"));
+        reserved_line(ui, refused.as_deref().map(|t| (RED, t)), refused.as_deref());
         ui.separator();
         table(ui, self, pendant);
     }
@@ -242,9 +247,11 @@ impl CoordsPanel {
                 .color(AMBER),
             );
         }
-        if let Some((ok, text)) = &self.file_message {
-            ui.label(RichText::new(text).color(if *ok { GREEN } else { RED }));
-        }
+        let file = self
+            .file_message
+            .as_ref()
+            .map(|(ok, text)| (if *ok { GREEN } else { RED }, text.as_str()));
+        reserved_line(ui, file, file.map(|(_, t)| t));
     }
 }
 
