@@ -43,9 +43,9 @@ const CROSS: [(usize, usize, PhysicalJog); 8] = [
 
 /// Draws the pad where `ui` is; the same rectangles whatever the state.
 pub fn show(ui: &mut Ui, pendant: &Pendant, enabled: bool, why: &str) -> PadOutput {
-    let width = ui
-        .available_width()
-        .max(5.0 * MIN_BUTTON.x + 4.0 * GAP + 8.0);
+    // Within what is visible: a scroll bar may take the panel's last pixels.
+    let visible = ui.clip_rect().right() - ui.cursor().left();
+    let width = (ui.available_width().min(visible) - 6.0).max(5.0 * MIN_BUTTON.x + 4.0 * GAP + 8.0);
     let w = ((width - 4.0 * GAP - 8.0) / 5.0).clamp(MIN_BUTTON.x, 120.0);
     let h = (w * 0.72).clamp(MIN_BUTTON.y, 70.0);
     let size = vec2(w, h);
@@ -140,7 +140,6 @@ fn button(
     let resp = ui
         .put(rect, |ui: &mut Ui| ui.add_enabled(enabled, widget))
         .on_disabled_hover_text(why);
-    let resp = resp.on_hover_text(hover_text(pendant, target));
     if resp.hovered() || resp.contains_pointer() {
         out.hovered = Some(target);
     }
@@ -159,19 +158,4 @@ fn button(
     if !down && pressed_now && resp.clicked() {
         out.tapped = Some(target);
     }
-}
-
-fn hover_text(pendant: &Pendant, target: JogTarget) -> String {
-    let mode = match pendant.settings.jog.mode {
-        crate::pendant::JogMode::Step => format!(
-            "{} {} {} on a press",
-            target.label(),
-            pendant.settings.jog.step,
-            target.axis.unit()
-        ),
-        crate::pendant::JogMode::Continuous => {
-            format!("{} while held; STOP on release", target.label())
-        }
-    };
-    format!("{mode} (the ghost in the arm view shows the step)")
 }
