@@ -6,7 +6,7 @@ use std::time::{Duration, Instant};
 
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
-use xsel_pendant::pendant::MotionPhase;
+use xsel_pendant::pendant::{MotionPhase, NotReady};
 use xsel_pendant::protocol::HomeState;
 use xsel_pendant::sim::runner::Dir;
 use xsel_pendant::ui::{PendantApp, StartOptions};
@@ -339,20 +339,33 @@ fn a_mouse_held_continuous_jog_is_one_236h_and_one_238h_on_release() {
     h.hover_at(at);
     h.drag_at(at);
     step_until(&mut h, "the jog to run", sim_busy);
-    // Held still for 2 s: one 236H, no STOP, no stutter.
+    // Held still for 2 s: one 236H, never sent again (no stutter). A STOP while held can
+    // only be the link's own, when a frame took longer than the jog lease (a loaded
+    // machine); then the pendant says so.
+    let lapsed = std::cell::Cell::new(false);
     hold_for(&mut h, Duration::from_secs(2), |a| {
         assert_eq!(count_in(a, "236"), jogs + 1, "a held jog is sent once");
-        assert_eq!(count_in(a, "238"), stops, "no STOP while held");
+        lapsed.set(lapsed.get() || count_in(a, "238") > stops);
     });
     h.drop_at(at);
-    step_until(&mut h, "the jog to stop on release", |a| !sim_busy(a));
+    step_until(&mut h, "the jog to stop", |a| !sim_busy(a));
     h.run_steps(3);
     assert_eq!(count_in(h.state(), "236"), jogs + 1);
-    assert_eq!(
-        count_in(h.state(), "238"),
-        stops + 1,
-        "one STOP, on release"
-    );
+    if lapsed.get() {
+        let said = h
+            .state()
+            .pendant()
+            .messages
+            .iter()
+            .any(|m| m.text.contains("lease"));
+        assert!(said, "a STOP while held that is not the lease's");
+    } else {
+        assert_eq!(
+            count_in(h.state(), "238"),
+            stops + 1,
+            "one STOP, on release"
+        );
+    }
 }
 
 #[test]
@@ -445,7 +458,7 @@ fn the_pad_keeps_every_rectangle_whatever_the_state() {
     show_tab(&mut h, "Simulator");
     click(&mut h, "Press E-stop");
     step_until(&mut h, "the E-stop to show", |a| {
-        a.pendant().motion_ready(Instant::now()).is_err()
+        a.pendant().controller_ready(Instant::now()) == Err(NotReady::EmergencyStop)
     });
     same(&mut h, "an E-stop");
     click(&mut h, "Release E-stop");
@@ -479,8 +492,9 @@ fn e_stop_shows_the_band_and_every_change_reaches_messages() {
     ready(&mut h);
     show_tab(&mut h, "Simulator");
     click(&mut h, "Press E-stop");
-    step_until(&mut h, "the band", |a| {
-        a.pendant().motion_ready(Instant::now()).is_err()
+    // Waits for the E-stop itself (a stale status under load also stops motion).
+    step_until(&mut h, "the pendant to see the E-stop", |a| {
+        a.pendant().controller_ready(Instant::now()) == Err(NotReady::EmergencyStop)
     });
     assert!(h.query_by_label_contains("EMERGENCY STOP").is_some());
     let texts: Vec<String> = h
