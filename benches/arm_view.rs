@@ -71,6 +71,7 @@ fn scene_input(i: &Inputs) -> SceneInput<'_> {
         overlays: &i.overlays,
         ghost: Some(&i.ghost),
         trail: &i.trail,
+        reported_tip: None,
     }
 }
 

@@ -306,6 +306,26 @@ fn after_a_jog_the_arm_view_shows_the_new_pose() {
         panic!("tip drawn")
     };
     assert!((shown.x - tip.x).abs() < 0.001 && (shown.y - tip.y).abs() < 0.001);
+    // The Z bar and R dial say what the Position pane says, from the same sample.
+    let Some((_, base)) = app.pendant().controller.sample() else {
+        panic!("a position sample")
+    };
+    let texts: Vec<String> = app
+        .arm_view()
+        .scene()
+        .map(|s| {
+            s.items
+                .iter()
+                .filter_map(|i| match &i.shape {
+                    Shape::Text { text, .. } => Some(text.clone()),
+                    _ => None,
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    for label in [format!("Z {:.3}", base.z), format!("R {:.3}", base.r)] {
+        assert!(texts.contains(&label), "{label} not among {texts:?}");
+    }
 }
 
 /// The frames of message `id` the simulator has received.

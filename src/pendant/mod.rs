@@ -122,7 +122,8 @@ struct Followed {
     plan: PlannedStep,
     /// When the controller accepted it; `None` while the reply is awaited.
     accepted: Option<Instant>,
-    stopped: bool,
+    /// When a STOP went out while it was followed.
+    stopped: Option<Instant>,
 }
 
 /// The pendant's model of the world.
@@ -427,7 +428,7 @@ impl Pendant {
                 }
                 Command::Stop(_) => {
                     if let Some(f) = self.followed.as_mut() {
-                        f.stopped = true;
+                        f.stopped.get_or_insert(now);
                     }
                     // The arm stopped short: the command position is where it is.
                     self.command_position = None;
@@ -515,7 +516,7 @@ impl Pendant {
         self.hold.stop(cause);
         self.confirm = None;
         if let Some(f) = self.followed.as_mut() {
-            f.stopped = true;
+            f.stopped.get_or_insert(now);
         }
         // The operator's own STOP is news of the expected kind; any other is a warning.
         let level = match cause {
@@ -549,7 +550,7 @@ impl Pendant {
         };
         self.hold.stop(cause);
         if let Some(f) = self.followed.as_mut() {
-            f.stopped = true;
+            f.stopped.get_or_insert(now);
         }
         self.command_position = None;
         self.jog_says(

@@ -85,7 +85,7 @@ impl Pendant {
                 self.followed = Some(Followed {
                     plan,
                     accepted: None,
-                    stopped: false,
+                    stopped: None,
                 });
             }
             Err(why) => self.jog_refused(&why, now),
@@ -166,7 +166,7 @@ impl Pendant {
         self.followed = Some(Followed {
             plan,
             accepted: None,
-            stopped: false,
+            stopped: None,
         });
     }
 
@@ -299,12 +299,21 @@ impl Pendant {
         let Some(f) = &self.followed else {
             return MotionPhase::Idle;
         };
-        if f.stopped {
-            return MotionPhase::Stopped;
-        }
         let Some(at) = f.accepted else {
-            return MotionPhase::Idle;
+            return if f.stopped.is_some() {
+                MotionPhase::Stopped
+            } else {
+                MotionPhase::Idle
+            };
         };
+        // A STOP after the profile had ended stopped nothing: the move is done, as the
+        // controller's "completed" says. One before its end cut it short.
+        if let Some(stop) = f.stopped {
+            let t = stop.saturating_duration_since(at).as_secs_f64();
+            if f.plan.profile.sample(t).phase != crate::robot::Phase::Complete {
+                return MotionPhase::Stopped;
+            }
+        }
         let t = now.saturating_duration_since(at).as_secs_f64();
         match f.plan.profile.sample(t).phase {
             crate::robot::Phase::Accel => MotionPhase::Accelerating,
@@ -325,7 +334,7 @@ impl Pendant {
         let now_moving = self
             .followed
             .as_ref()
-            .is_some_and(|f| !f.stopped && f.accepted.is_none());
+            .is_some_and(|f| f.stopped.is_none() && f.accepted.is_none());
         if now_moving {
             return Some(false);
         }

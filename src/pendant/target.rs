@@ -181,7 +181,7 @@ impl Pendant {
         self.followed = Some(Followed {
             plan,
             accepted: None,
-            stopped: false,
+            stopped: None,
         });
     }
 
@@ -245,7 +245,7 @@ impl Pendant {
 
     /// The move in progress (sent and not yet ended), as a preview of its end.
     pub fn preview_followed(&self, now: Instant) -> Option<StepPreview> {
-        let f = self.followed.as_ref().filter(|f| !f.stopped)?;
+        let f = self.followed.as_ref().filter(|f| f.stopped.is_none())?;
         if f.accepted.is_some() && self.motion_phase(now) == super::MotionPhase::Done {
             return None;
         }

@@ -443,3 +443,25 @@ fn link_health_counts_faults_over_the_last_minute() {
     p.handle_event(now + Duration::from_secs(95), health(6, 4));
     assert_eq!(p.faults_last_minute(), Some((1, 3)));
 }
+
+#[test]
+fn a_stop_after_the_move_ended_leaves_it_done_and_one_before_cuts_it_short() {
+    let ms = Duration::from_millis;
+    for (stop_after, phase) in [
+        (ms(10), MotionPhase::Stopped),
+        (ms(30_000), MotionPhase::Done),
+    ] {
+        let now = t0();
+        let mut p = ready_at(start(), now);
+        p.settings.jog.step = 10.0;
+        p.jog_step(JogAxis::X, Direction::Positive, now);
+        let step = submitted(&mut p).remove(0);
+        p.handle_event(now, accepted(step));
+        p.stop(now + stop_after);
+        assert_eq!(
+            p.motion_phase(now + stop_after + ms(1)),
+            phase,
+            "{stop_after:?}"
+        );
+    }
+}

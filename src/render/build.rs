@@ -72,6 +72,10 @@ pub struct SceneInput<'a> {
     pub ghost: Option<&'a Ghost>,
     /// Past tool tip positions, base frame, oldest first.
     pub trail: &'a [Mm],
+    /// The tool tip as the controller reports it (base frame, the readouts' sample): the
+    /// Z bar and R dial read it, so they agree with the Position pane to 0.001. `None`:
+    /// the forward kinematics of `joints`.
+    pub reported_tip: Option<Pose>,
 }
 
 impl<'a> SceneInput<'a> {
@@ -86,6 +90,7 @@ impl<'a> SceneInput<'a> {
             overlays: &[],
             ghost: None,
             trail: &[],
+            reported_tip: None,
         }
     }
 }
@@ -188,7 +193,9 @@ pub fn build_scene(input: &SceneInput<'_>) -> Scene {
     }
     let ghost_pose = input.ghost.map(|g| g.tip);
     let ghost_role = input.ghost.map_or(Role::GhostReachable, |g| g.check.role());
-    let actual = input.joints.map(|j| tip_of(kin, &j, &tool));
+    let actual = input
+        .reported_tip
+        .or_else(|| input.joints.map(|j| tip_of(kin, &j, &tool)));
     gauge::gauge(&mut items, kin, actual, ghost_pose.map(|p| (p, ghost_role)));
     if input.stale && input.joints.is_some() {
         items.push(Item {

@@ -123,6 +123,7 @@ impl ArmView {
             overlays: &overlays,
             ghost: ghost.as_ref(),
             trail: &self.trail[trail_from..],
+            reported_tip: c.sample().map(|(_, base)| base),
         };
         let scene = build_scene(&input);
         let palette = Palette::for_theme(ui.visuals().dark_mode);
