@@ -3,7 +3,7 @@
 
 mod common;
 
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use common::*;
 use xsel_pendant::link::{
@@ -228,6 +228,74 @@ fn a_renewed_lease_keeps_the_jog_running() {
     assert_ne!(sim.with(|c| c.in_use()), 0, "still jogging");
     // Released: the link stops it.
     assert!(eventually(LONG, || stop_follows_last_jog(&sim)));
+    drop(link);
+}
+
+#[test]
+fn a_refused_jog_leaves_no_lease_to_lapse_but_a_running_one_keeps_its_lease() {
+    let lease = Duration::from_millis(150);
+    let (link, events, sim) = embedded_link(
+        ready_setup(Duration::from_millis(1)),
+        FaultSpec::none(),
+        None,
+        LinkConfig {
+            jog_lease: lease,
+            ..quiet_config()
+        },
+    );
+    let mut seen = Vec::new();
+    // A jog that runs, then a second one refused while it runs (axis busy): the first
+    // still lives on the lease, and the link stops it when nobody renews.
+    let running = link.submit(jog_x(), Priority::User);
+    let answer = wait_for(&events, LONG, &mut seen, answered(running));
+    assert!(
+        matches!(answer, Some(LinkEvent::Reply { .. })),
+        "{}",
+        story(&seen)
+    );
+    let busy = link.submit(jog_x(), Priority::User);
+    let answer = wait_for(&events, LONG, &mut seen, answered(busy));
+    assert!(
+        matches!(answer, Some(LinkEvent::ErrorReply { .. })),
+        "{}",
+        story(&seen)
+    );
+    let stop = wait_for(&events, LONG, &mut seen, |e| {
+        matches!(
+            e,
+            LinkEvent::Reply {
+                origin: Origin::LeaseLapsed,
+                ..
+            }
+        )
+    });
+    assert!(
+        stop.is_some(),
+        "the running jog lost its lease: {}",
+        story(&seen)
+    );
+    assert!(eventually(LONG, || sim.with(|c| c.in_use()) == 0));
+    // Refused with nothing running (E-stop): the lease has nothing to stop.
+    let stops = || ids_received(&sim).iter().filter(|id| *id == "238").count();
+    let before = stops();
+    sim.set_emergency_stop(true);
+    let refused = link.submit(jog_x(), Priority::User);
+    let answer = wait_for(&events, LONG, &mut seen, answered(refused));
+    assert!(
+        matches!(answer, Some(LinkEvent::ErrorReply { .. })),
+        "{}",
+        story(&seen)
+    );
+    let quiet = Instant::now() + 4 * lease;
+    while Instant::now() < quiet {
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    assert_eq!(
+        stops(),
+        before,
+        "a STOP for a jog that never ran: {}",
+        story(&seen)
+    );
     drop(link);
 }
 

@@ -54,6 +54,9 @@ pub(crate) struct Engine {
     /// (the link cannot tell when a move has ended; a STOP of a still arm is harmless).
     pub(super) motion_may_run: bool,
     pub(super) lease: JogLease,
+    /// The continuous jog awaiting its reply took the lease (none was held before it): if
+    /// the controller refuses it, nothing runs on the lease any more.
+    pub(super) jog_took_lease: bool,
     /// Polling is paused because the event reader is far behind.
     polls_paused: bool,
     /// When the last reply (or time-out) ended: the next command waits for the gap.
@@ -86,6 +89,7 @@ impl Engine {
             stops,
             events,
             lease,
+            jog_took_lease: false,
             ids,
             transport: None,
             decoder: StreamDecoder::new(),

@@ -71,8 +71,9 @@ impl JogLease {
     }
 
     /// A continuous jog went out: from now on the lease keeps it alive.
-    pub(crate) fn hold(&mut self) {
-        self.held = true;
+    /// Answers whether this jog took the lease (no other was held on it).
+    pub(crate) fn hold(&mut self) -> bool {
+        !std::mem::replace(&mut self.held, true)
     }
 
     /// The jog was stopped (or a STOP for it is on its way).

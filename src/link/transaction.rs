@@ -96,9 +96,7 @@ impl Engine {
         if pending.command.is_motion() {
             self.motion_may_run = true;
         }
-        if is_continuous_jog(&pending.command) {
-            self.lease.hold();
-        }
+        self.jog_took_lease = is_continuous_jog(&pending.command) && self.lease.hold();
         self.emit(LinkEvent::FrameSent {
             id: pending.id,
             bytes: self.tx_buf.clone(),
@@ -278,6 +276,11 @@ impl Engine {
                     // command's own reply is still to come.
                     let until = later(at, self.config.timing.late_reply_window);
                     self.sync.may_answer_late(expected, until);
+                } else if self.jog_took_lease && is_continuous_jog(&pending.command) {
+                    // In step, this is the jog's own refusal: it never ran, and no other
+                    // jog holds the lease, so the lease has nothing to stop (a STOP on
+                    // its lapse would be news of nothing).
+                    self.lease.release();
                 }
                 self.emit(LinkEvent::ErrorReply {
                     id: pending.id,
