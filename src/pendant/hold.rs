@@ -95,7 +95,7 @@ impl StopCause {
             StopCause::Button => "STOP button".into(),
             StopCause::Esc => "Esc".into(),
             StopCause::LeaseLapsed => "the jog lease lapsed".into(),
-            StopCause::LinkSafety => "the line stalled".into(),
+            StopCause::LinkSafety => "the line stalled or was lost mid-motion".into(),
             StopCause::LineLost => "the line went down".into(),
             StopCause::Refused => "the jog was refused".into(),
             StopCause::NotReady(why) => why.to_string(),
