@@ -218,13 +218,7 @@ fn esc_to_238h(h: &mut Harness<'_, PendantApp>, n: usize) {
             h.step();
             std::thread::sleep(Duration::from_millis(2));
         }
-        h.event(egui::Event::Key {
-            key: egui::Key::Escape,
-            physical_key: None,
-            pressed: true,
-            repeat: false,
-            modifiers: egui::Modifiers::default(),
-        });
+        h.key_down(egui::Key::Escape);
         let pressed = Instant::now();
         h.step();
         let end = Instant::now() + DEADLINE;
@@ -242,13 +236,7 @@ fn esc_to_238h(h: &mut Harness<'_, PendantApp>, n: usize) {
             assert!(Instant::now() < end, "no 238H after Esc {i}");
             std::thread::sleep(Duration::from_micros(200));
         };
-        h.event(egui::Event::Key {
-            key: egui::Key::Escape,
-            physical_key: None,
-            pressed: false,
-            repeat: false,
-            modifiers: egui::Modifiers::default(),
-        });
+        h.key_up(egui::Key::Escape);
         h.step();
         let latency = at.saturating_duration_since(pressed);
         whole.push(latency);

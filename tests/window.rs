@@ -12,7 +12,7 @@ use xsel_pendant::sim::runner::Dir;
 use xsel_pendant::ui::{PendantApp, StartOptions};
 
 mod kittest_common;
-use kittest_common::{DEADLINE, click, show_tab, step_until, type_into};
+use kittest_common::{DEADLINE, alarm_code, click, show_tab, step_until, type_into};
 
 fn app<'a>() -> Harness<'a, PendantApp> {
     Harness::builder()
@@ -489,16 +489,12 @@ fn the_pad_keeps_every_rectangle_whatever_the_state() {
     // An alarm raised and cleared in the simulator.
     type_into(&mut h, "Code", "C74");
     click(&mut h, "Raise alarm");
-    let critical = |a: &PendantApp| {
-        a.pendant()
-            .controller
-            .system
-            .map(|s| s.value.critical_error.0)
-    };
-    step_until(&mut h, "the alarm to show", |a| critical(a) == Some(0xC74));
+    step_until(&mut h, "the alarm to show", |a| {
+        alarm_code(a) == Some(0xC74)
+    });
     same(&mut h, "an alarm");
     click(&mut h, "Clear alarm");
-    step_until(&mut h, "the alarm to clear", |a| critical(a) == Some(0));
+    step_until(&mut h, "the alarm to clear", |a| alarm_code(a) == Some(0));
     same(&mut h, "the alarm's reset");
     // A refusal: J1 steps of 50 deg until the joint limit refuses one.
     click(&mut h, "Servo ON");

@@ -9,7 +9,7 @@ use xsel_pendant::pendant::NotReady;
 use xsel_pendant::ui::{PendantApp, StartOptions};
 
 mod kittest_common;
-use kittest_common::{click, show_tab, step_until};
+use kittest_common::{alarm_code, click, show_tab, step_until};
 
 #[test]
 fn pressing_e_stop_in_the_simulator_panel_shows_e_stop_and_disables_motion() {
@@ -72,14 +72,8 @@ fn an_alarm_raised_in_the_simulator_panel_reaches_the_top_bar() {
     h.step();
     assert_eq!(h.get_by_label("Code").value().as_deref(), Some("C74"));
     click(&mut h, "Raise alarm");
-    let critical = |a: &PendantApp| {
-        a.pendant()
-            .controller
-            .system
-            .map(|s| s.value.critical_error.0)
-    };
     step_until(&mut h, "the pendant to see the alarm", |a| {
-        critical(a) == Some(0xC74)
+        alarm_code(a) == Some(0xC74)
     });
     // The top bar (from the polled 215H) and the panel both show it.
     assert_eq!(h.query_all_by_label_contains("Alarm C74").count(), 2);
@@ -88,7 +82,7 @@ fn an_alarm_raised_in_the_simulator_panel_reaches_the_top_bar() {
         Err(NotReady::Alarm)
     );
     click(&mut h, "Clear alarm");
-    step_until(&mut h, "the alarm to clear", |a| critical(a) == Some(0));
+    step_until(&mut h, "the alarm to clear", |a| alarm_code(a) == Some(0));
     h.step();
     // A cleared alarm is no longer shown as one; 215H's latest error stays as history.
     assert_eq!(h.query_all_by_label_contains("Alarm C74").count(), 0);

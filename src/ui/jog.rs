@@ -160,27 +160,7 @@ fn controller_row(ui: &mut Ui, pendant: &Pendant, now: Instant, intents: &mut Ve
         .map(|e| e.to_string())
         .unwrap_or_default();
     ui.horizontal(|ui| {
-        let buttons = [
-            ("Servo ON", "232H servo on, SCARA axes", Intent::Servo(true)),
-            (
-                "Servo OFF",
-                "232H servo off, SCARA axes",
-                Intent::Servo(false),
-            ),
-            ("Home", "233H home return, SCARA axes", Intent::Home),
-        ];
-        for (label, hover, intent) in buttons {
-            let b = ui.add_enabled(
-                ready.is_ok(),
-                Button::new(label).min_size(egui::vec2(72.0, 26.0)),
-            );
-            if b.on_hover_text(hover)
-                .on_disabled_hover_text(&why)
-                .clicked()
-            {
-                intents.push(intent);
-            }
-        }
+        super::status::servo_home_buttons(ui, &ready, &why, intents);
         let alarm = pendant
             .controller
             .system

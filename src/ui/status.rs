@@ -18,32 +18,7 @@ pub fn show(ui: &mut Ui, pendant: &Pendant, now: Instant, intents: &mut Vec<Inte
         .err()
         .map(|e| e.to_string())
         .unwrap_or_default();
-    ui.horizontal(|ui| {
-        let on = ui.add_enabled(ready.is_ok(), Button::new("Servo ON"));
-        if on
-            .on_hover_text("232H servo on, SCARA axes")
-            .on_disabled_hover_text(&why)
-            .clicked()
-        {
-            intents.push(Intent::Servo(true));
-        }
-        let off = ui.add_enabled(ready.is_ok(), Button::new("Servo OFF"));
-        if off
-            .on_hover_text("232H servo off, SCARA axes")
-            .on_disabled_hover_text(&why)
-            .clicked()
-        {
-            intents.push(Intent::Servo(false));
-        }
-        let home = ui.add_enabled(ready.is_ok(), Button::new("Home"));
-        if home
-            .on_hover_text("233H home return, SCARA axes")
-            .on_disabled_hover_text(&why)
-            .clicked()
-        {
-            intents.push(Intent::Home);
-        }
-    });
+    ui.horizontal(|ui| servo_home_buttons(ui, &ready, &why, intents));
     if let Err(why) = &ready {
         reason(ui, why);
     }
@@ -143,5 +118,33 @@ fn yes_no(ui: &mut Ui, v: bool, yes: &str, no: &str) {
         ui.label(RichText::new(yes).color(GREEN));
     } else {
         ui.label(no);
+    }
+}
+
+/// Servo ON, Servo OFF and Home: enabled while the controller takes commands, else the
+/// reason on hover (here and beside the pad).
+pub fn servo_home_buttons(
+    ui: &mut Ui,
+    ready: &Result<(), crate::pendant::NotReady>,
+    why: &str,
+    intents: &mut Vec<Intent>,
+) {
+    let buttons = [
+        ("Servo ON", "232H servo on, SCARA axes", Intent::Servo(true)),
+        (
+            "Servo OFF",
+            "232H servo off, SCARA axes",
+            Intent::Servo(false),
+        ),
+        ("Home", "233H home return, SCARA axes", Intent::Home),
+    ];
+    for (label, hover, intent) in buttons {
+        let b = ui.add_enabled(
+            ready.is_ok(),
+            Button::new(label).min_size(egui::vec2(72.0, 26.0)),
+        );
+        if b.on_hover_text(hover).on_disabled_hover_text(why).clicked() {
+            intents.push(intent);
+        }
     }
 }

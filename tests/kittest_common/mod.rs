@@ -85,3 +85,11 @@ pub fn replace_text(h: &mut Harness<'_, PendantApp>, label: &str, text: &str) {
     h.step();
     h.step();
 }
+
+/// The critical-level error the pendant last read with 215H (0: none).
+pub fn alarm_code(app: &PendantApp) -> Option<u16> {
+    app.pendant()
+        .controller
+        .system
+        .map(|s| s.value.critical_error.0)
+}
