@@ -5,6 +5,7 @@
 use std::time::Instant;
 
 use super::Pendant;
+use super::coords::CoordsIntent;
 use super::hold::{JogInput, Press, StopCause};
 use super::jog::JogSettings;
 use crate::robot::Pose;
@@ -52,6 +53,14 @@ pub enum Intent {
     ResetSpeedCap,
     /// The light (or dark) theme.
     LightTheme(bool),
+    /// The coordinate tables pane.
+    Coords(CoordsIntent),
+    /// Keep at most this many rows in the frame log.
+    FrameLogCap(usize),
+    /// Empty the live frame log.
+    ClearFrameLog,
+    /// A frame typed as its body, to send through the link.
+    SendRaw(String),
 }
 
 impl Pendant {
@@ -78,6 +87,16 @@ impl Pendant {
             Intent::RaiseSpeedCap(mm_s) => self.raise_speed_cap(mm_s, now),
             Intent::ResetSpeedCap => self.reset_speed_cap(now),
             Intent::LightTheme(light) => self.settings.light_theme = light,
+            Intent::Coords(c) => self.apply_coords(c, now),
+            Intent::FrameLogCap(cap) => {
+                self.frame_log.set_cap(cap);
+                self.settings.frame_log_cap = Some(cap);
+            }
+            Intent::ClearFrameLog => self.frame_log.clear(),
+            Intent::SendRaw(body) => {
+                // The outcome is kept for the frame log pane and said in Messages.
+                self.raw_sent = Some(self.send_raw(&body, now).map(|c| c.id().to_string()));
+            }
         }
     }
 

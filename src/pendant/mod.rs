@@ -141,6 +141,8 @@ pub struct Pendant {
     pub frame_log: frame_log::FrameLog,
     /// The last word on a jog button: the refusal or the controller's answer.
     pub jog_feedback: Option<Message>,
+    /// The last raw frame typed in the frame log: its message ID as sent, or why not.
+    pub raw_sent: Option<Result<String, String>>,
     /// Hold-to-run: the jog inputs down, the jog they drive, the STOP latch.
     hold: hold::HoldMachine,
     /// The jog speed cap at the tool, mm/s (not saved: a restart brings back the
@@ -172,6 +174,7 @@ impl Pendant {
             messages: VecDeque::new(),
             frame_log: frame_log::FrameLog::new(log_cap),
             jog_feedback: None,
+            raw_sent: None,
             hold: hold::HoldMachine::default(),
             speed_cap_mm_s: speed_cap::REDUCED_SPEED_MM_S,
             followed: None,

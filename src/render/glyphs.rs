@@ -7,6 +7,7 @@ use tiny_skia::Pixmap;
 
 use super::scene::Anchor;
 use super::style::Rgba;
+use super::view::{View, text_top_left};
 
 /// egui's default fonts and their glyph atlas. Making one costs some milliseconds:
 /// keep it for the next picture.
@@ -21,24 +22,27 @@ impl Glyphs {
         }
     }
 
-    /// Draws one line of `text` with its `anchor` at `pos` (pixels).
+    /// Draws one line of `text` with its `anchor` at `pos` (pixels), kept inside `view`.
     pub(super) fn draw(
         &mut self,
         pixmap: &mut Pixmap,
         text: &str,
+        view: &View,
         pos: [f32; 2],
         anchor: Anchor,
-        size: f32,
-        colour: Rgba,
+        (colour, size): (Rgba, f32),
     ) {
         let galley = self.fonts.with_pixels_per_point(1.0).layout_no_wrap(
             text.to_owned(),
             FontId::proportional(size),
             Color32::WHITE,
         );
-        let (fx, fy) = anchor.fractions();
-        let left = pos[0] - fx * galley.rect.width();
-        let top = pos[1] - fy * galley.rect.height();
+        let [left, top] = text_top_left(
+            view,
+            pos,
+            anchor.fractions(),
+            [galley.rect.width(), galley.rect.height()],
+        );
         let atlas = self.fonts.texture_atlas().image();
         let (aw, ah) = (atlas.size[0], atlas.size[1]);
         let (pw, ph) = (pixmap.width() as i64, pixmap.height() as i64);

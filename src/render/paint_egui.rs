@@ -6,7 +6,7 @@ use egui::{Color32, FontId, Painter, Pos2, Shape as EguiShape, Stroke, pos2};
 
 use super::scene::{Mm, Scene, Shape, arc_points};
 use super::style::{Palette, Rgba, Style};
-use super::view::{View, arrow_head, trail_runs};
+use super::view::{View, arrow_head, text_top_left, trail_runs};
 
 /// Paints every item of `scene` seen through `view` (its area in the painter's points).
 pub fn paint(painter: &Painter, scene: &Scene, palette: &Palette, view: &View) {
@@ -139,9 +139,10 @@ fn shape(painter: &Painter, out: &mut Vec<EguiShape>, view: &View, shape: &Shape
             let anchor_pos = at(p) + egui::vec2(offset_px[0], offset_px[1]);
             let galley =
                 painter.layout_no_wrap(text.clone(), FontId::proportional(size), colour(c));
-            let (fx, fy) = anchor.fractions();
-            let top_left = anchor_pos - egui::vec2(fx * galley.size().x, fy * galley.size().y);
-            out.push(EguiShape::galley(top_left, galley, colour(c)));
+            let size = [galley.size().x, galley.size().y];
+            let top_left =
+                text_top_left(view, [anchor_pos.x, anchor_pos.y], anchor.fractions(), size);
+            out.push(EguiShape::galley(pos(top_left), galley, colour(c)));
         }
         Shape::Trail { points } => {
             if let Some((c, w)) = style.stroke {

@@ -178,9 +178,8 @@ impl PngPainter {
                 offset_px,
             } => {
                 let s = at(p);
-                let (colour, size) = style.text;
                 let pos = [s[0] + offset_px[0], s[1] + offset_px[1]];
-                self.glyphs.draw(pm, text, pos, *anchor, size, colour);
+                self.glyphs.draw(pm, text, view, pos, *anchor, style.text);
             }
             Shape::Trail { points } => {
                 let Some((colour, width)) = style.stroke else {

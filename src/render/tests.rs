@@ -242,3 +242,30 @@ fn reach_at_tells_each_arm_system() {
         "{behind:?}"
     );
 }
+
+#[test]
+fn a_label_near_an_edge_is_moved_inside_the_view_and_never_cut() {
+    use super::scene::Bounds;
+    use super::view::{View, text_top_left};
+    let bounds = Bounds {
+        min: Mm::new(-300.0, -300.0),
+        max: Mm::new(300.0, 300.0),
+    };
+    let view = View::fit(&bounds, [100.0, 50.0], [400.0, 300.0], 12.0);
+    let size = [120.0, 14.0];
+    // Right-anchored at 30 px into the view: it would start 90 px left of the view.
+    let at = text_top_left(&view, [130.0, 200.0], (1.0, 1.0), size);
+    assert!(at[0] >= 100.0, "cut at the left edge: {at:?}");
+    // Left-anchored near the right edge: it would run 100 px past it.
+    let at = text_top_left(&view, [480.0, 55.0], (0.0, 1.0), size);
+    assert!(at[0] + size[0] <= 500.0, "cut at the right edge: {at:?}");
+    assert!(at[1] >= 50.0, "cut at the top: {at:?}");
+    // A label that fits is left where its anchor puts it.
+    assert_eq!(
+        text_top_left(&view, [300.0, 200.0], (0.0, 1.0), size),
+        [300.0, 186.0]
+    );
+    // One wider than the view starts at its left edge.
+    let at = text_top_left(&view, [300.0, 200.0], (0.5, 0.5), [900.0, 14.0]);
+    assert!(at[0] >= 100.0 && at[0] < 110.0, "{at:?}");
+}

@@ -439,7 +439,7 @@ impl eframe::App for PendantApp {
         let sim_state = self.sim_state();
         egui::CentralPanel::default().show(ui, |ui| {
             let mut tabs = Tabs {
-                pendant: &mut self.pendant,
+                pendant: &self.pendant,
                 intents: &mut intents,
                 arm: &mut self.arm,
                 teach: &mut self.teach,

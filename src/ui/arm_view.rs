@@ -103,7 +103,8 @@ impl ArmView {
         intents: &mut Vec<Intent>,
     ) {
         self.record_trail(pendant);
-        let ghost = self.ghost(pendant, now);
+        let preview = self.preview(pendant, now);
+        let ghost = preview.as_ref().map(ghost_of);
         let overlays = overlay_frames(pendant);
         let c = &pendant.controller;
         let frame = |n: Option<u8>, s: Option<CoordSystem>| {
@@ -146,7 +147,7 @@ impl ArmView {
         self.interact(ui, &response, &mut view, pendant, intents);
         self.view = Some(view);
         paint_egui::paint(&ui.painter_at(rect), &scene, &palette, &view);
-        self.readout(ui, &response, &view, pendant, ghost.as_ref());
+        self.readout(ui, &response, &view, pendant, preview.as_ref());
         self.scene = Some(scene);
     }
 
@@ -237,16 +238,14 @@ impl ArmView {
     /// The next step's ghost: the jog button under the pointer (in step mode: a
     /// continuous jog has no end), else the target from "Step here", else the move in
     /// progress.
-    fn ghost(&self, pendant: &Pendant, now: Instant) -> Option<Ghost> {
+    fn preview(&self, pendant: &Pendant, now: Instant) -> Option<StepPreview> {
         let stepping = pendant.settings.jog.mode == crate::pendant::JogMode::Step;
-        let preview = self
-            .hovered_step
+        self.hovered_step
             .filter(|_| stepping)
             .and_then(|(axis, dir)| pendant.preview_jog(axis, dir, now))
             .or_else(|| self.hovered_point.and_then(|i| pendant.preview_go(i, now)))
             .or_else(|| pendant.preview_target(now))
-            .or_else(|| pendant.preview_followed(now))?;
-        Some(ghost_of(preview))
+            .or_else(|| pendant.preview_followed(now))
     }
 
     fn readout(
@@ -255,7 +254,7 @@ impl ArmView {
         r: &egui::Response,
         view: &View,
         pendant: &Pendant,
-        ghost: Option<&Ghost>,
+        preview: Option<&StepPreview>,
     ) {
         let c = &pendant.controller;
         let kin = pendant.kinematics();
@@ -271,16 +270,15 @@ impl ArmView {
                 )),
                 None => ui.label("Tool tip: no position yet"),
             };
-            if let Some(Ghost {
-                check: GhostCheck::Refused(why),
-                label,
-                ..
-            }) = ghost
+            if let Some(p) = preview
+                && let Err(why) = &p.plan
             {
+                // The short sentence here and on the ghost; the details on hover.
                 ui.label(
-                    RichText::new(format!("{label}: refused: {why}"))
+                    RichText::new(format!("{}: refused: {}", p.label, why.short()))
                         .color(Color32::from_rgb(230, 90, 80)),
-                );
+                )
+                .on_hover_text(why.to_string());
             }
         });
         let Some(p) = r.hover_pos() else {
@@ -308,7 +306,7 @@ impl ArmView {
 }
 
 /// The ghost of a preview, coloured by its check.
-fn ghost_of(p: StepPreview) -> Ghost {
+fn ghost_of(p: &StepPreview) -> Ghost {
     let (check, line) = match &p.plan {
         Ok(plan) if plan.flips_arm => (GhostCheck::ArmFlip, None),
         Ok(plan) => (
@@ -316,10 +314,10 @@ fn ghost_of(p: StepPreview) -> Ghost {
             plan.line
                 .map(|(a, b)| (Mm::new(a.x, a.y), Mm::new(b.x, b.y))),
         ),
-        Err(why) => (GhostCheck::Refused(why.to_string()), None),
+        Err(why) => (GhostCheck::Refused(why.short()), None),
     };
     Ghost {
-        label: p.label,
+        label: p.label.clone(),
         joints: p.joints,
         tip: p.tip_base,
         check,

@@ -8,10 +8,10 @@ use egui::{Button, ProgressBar, RichText, TextEdit, Ui};
 
 use super::coords_table::{CellEdit, table};
 use super::widgets::{AMBER, GREEN, RED, reserved_line};
-use crate::pendant::Pendant;
-use crate::pendant::coords::diff;
 use crate::pendant::coords::file::TableFormat;
-use crate::protocol::CoordKind;
+use crate::pendant::coords::intent::coord_kind;
+use crate::pendant::coords::{CoordsIntent, FileOutcome, diff};
+use crate::pendant::{Intent, Pendant};
 use crate::robot::FrameKind;
 
 /// What the pane keeps between frames: the tab, the cell being typed, the file path.
@@ -21,7 +21,6 @@ pub struct CoordsPanel {
     pub(super) show_diff: bool,
     pub(super) only_differences: bool,
     path: String,
-    file_message: Option<(bool, String)>,
     write_note: bool,
 }
 
@@ -33,16 +32,8 @@ impl Default for CoordsPanel {
             show_diff: false,
             only_differences: false,
             path: String::new(),
-            file_message: None,
             write_note: false,
         }
-    }
-}
-
-fn coord_kind(kind: FrameKind) -> CoordKind {
-    match kind {
-        FrameKind::Work => CoordKind::Work,
-        FrameKind::Tool => CoordKind::Tool,
     }
 }
 
@@ -63,23 +54,26 @@ fn wall_clock(at: Instant, now: Instant) -> String {
 }
 
 impl CoordsPanel {
-    pub fn show(&mut self, ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
-        self.tabs_and_reading(ui, pendant, now);
-        self.draft_bar(ui, pendant);
-        self.files(ui, pendant, now);
+    pub fn show(&mut self, ui: &mut Ui, pendant: &Pendant, now: Instant, out: &mut Vec<Intent>) {
+        let mut ask = |i: CoordsIntent| out.push(Intent::Coords(i));
+        self.tabs_and_reading(ui, pendant, now, &mut ask);
+        self.draft_bar(ui, pendant, &mut ask);
+        self.files(ui, pendant, &mut ask);
         // The refusal and the file result in lines that are always there: the table
         // below never jumps when one appears.
-        let refused = self
-            .edit
-            .as_ref()
-            .and_then(|e| e.refused.as_ref())
-            .map(|e| format!("Refused, the draft is unchanged: {e}"));
+        let refused = pendant.coords.refused.as_ref().map(|r| r.sentence());
         reserved_line(ui, refused.as_deref().map(|t| (RED, t)), refused.as_deref());
         ui.separator();
-        table(ui, self, pendant);
+        table(ui, self, pendant, &mut ask);
     }
 
-    fn tabs_and_reading(&mut self, ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
+    fn tabs_and_reading(
+        &mut self,
+        ui: &mut Ui,
+        pendant: &Pendant,
+        now: Instant,
+        ask: &mut impl FnMut(CoordsIntent),
+    ) {
         let kind = self.kind;
         ui.horizontal_wrapped(|ui| {
             for (k, title) in [
@@ -101,7 +95,7 @@ impl CoordsPanel {
                         .text(format!("{:?} {}/{}", r.kind, r.received, r.total)),
                 );
                 if ui.button("Cancel read").clicked() {
-                    pendant.cancel_table_read();
+                    ask(CoordsIntent::CancelRead);
                 }
             } else {
                 let up = pendant.line.is_up();
@@ -113,7 +107,7 @@ impl CoordsPanel {
                     .on_disabled_hover_text("The line is down")
                     .clicked()
                 {
-                    pendant.reload_table(coord_kind(kind), now);
+                    ask(CoordsIntent::Reload(coord_kind(kind)));
                 }
                 let unread: u16 = pendant
                     .unread_ranges(kind)
@@ -126,7 +120,7 @@ impl CoordsPanel {
                         .on_hover_text("Read again only the records that could not be read")
                         .clicked()
                 {
-                    pendant.retry_unread(coord_kind(kind), now);
+                    ask(CoordsIntent::RetryUnread(coord_kind(kind)));
                 }
             }
         });
@@ -156,7 +150,7 @@ impl CoordsPanel {
         });
     }
 
-    fn draft_bar(&mut self, ui: &mut Ui, pendant: &mut Pendant) {
+    fn draft_bar(&mut self, ui: &mut Ui, pendant: &Pendant, ask: &mut impl FnMut(CoordsIntent)) {
         let kind = self.kind;
         let controller = pendant
             .read_table(kind)
@@ -167,11 +161,11 @@ impl CoordsPanel {
             let d = pendant.coords.draft(kind);
             let (can_undo, can_redo) = (d.can_undo(), d.can_redo());
             if ui.add_enabled(can_undo, Button::new("Undo")).clicked() {
-                pendant.coords.draft_mut(kind).undo();
+                ask(CoordsIntent::Undo(kind));
                 self.edit = None;
             }
             if ui.add_enabled(can_redo, Button::new("Redo")).clicked() {
-                pendant.coords.draft_mut(kind).redo();
+                ask(CoordsIntent::Redo(kind));
                 self.edit = None;
             }
             if ui
@@ -182,7 +176,7 @@ impl CoordsPanel {
                 .on_hover_text("Every row read from the controller replaces the draft's (undoable)")
                 .clicked()
             {
-                pendant.draft_from_controller(kind);
+                ask(CoordsIntent::DraftFromController(kind));
                 self.edit = None;
             }
             ui.checkbox(&mut self.show_diff, "Diff with controller");
@@ -206,7 +200,7 @@ impl CoordsPanel {
         });
     }
 
-    fn files(&mut self, ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
+    fn files(&mut self, ui: &mut Ui, pendant: &Pendant, ask: &mut impl FnMut(CoordsIntent)) {
         ui.horizontal_wrapped(|ui| {
             let label = ui.label("File");
             ui.add(
@@ -219,18 +213,18 @@ impl CoordsPanel {
                 ".csv, .json, or .toml: the simulator's coordinate file (xsel-sim --coords)",
             );
             if ui.button("Import").clicked() {
-                self.file_message = Some(import(&self.path, pendant));
+                ask(import(&self.path));
                 self.edit = None;
             }
             if ui.button("Export").clicked() {
-                self.file_message = Some(export(&self.path, pendant));
+                ask(export(&self.path, pendant));
             }
             if ui
                 .button("Try on simulator")
                 .on_hover_text("The built-in simulator answers 2A4H with the draft from now on")
                 .clicked()
             {
-                pendant.give_draft_to_simulator(now);
+                ask(CoordsIntent::TryOnSimulator);
             }
             if ui.button("Write to controller?").clicked() {
                 self.write_note = !self.write_note;
@@ -247,41 +241,37 @@ impl CoordsPanel {
                 .color(AMBER),
             );
         }
-        let file = self
-            .file_message
+        let file = pendant
+            .coords
+            .file_result
             .as_ref()
-            .map(|(ok, text)| (if *ok { GREEN } else { RED }, text.as_str()));
+            .map(|FileOutcome { ok, text }| (if *ok { GREEN } else { RED }, text.as_str()));
         reserved_line(ui, file, file.map(|(_, t)| t));
     }
 }
 
-const NAME_A_FILE: &str = "name a file ending .csv, .json or .toml (the simulator's file)";
-
-fn export(path: &str, pendant: &Pendant) -> (bool, String) {
+// File reads and writes here still run on the UI thread (bounded and moved to jobs by
+// the files issue); the pendant is handed what happened.
+fn export(path: &str, pendant: &Pendant) -> CoordsIntent {
     let path = path.trim();
     let Some(format) = TableFormat::of_path(path) else {
-        return (false, NAME_A_FILE.to_owned());
+        return CoordsIntent::FileNotNamed;
     };
-    match std::fs::write(path, pendant.export_tables(format)) {
-        Ok(()) => (true, format!("exported the work and tool drafts to {path}")),
-        Err(e) => (false, format!("cannot write {path}: {e}")),
+    let result = std::fs::write(path, pendant.export_tables(format)).map_err(|e| e.to_string());
+    CoordsIntent::Exported {
+        path: path.to_owned(),
+        result,
     }
 }
 
-fn import(path: &str, pendant: &mut Pendant) -> (bool, String) {
+fn import(path: &str) -> CoordsIntent {
     let path = path.trim();
     let Some(format) = TableFormat::of_path(path) else {
-        return (false, NAME_A_FILE.to_owned());
+        return CoordsIntent::FileNotNamed;
     };
-    let bytes = match std::fs::read(path) {
-        Ok(b) => b,
-        Err(e) => return (false, format!("cannot read {path}: {e}")),
-    };
-    match pendant.import_tables(&bytes, format) {
-        Ok(n) => (
-            true,
-            format!("imported {n} rows from {path} (Undo takes them back)"),
-        ),
-        Err(e) => (false, format!("{path}: {e} (nothing changed)")),
+    CoordsIntent::Import {
+        path: path.to_owned(),
+        format,
+        bytes: std::fs::read(path).map_err(|e| e.to_string()),
     }
 }

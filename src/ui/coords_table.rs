@@ -1,6 +1,7 @@
 //! The coordinate table itself: a virtualised egui_extras table (only visible rows are
 //! laid out), one text cell per value, checked when the entry ends (Enter or leaving
-//! the cell): a refused entry stays in red and the draft is unchanged.
+//! the cell): the pendant checks it, and a refused entry stays in red with the draft
+//! unchanged.
 
 use egui::{Color32, Key, RichText, Role, TextEdit, Ui, WidgetInfo};
 use egui_extras::{Column as Col, TableBuilder};
@@ -10,20 +11,26 @@ use super::widgets::{AMBER, GREY, RED};
 use crate::pendant::Pendant;
 use crate::pendant::coords::cell::{self, Column};
 use crate::pendant::coords::draft::cell_differs;
+use crate::pendant::coords::{CellEntry, CoordsIntent};
 use crate::robot::{CoordSystem, FrameKind};
 
 const ROW_HEIGHT: f32 = 22.0;
 /// The colour of a cell that differs from the controller's value.
 const EDITED: Color32 = AMBER;
 
-/// The cell being typed, and why its last entry was refused.
+/// The cell being typed.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CellEdit {
     pub kind: FrameKind,
     pub number: usize,
     pub column: Column,
     pub text: String,
-    pub refused: Option<String>,
+}
+
+impl CellEdit {
+    fn is_at(&self, kind: FrameKind, number: usize, column: Column) -> bool {
+        self.kind == kind && self.number == number && self.column == column
+    }
 }
 
 /// The accessible name of a cell: `work 3 X mm`.
@@ -31,7 +38,12 @@ pub fn cell_label(kind: FrameKind, number: usize, column: Column) -> String {
     format!("{kind} {number} {}", column.heading())
 }
 
-pub fn table(ui: &mut Ui, panel: &mut CoordsPanel, pendant: &mut Pendant) {
+pub fn table(
+    ui: &mut Ui,
+    panel: &mut CoordsPanel,
+    pendant: &Pendant,
+    ask: &mut impl FnMut(CoordsIntent),
+) {
     let kind = panel.kind;
     let controller = pendant
         .read_table(kind)
@@ -53,14 +65,15 @@ pub fn table(ui: &mut Ui, panel: &mut CoordsPanel, pendant: &mut Pendant) {
     egui::ScrollArea::horizontal()
         .id_salt(("coords-table-sideways", kind))
         .show(ui, |ui| {
-            rows_table(ui, panel, pendant, &controller, in_use, &rows)
+            rows_table(ui, panel, pendant, ask, &controller, in_use, &rows)
         });
 }
 
 fn rows_table(
     ui: &mut Ui,
     panel: &mut CoordsPanel,
-    pendant: &mut Pendant,
+    pendant: &Pendant,
+    ask: &mut impl FnMut(CoordsIntent),
     controller: &[Option<CoordSystem>],
     in_use: Option<usize>,
     rows: &[usize],
@@ -124,11 +137,15 @@ fn rows_table(
                         )
                     });
                     if r.changed() {
-                        pendant.coords.set_over_arm(kind, n as u8, on);
+                        ask(CoordsIntent::OverArm {
+                            kind,
+                            number: n as u8,
+                            on,
+                        });
                     }
                 });
                 for column in Column::ALL {
-                    row.col(|ui| value_cell(ui, panel, pendant, controller, n, column));
+                    row.col(|ui| value_cell(ui, panel, pendant, ask, controller, n, column));
                 }
                 if panel.show_diff {
                     for column in Column::ALL {
@@ -164,7 +181,8 @@ fn rows_table(
 fn value_cell(
     ui: &mut Ui,
     panel: &mut CoordsPanel,
-    pendant: &mut Pendant,
+    pendant: &Pendant,
+    ask: &mut impl FnMut(CoordsIntent),
     controller: &[Option<CoordSystem>],
     n: usize,
     column: Column,
@@ -172,14 +190,18 @@ fn value_cell(
     let kind = panel.kind;
     let draft = pendant.coords.draft(kind).get(n);
     let theirs = controller.get(n).copied().flatten();
-    let editing = panel
-        .edit
+    let editing = panel.edit.as_ref().filter(|e| e.is_at(kind, n, column));
+    // A refused entry stays in its cell until it is typed over, dismissed or replaced.
+    let refusal = pendant
+        .coords
+        .refused
         .as_ref()
-        .filter(|e| e.kind == kind && e.number == n && e.column == column);
-    let refused = editing.is_some_and(|e| e.refused.is_some());
-    let mut text = match editing {
-        Some(e) => e.text.clone(),
-        None => draft.map_or_else(String::new, |cs| cell::show(column.get(&cs))),
+        .filter(|r| r.is_at(kind, n, column));
+    let refused = editing.is_none() && refusal.is_some();
+    let mut text = match (editing, refusal) {
+        (Some(e), _) => e.text.clone(),
+        (None, Some(r)) => r.entry.text.clone(),
+        (None, None) => draft.map_or_else(String::new, |cs| cell::show(column.get(&cs))),
     };
     let color = if refused {
         RED
@@ -210,19 +232,26 @@ fn value_cell(
             number: n,
             column,
             text: text.clone(),
-            refused: None,
         });
     }
     if r.lost_focus()
         && panel
             .edit
             .as_ref()
-            .is_some_and(|e| e.kind == kind && e.number == n && e.column == column)
+            .is_some_and(|e| e.is_at(kind, n, column))
     {
+        panel.edit = None;
         if ui.input(|i| i.key_pressed(Key::Escape)) {
-            panel.edit = None;
+            if refusal.is_some() {
+                ask(CoordsIntent::DismissRefusal);
+            }
         } else {
-            commit(panel, pendant, text);
+            ask(CoordsIntent::SetCell(CellEntry {
+                kind,
+                number: n,
+                column,
+                text,
+            }));
         }
     }
     r.context_menu(|ui| {
@@ -231,44 +260,13 @@ fn value_cell(
             .add_enabled(can, egui::Button::new("Reset to the controller's value"))
             .clicked()
         {
-            let _ = pendant
-                .coords
-                .draft_mut(kind)
-                .reset_cell(n, column, &controller.to_vec());
+            ask(CoordsIntent::ResetCell {
+                kind,
+                number: n,
+                column,
+            });
             panel.edit = None;
             ui.close();
         }
     });
-}
-
-/// Puts the typed text in the draft, or keeps it (red) with the reason it was refused.
-fn commit(panel: &mut CoordsPanel, pendant: &mut Pendant, text: String) {
-    let Some(edit) = panel.edit.take() else {
-        return;
-    };
-    // Unchanged text (the value as shown, or an unread cell left empty) is no edit.
-    let shown = pendant
-        .coords
-        .draft(edit.kind)
-        .get(edit.number)
-        .map_or_else(String::new, |cs| cell::show(edit.column.get(&cs)));
-    if text.trim() == shown || (text.trim().is_empty() && shown.is_empty()) {
-        return;
-    }
-    let result = pendant
-        .coords
-        .draft_mut(edit.kind)
-        .set_cell(edit.number, edit.column, &text);
-    if let Err(why) = result {
-        panel.edit = Some(CellEdit {
-            refused: Some(format!(
-                "{} No. {}, {}: {why}",
-                edit.kind,
-                edit.number,
-                edit.column.heading()
-            )),
-            text,
-            ..edit
-        });
-    }
 }

@@ -106,7 +106,7 @@ pub fn checked_layout(saved: Option<Tree<Tab>>) -> Tree<Tab> {
 
 /// What the panes draw with.
 pub struct Tabs<'a> {
-    pub pendant: &'a mut Pendant,
+    pub pendant: &'a Pendant,
     /// What the panels that draw `&Pendant` ask for, applied after drawing.
     pub intents: &'a mut Vec<Intent>,
     pub arm: &'a mut ArmView,
@@ -144,8 +144,8 @@ impl Behavior<Tab> for Tabs<'_> {
                 });
             }
             Tab::Messages => messages::show(ui, self.pendant, self.started),
-            Tab::Coords => self.coords.show(ui, self.pendant, self.now),
-            Tab::FrameLog => self.frame_log.show(ui, self.pendant, self.now),
+            Tab::Coords => self.coords.show(ui, self.pendant, self.now, self.intents),
+            Tab::FrameLog => self.frame_log.show(ui, self.pendant, self.intents),
             Tab::Simulator => match &self.sim_state {
                 Some(state) => {
                     if let Some(action) = self.simulator.show(ui, state) {

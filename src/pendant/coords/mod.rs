@@ -5,6 +5,7 @@
 pub mod cell;
 pub mod draft;
 pub mod file;
+pub mod intent;
 
 use std::collections::{BTreeSet, VecDeque};
 use std::ops::Range;
@@ -19,6 +20,7 @@ use crate::robot::{CoordSystem, FrameKind};
 pub use cell::Column;
 pub use draft::{DraftTable, RowDiff, Rows, diff};
 pub use file::TablePair;
+pub use intent::{CellEntry, CellRefusal, CoordsIntent, FileOutcome};
 
 /// The `format` of the autosaved drafts.
 const SAVED_FORMAT: &str = "xsel-pendant drafts 1";
@@ -45,6 +47,10 @@ pub struct CoordEditor {
     answered: [Option<AxisPattern>; 2],
     /// Counts every change of a draft or a choice: the autosave writes when it moves.
     revision: u64,
+    /// The last cell entry refused, shown in its cell until the next change.
+    pub refused: Option<CellRefusal>,
+    /// The result of the last import or export.
+    pub file_result: Option<FileOutcome>,
 }
 
 /// The drafts as autosaved (wire units).
@@ -76,6 +82,8 @@ impl CoordEditor {
             retries: VecDeque::new(),
             answered: [None; 2],
             revision: 0,
+            refused: None,
+            file_result: None,
         }
     }
 

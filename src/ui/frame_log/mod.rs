@@ -9,13 +9,12 @@ mod table;
 mod tools;
 
 use std::collections::VecDeque;
-use std::time::Instant;
 
 use egui::Ui;
 
 use crate::pendant::frame_log::FrameLog;
 use crate::pendant::frame_log::filter::{DirFilter, Filter};
-use crate::pendant::{Level, Pendant};
+use crate::pendant::{Intent, Level, Pendant};
 use crate::protocol::Columns;
 use jobs::{Filtered, Job};
 
@@ -258,7 +257,7 @@ impl FrameLogPanel {
         self.paused_at = None;
     }
 
-    pub fn show(&mut self, ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
+    pub fn show(&mut self, ui: &mut Ui, pendant: &Pendant, out: &mut Vec<Intent>) {
         self.poll_files();
         self.update_filter(pendant);
         if self.job.is_some() {
@@ -267,11 +266,11 @@ impl FrameLogPanel {
         self.tools_shown = self
             .tools_open
             .unwrap_or(ui.available_height() >= ROOMY_PANE);
-        tools::header(self, ui, pendant);
+        tools::header(self, ui, pendant, out);
         if self.tools_shown {
             tools::filter_bar(self, ui);
             tools::file_bar(self, ui, pendant);
-            tools::raw_bar(self, ui, pendant, now);
+            tools::raw_bar(self, ui, pendant, out);
         }
         ui.separator();
         let share = if self.selected.is_some() { 0.5 } else { 1.0 };

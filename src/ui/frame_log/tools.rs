@@ -2,18 +2,17 @@
 //! raw frame to send.
 
 use std::path::PathBuf;
-use std::time::Instant;
 
 use egui::{RichText, Ui};
 
 use super::FrameLogPanel;
 use super::jobs::{self, Format};
 use crate::pendant::frame_log::filter::DirFilter;
-use crate::pendant::{Level, Pendant};
-use crate::ui::widgets::{AMBER, level_color};
+use crate::pendant::{Intent, Level, Pendant};
+use crate::ui::widgets::{AMBER, level_color, reserved_line};
 
 /// Counts, pause, follow, clock, clear, and the way back from an opened file.
-pub fn header(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &mut Pendant) {
+pub fn header(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant, out: &mut Vec<Intent>) {
     ui.horizontal_wrapped(|ui| {
         let log = p.log(pendant);
         let (len, head_drops, link_drops, cap) =
@@ -61,8 +60,7 @@ pub fn header(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &mut Pendant) {
                 )
                 .labelled_by(l.id);
             if r.changed() {
-                pendant.frame_log.set_cap(cap);
-                pendant.settings.frame_log_cap = Some(cap);
+                out.push(Intent::FrameLogCap(cap));
             }
         }
         ui.checkbox(&mut p.wall_clock, "Wall clock");
@@ -81,7 +79,7 @@ pub fn header(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &mut Pendant) {
                 p.follow = true;
             }
         } else if ui.button("Clear").clicked() {
-            pendant.frame_log.clear();
+            out.push(Intent::ClearFrameLog);
             p.reset_view();
             p.say(Level::Info, "log cleared");
         }
@@ -204,8 +202,8 @@ fn start_save(p: &mut FrameLogPanel, pendant: &Pendant, format: Format) {
     }
 }
 
-/// A raw frame body to send through the link.
-pub fn raw_bar(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &mut Pendant, now: Instant) {
+/// A raw frame body to send through the link, and what became of the last one.
+pub fn raw_bar(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant, out: &mut Vec<Intent>) {
     ui.horizontal_wrapped(|ui| {
         let l = ui.label("Raw frame");
         let edit = ui
@@ -217,17 +215,27 @@ pub fn raw_bar(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &mut Pendant, now: I
             .labelled_by(l.id);
         let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
         if ui.button("Send raw").clicked() || enter {
-            match pendant.send_raw(&p.raw_body, now) {
-                Ok(c) => {
-                    p.say(Level::Info, format!("sent {} through the link", c.id()));
-                    p.follow = true;
-                }
-                Err(e) => p.say(Level::Warning, format!("Not sent: {e}")),
-            }
+            out.push(Intent::SendRaw(p.raw_body.clone()));
+            p.follow = true;
         }
-        ui.checkbox(
-            &mut pendant.settings.connection.send_at_at,
-            "Send @@ for the checksum (from the next connect)",
-        );
+        let mut connection = pendant.settings.connection.clone();
+        if ui
+            .checkbox(
+                &mut connection.send_at_at,
+                "Send @@ for the checksum (from the next connect)",
+            )
+            .changed()
+        {
+            out.push(Intent::ConnectionSettings(connection));
+        }
     });
+    let result = pendant.raw_sent.as_ref().map(|r| match r {
+        Ok(id) => (
+            level_color(Level::Info),
+            format!("sent {id} through the link"),
+        ),
+        Err(e) => (level_color(Level::Warning), format!("Not sent: {e}")),
+    });
+    let shown = result.as_ref().map(|(c, t)| (*c, t.as_str()));
+    reserved_line(ui, shown, shown.map(|(_, t)| t));
 }
