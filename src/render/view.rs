@@ -160,6 +160,27 @@ pub fn arrow_head(a: [f32; 2], b: [f32; 2]) -> Option<[[f32; 2]; 3]> {
     ])
 }
 
+/// Space kept between a label and the edge of the view, in pixels.
+const LABEL_MARGIN_PX: f32 = 4.0;
+
+/// Where a text of `size` pixels goes: its top-left corner for the anchor's `fractions`
+/// at `anchor_pos`, moved inside the view's area (a label near an edge is never cut; one
+/// wider than the view starts at its left edge). Both painters place text with this.
+pub fn text_top_left(
+    view: &View,
+    anchor_pos: [f32; 2],
+    fractions: (f32, f32),
+    size: [f32; 2],
+) -> [f32; 2] {
+    let place = |axis: usize, fraction: f32| {
+        let start = anchor_pos[axis] - fraction * size[axis];
+        let low = view.origin[axis] + LABEL_MARGIN_PX;
+        let high = view.origin[axis] + view.size[axis] - LABEL_MARGIN_PX - size[axis];
+        start.min(high).max(low)
+    };
+    [place(0, fractions.0), place(1, fractions.1)]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -183,25 +204,4 @@ mod tests {
         v.pan([30.0, 0.0]);
         assert!((v.to_screen(p)[0] - s[0] - 30.0).abs() < 1e-3);
     }
-}
-
-/// Space kept between a label and the edge of the view, in pixels.
-const LABEL_MARGIN_PX: f32 = 4.0;
-
-/// Where a text of `size` pixels goes: its top-left corner for the anchor's `fractions`
-/// at `anchor_pos`, moved inside the view's area (a label near an edge is never cut; one
-/// wider than the view starts at its left edge). Both painters place text with this.
-pub fn text_top_left(
-    view: &View,
-    anchor_pos: [f32; 2],
-    fractions: (f32, f32),
-    size: [f32; 2],
-) -> [f32; 2] {
-    let place = |axis: usize, fraction: f32| {
-        let start = anchor_pos[axis] - fraction * size[axis];
-        let low = view.origin[axis] + LABEL_MARGIN_PX;
-        let high = view.origin[axis] + view.size[axis] - LABEL_MARGIN_PX - size[axis];
-        start.min(high).max(low)
-    };
-    [place(0, fractions.0), place(1, fractions.1)]
 }
