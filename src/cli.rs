@@ -46,6 +46,14 @@ pub struct Args {
     /// given; in the window it replaces the saved connection).
     #[arg(long, conflicts_with_all = ["port", "tcp"])]
     pub sim: bool,
+    /// The window's own link thread owns the serial port or TCP bridge, with no guardian
+    /// process. By default a guardian (this program, started by the window) owns it and
+    /// sends 238H STOP when the window's process exits, crashes, is killed or stopped
+    /// while motion may run. Use this flag only where a second process cannot run; the
+    /// built-in simulator never has a guardian. Neither replaces a hard-wired enabling
+    /// switch and E-stop in the controller's safety circuit.
+    #[arg(long)]
+    pub no_guardian: bool,
     /// Text mode: no window; print the controller's state once (see --watch).
     #[arg(long)]
     pub headless: bool,
@@ -192,7 +200,10 @@ impl Args {
 pub fn connection(args: &Args) -> Result<Connection, CliError> {
     args.line_settings()?;
     let model = args.model()?;
-    Ok(Connection::prepare(&args.connection_settings(), model))
+    Ok(Connection::prepare_in_process(
+        &args.connection_settings(),
+        model,
+    ))
 }
 
 /// Parses the command line; a bad flag ends the program with exit code 2 and one line

@@ -5,10 +5,18 @@
 use std::io::Write;
 use std::process::ExitCode;
 
+use xsel_pendant::session::{self, LineOwner};
 use xsel_pendant::ui::{StartOptions, run_window};
 use xsel_pendant::{cli, headless, render_cli};
 
 fn main() -> ExitCode {
+    // A guardian is started by the window itself; it reads its line from stdin.
+    if std::env::args_os()
+        .nth(1)
+        .is_some_and(|a| a == session::guardian::GUARDIAN_FLAG)
+    {
+        return session::guardian::run();
+    }
     let args: cli::Args = cli::parse_or_exit("xsel-pendant");
     if args.render_png.is_some() {
         return render_cli::run(&args);
@@ -28,6 +36,11 @@ fn main() -> ExitCode {
         fresh: false,
         offline: false,
         drafts_dir: None,
+        line_owner: if args.no_guardian {
+            LineOwner::InProcess
+        } else {
+            LineOwner::guardian()
+        },
     };
     let renderer = match args.renderer {
         cli::Renderer::Glow => eframe::Renderer::Glow,

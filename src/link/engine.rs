@@ -147,6 +147,7 @@ impl Engine {
             }
             self.check_lease(now);
             self.follow_reader(now);
+            self.pass_guardian_stops();
             let ids = self.ids.clone();
             match self.sched.next(now, &mut || RequestId::next(&ids)) {
                 Next::Send(pending) => {
@@ -197,6 +198,18 @@ impl Engine {
         let mut health = self.health.snapshot(now);
         health.events_dropped = self.events.dropped_total();
         health
+    }
+
+    /// Hands on the STOPs a guardian sent of its own.
+    fn pass_guardian_stops(&mut self) {
+        let stops = self
+            .transport
+            .as_mut()
+            .map(|t| t.take_guardian_stops())
+            .unwrap_or_default();
+        for why in stops {
+            self.emit(LinkEvent::GuardianStopped(why));
+        }
     }
 
     /// Stops a continuous jog whose lease was not renewed in time.

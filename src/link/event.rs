@@ -101,6 +101,9 @@ pub enum LinkEvent {
     Health(LinkHealth),
     /// The link thread has ended: the last event. What was done to stop motion.
     ShutDown(ShutdownReport),
+    /// The guardian process that owns the line sent 238H of its own, and why (the
+    /// window's process was silent longer than the lease while motion may run).
+    GuardianStopped(String),
 }
 
 impl LinkEvent {
@@ -161,6 +164,7 @@ impl LinkEvent {
                 format!("{} transactions, {} timeouts", h.transactions, h.timeouts)
             }
             LinkEvent::ShutDown(report) => format!("link shut down: {report}"),
+            LinkEvent::GuardianStopped(why) => format!("the guardian sent 238H STOP: {why}"),
         }
     }
 }

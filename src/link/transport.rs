@@ -21,6 +21,12 @@ pub trait Transport: Send {
     fn discard_input(&mut self) -> io::Result<Vec<u8>>;
     /// A short name for logs and the connection panel ("/dev/ttyUSB0 115200 8N1").
     fn describe(&self) -> String;
+    /// The STOPs a guardian process owning the line sent of its own since the last
+    /// call, each with why; the link hands each on as
+    /// [`super::LinkEvent::GuardianStopped`].
+    fn take_guardian_stops(&mut self) -> Vec<String> {
+        Vec::new()
+    }
 }
 
 /// Longest time spent dropping input before a command: a line that never falls silent

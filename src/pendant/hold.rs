@@ -76,6 +76,8 @@ pub enum StopCause {
     LeaseLapsed,
     /// The link's own STOP: the line stalled or was lost mid-motion.
     LinkSafety,
+    /// The guardian process that owns the line sent 238H of its own.
+    Guardian,
     /// The line went down.
     LineLost,
     /// The jog was refused (by the pendant's checks or the controller).
@@ -96,6 +98,7 @@ impl StopCause {
             StopCause::Esc => "Esc".into(),
             StopCause::LeaseLapsed => "the jog lease lapsed".into(),
             StopCause::LinkSafety => "the line stalled or was lost mid-motion".into(),
+            StopCause::Guardian => "the guardian process".into(),
             StopCause::LineLost => "the line went down".into(),
             StopCause::Refused => "the jog was refused".into(),
             StopCause::NotReady(why) => why.to_string(),

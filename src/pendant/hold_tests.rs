@@ -282,6 +282,35 @@ fn the_link_lease_stop_is_said_in_messages_and_latches() {
 }
 
 #[test]
+fn the_guardians_own_stop_is_said_in_messages_and_latches_a_held_jog() {
+    let mut now = Instant::now();
+    let mut p = continuous(now);
+    assert_eq!(hold_for(&mut p, &mut now, KEY, 2).jogs, 1);
+    p.handle_event(
+        now,
+        LinkEvent::GuardianStopped("the window was silent for 260 ms".into()),
+    );
+    assert!(
+        p.messages
+            .iter()
+            .any(|m| m.text.contains("guardian") && m.text.contains("silent")),
+        "not in Messages"
+    );
+    assert!(p.stop_latch().is_some(), "not latched");
+    assert_eq!(
+        hold_for(&mut p, &mut now, KEY, 30).jogs,
+        0,
+        "restarted by itself"
+    );
+    release(&mut p, now, KEY);
+    assert_eq!(
+        hold_for(&mut p, &mut now, KEY, 2).jogs,
+        1,
+        "a new press jogs"
+    );
+}
+
+#[test]
 fn focus_loss_stops_and_a_key_still_down_after_it_starts_nothing() {
     let mut now = Instant::now();
     let mut p = continuous(now);

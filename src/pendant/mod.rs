@@ -379,6 +379,7 @@ impl Pendant {
             LinkEvent::ShutDown(report) if !report.is_clean() => {
                 self.say(Level::Error, format!("link closed: {report}"), now);
             }
+            LinkEvent::GuardianStopped(why) => self.guardian_stopped(&why, now),
             LinkEvent::Health(h) => {
                 let errors = h.bad_frames + h.error_replies;
                 self.health_window.push_back((now, h.timeouts, errors));
@@ -559,6 +560,21 @@ impl Pendant {
         self.jog_says(
             Level::Warning,
             format!("STOP sent by the link: {}", cause.name()),
+            now,
+        );
+    }
+
+    /// The guardian stopped the arm by itself: a jog still held is latched as for any
+    /// STOP the operator did not give.
+    fn guardian_stopped(&mut self, why: &str, now: Instant) {
+        self.hold.stop(StopCause::Guardian);
+        if let Some(f) = self.followed.as_mut() {
+            f.stopped.get_or_insert(now);
+        }
+        self.command_position = None;
+        self.jog_says(
+            Level::Warning,
+            format!("STOP sent by the guardian process: {why}"),
             now,
         );
     }

@@ -24,7 +24,7 @@ use crate::pendant::{
 };
 use crate::protocol::{AxisPattern, CoordKind};
 use crate::robot::RobotModel;
-use crate::session::{Session, load_model};
+use crate::session::{LineOwner, Session, load_model};
 use crate::sim::SimHandle;
 
 /// The storage key and window title.
@@ -57,6 +57,9 @@ pub struct StartOptions {
     /// Where the coordinate-table drafts are autosaved and restored from; `None`: the
     /// app's data directory, or nowhere in a fresh start.
     pub drafts_dir: Option<std::path::PathBuf>,
+    /// Who owns a serial port or TCP bridge: a guardian process (the window binary's
+    /// default) or the window's own link thread (`--no-guardian`, tests).
+    pub line_owner: LineOwner,
 }
 
 impl StartOptions {
@@ -67,6 +70,7 @@ impl StartOptions {
             fresh: true,
             offline: false,
             drafts_dir: None,
+            line_owner: LineOwner::InProcess,
         }
     }
 
@@ -82,6 +86,7 @@ impl StartOptions {
 pub struct PendantApp {
     pendant: Pendant,
     session: Option<Session>,
+    line_owner: LineOwner,
     connection: ConnectionPanel,
     jog: JogPanel,
     keys: Keys,
@@ -143,6 +148,7 @@ impl PendantApp {
         let mut app = Self {
             pendant,
             session: None,
+            line_owner: options.line_owner.clone(),
             connection: ConnectionPanel::default(),
             jog: JogPanel::default(),
             keys: Keys::default(),
@@ -361,7 +367,7 @@ impl PendantApp {
         // events a second, and a repaint each would keep a software renderer busy.
         let repaint_ctx = ctx.clone();
         let repaint = std::sync::Arc::new(move || repaint_ctx.request_repaint_after(LINK_REPAINT));
-        match Session::open(&settings, &model, repaint) {
+        match Session::open(&settings, &model, repaint, &self.line_owner) {
             Ok(session) => self.session = Some(session),
             Err(e) => self.pendant.connect_failed(e, now),
         }

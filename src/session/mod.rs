@@ -1,7 +1,11 @@
 //! A connection as the operator names it: the line to open (serial port, TCP bridge or
 //! the embedded simulator) and, once started, the link thread on it. The command line and
-//! the window both go through here, so a line is prepared one way only.
+//! the window both go through here, so a line is prepared one way only. A serial port or
+//! TCP bridge may be owned by a guardian process (`guardian/`) that outlives the window.
 
+pub mod guardian;
+
+use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -33,6 +37,25 @@ pub fn load_model(name: &str) -> Result<RobotModel, String> {
         .map_err(|e| e.to_string())
 }
 
+/// Who owns a serial port or TCP bridge: the window's own link thread, or a guardian
+/// process started from this executable that stops the arm when the window dies.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub enum LineOwner {
+    #[default]
+    InProcess,
+    Guardian {
+        exe: PathBuf,
+    },
+}
+
+impl LineOwner {
+    /// A guardian from the running executable (falls back to the window's own link when
+    /// the executable cannot be found).
+    pub fn guardian() -> LineOwner {
+        std::env::current_exe().map_or(LineOwner::InProcess, |exe| LineOwner::Guardian { exe })
+    }
+}
+
 /// The line to open and, for the built-in one, the simulator behind it.
 pub struct Connection {
     /// Opens (and re-opens) the line; hand it to `link::spawn`.
@@ -49,10 +72,25 @@ pub struct Connection {
 }
 
 impl Connection {
+    /// Prepares the line of `settings` for this process's link.
+    pub fn prepare_in_process(settings: &ConnectionSettings, model: RobotModel) -> Connection {
+        Self::prepare(settings, model, &LineOwner::InProcess)
+    }
+
     /// Prepares the line of `settings`; only the simulator starts now, a port or socket
-    /// opens when the connector is called.
-    pub fn prepare(settings: &ConnectionSettings, model: RobotModel) -> Connection {
+    /// opens (or its guardian starts) when the connector is called. The built-in
+    /// simulator is always the window's own.
+    pub fn prepare(
+        settings: &ConnectionSettings,
+        model: RobotModel,
+        owner: &LineOwner,
+    ) -> Connection {
         let line = settings.line();
+        if let (LineOwner::Guardian { exe }, LineKind::Serial | LineKind::Tcp) =
+            (owner, settings.kind)
+        {
+            return Self::through_guardian(settings, model, exe.clone());
+        }
         match settings.kind {
             LineKind::Serial => {
                 let port = settings.port.trim().to_owned();
@@ -116,6 +154,40 @@ impl Connection {
         }
     }
 
+    /// A serial port or TCP bridge opened by a guardian process, a new one each time the
+    /// link (re)connects.
+    fn through_guardian(
+        settings: &ConnectionSettings,
+        model: RobotModel,
+        exe: PathBuf,
+    ) -> Connection {
+        let line = settings.line();
+        let (target, address) = match settings.kind {
+            LineKind::Serial => (
+                format!("serial port {}", settings.port.trim()),
+                settings.port.trim().to_owned(),
+            ),
+            _ => (
+                format!("TCP {}", settings.tcp.trim()),
+                settings.tcp.trim().to_owned(),
+            ),
+        };
+        let for_guardian = settings.clone();
+        let lease = crate::link::LinkConfig::default().jog_lease;
+        let connector: Connector = Box::new(move || {
+            guardian::GuardianLine::open(&exe, &for_guardian, lease)
+                .map(|t| Box::new(t) as Box<dyn Transport>)
+        });
+        Connection {
+            connector,
+            sim: None,
+            line,
+            model,
+            target,
+            address,
+        }
+    }
+
     /// Opens the line now, so a missing port or a refused connection is reported at once
     /// (the message names the line); the connector then hands out that open line first
     /// and re-opens as before.
@@ -166,6 +238,7 @@ impl Session {
         settings: &ConnectionSettings,
         model: &RobotModel,
         repaint: Repaint,
+        owner: &LineOwner,
     ) -> Result<Session, String> {
         settings.line().validate().map_err(|e| e.to_string())?;
         match settings.kind {
@@ -177,7 +250,7 @@ impl Session {
             }
             _ => {}
         }
-        let connection = Connection::prepare(settings, model.clone());
+        let connection = Connection::prepare(settings, model.clone(), owner);
         let mut config = LinkConfig {
             station: settings.station(),
             sc_mode: if settings.send_at_at {
@@ -206,6 +279,6 @@ impl Session {
         settings: &ConnectionSettings,
         model: &RobotModel,
     ) -> Result<Session, String> {
-        Self::open(settings, model, Arc::new(|| {}))
+        Self::open(settings, model, Arc::new(|| {}), &LineOwner::InProcess)
     }
 }
