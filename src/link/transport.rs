@@ -29,6 +29,20 @@ pub trait Transport: Send {
     }
 }
 
+/// How a line owned by a guardian process names itself: `<line> (guardian process <pid>)`.
+const GUARDIAN_NAME: &str = " (guardian process ";
+
+/// The name of a line owned by the guardian process `pid`.
+pub fn guardian_line_name(line: &str, pid: u32) -> String {
+    format!("{line}{GUARDIAN_NAME}{pid})")
+}
+
+/// The guardian's process id in a line's name, if a guardian owns it.
+pub fn guardian_of(name: &str) -> Option<u32> {
+    let (_, rest) = name.rsplit_once(GUARDIAN_NAME)?;
+    rest.strip_suffix(')')?.parse().ok()
+}
+
 /// Longest time spent dropping input before a command: a line that never falls silent
 /// (wrong baud rate, a floating receive wire) must not hold a STOP back.
 const DRAIN_LIMIT: Duration = Duration::from_millis(5);
@@ -238,6 +252,15 @@ impl<S: Read + Write + Send> Transport for StreamTransport<S> {
 mod tests {
     use super::*;
     use std::net::TcpListener;
+
+    #[test]
+    fn a_guardian_owned_line_names_its_guardian_and_no_other_line_does() {
+        let name = guardian_line_name("tcp 127.0.0.1:5099", 4242);
+        assert_eq!(name, "tcp 127.0.0.1:5099 (guardian process 4242)");
+        assert_eq!(guardian_of(&name), Some(4242));
+        assert_eq!(guardian_of("/dev/ttyUSB0 115200 8N1"), None);
+        assert_eq!(guardian_of("x (guardian process )"), None);
+    }
 
     #[cfg(unix)]
     #[test]

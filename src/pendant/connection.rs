@@ -143,6 +143,14 @@ pub enum LineState {
 }
 
 impl LineState {
+    /// The guardian process that owns the open line, if one does.
+    pub fn guardian_pid(&self) -> Option<u32> {
+        match self {
+            LineState::Up { line, .. } => crate::link::transport::guardian_of(line),
+            _ => None,
+        }
+    }
+
     pub fn is_up(&self) -> bool {
         matches!(self, LineState::Up { .. })
     }

@@ -5,9 +5,9 @@ use egui::{ComboBox, RichText, Ui};
 
 use super::detect::Detect;
 use super::ports::PortList;
-use super::widgets::{AMBER, GREY, RED, reserved_line};
+use super::widgets::{AMBER, GREEN, GREY, RED, reserved_line};
 use crate::link::line::STANDARD_BAUDS;
-use crate::pendant::{Intent, LineKind, ParityChoice, Pendant};
+use crate::pendant::{Intent, LineKind, LineState, ParityChoice, Pendant};
 use crate::robot::BUILTIN_MODELS;
 
 /// The panel's own state (the text being typed in the station field, the port list).
@@ -200,8 +200,38 @@ impl ConnectionPanel {
                 intents.push(Intent::Disconnect);
             }
         });
+        owner(ui, pendant);
         health(ui, pendant);
     }
+}
+
+/// Who owns the line, and what that means when this window dies: one line, always there.
+fn owner(ui: &mut Ui, pendant: &Pendant) {
+    let (color, text, hover) = match &pendant.line {
+        LineState::Up { .. } => match pendant.line.guardian_pid() {
+            Some(pid) => (
+                GREEN,
+                format!("Line owner: guardian process {pid}"),
+                "A process of its own holds the line: if this window dies, freezes or is \
+                 killed, it sends 238H STOP and closes the line. It is no enabling switch or \
+                 E-stop: a real cell needs those hard-wired.",
+            ),
+            None if pendant.settings.connection.kind == LineKind::Simulator => (
+                GREY,
+                "Line owner: this window (the built-in simulator stops with it)".to_owned(),
+                "The built-in simulator runs inside this window and ends with it.",
+            ),
+            None => (
+                AMBER,
+                "Line owner: this window, no guardian (--no-guardian)".to_owned(),
+                "If this process is killed while a jog runs, nothing sends STOP: the arm \
+                 jogs until the controller stops it. Start without --no-guardian.",
+            ),
+        },
+        _ => (GREY, "Line owner: none (no line)".to_owned(), ""),
+    };
+    let hover = (!hover.is_empty()).then_some(hover);
+    reserved_line(ui, Some((color, &text)), hover);
 }
 
 /// Exactly two hex digits, as the wire carries them.

@@ -249,7 +249,7 @@ impl Transport for GuardianLine {
     }
 
     fn describe(&self) -> String {
-        format!("{} (guardian process {})", self.line, self.pid)
+        crate::link::transport::guardian_line_name(&self.line, self.pid)
     }
 
     fn take_guardian_stops(&mut self) -> Vec<String> {
