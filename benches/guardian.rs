@@ -41,14 +41,23 @@ fn main() {
         ("in-process", LineOwner::InProcess),
         ("guardian", guardian()),
     ] {
-        let mut samples = submit_to_first_byte(&sim, &owner, 200);
+        let (mut samples, mut queued) = submit_to_first_byte(&sim, &owner, 200);
         report(&format!("submit 2D5H -> first byte, {name}"), &mut samples);
+        report(
+            &format!("  of which submit -> written by the link, {name}"),
+            &mut queued,
+        );
     }
-    let mut kills = Vec::new();
+    let (mut kills, mut exits) = (Vec::new(), Vec::new());
     for run in 0..15 {
-        kills.push(kill_to_stop(&sim, run));
+        let (stop, exit) = kill_to_stop(&sim, run);
+        kills.push(stop);
+        exits.extend(exit);
     }
     report("window killed -> 238H at the simulator", &mut kills);
+    if !exits.is_empty() {
+        report("window killed -> guardian exited", &mut exits);
+    }
 }
 
 fn guardian() -> LineOwner {
@@ -119,19 +128,34 @@ fn step(micrometres: i32) -> Command {
     })
 }
 
-fn submit_to_first_byte(sim: &TcpServer, owner: &LineOwner, n: usize) -> Vec<Duration> {
+/// Submit to arrival at the simulator, and the part of it spent before the link wrote
+/// the frame (waiting for the transaction in flight).
+fn submit_to_first_byte(
+    sim: &TcpServer,
+    owner: &LineOwner,
+    n: usize,
+) -> (Vec<Duration>, Vec<Duration>) {
     let session = open(sim, owner);
     let mut out = Vec::with_capacity(n);
+    let mut queued = Vec::with_capacity(n);
     for i in 0..n {
         // Between polls, at a different phase each time.
         std::thread::sleep(Duration::from_millis(7 + (i as u64 * 13) % 50));
         let distance = if i % 2 == 0 { 10 } else { -10 };
         let at = Instant::now();
         let id = session.link.submit(step(distance), Priority::User);
-        wait(
-            &session,
-            |e| matches!(e, LinkEvent::Reply { id: r, .. } | LinkEvent::ErrorReply { id: r, .. } if *r == id),
-        );
+        let mut written = None;
+        wait(&session, |e| {
+            if let LinkEvent::FrameSent { id: r, at, .. } = e
+                && *r == id
+            {
+                written = Some(*at);
+            }
+            matches!(e, LinkEvent::Reply { id: r, .. } | LinkEvent::ErrorReply { id: r, .. } if *r == id)
+        });
+        if let Some(w) = written {
+            queued.push(w.saturating_duration_since(at));
+        }
         match received_at(sim, b"2D5", at) {
             Some(first) => out.push(first.saturating_duration_since(at)),
             None => eprintln!("sample {i}: the simulator did not log the 2D5H"),
@@ -145,7 +169,7 @@ fn submit_to_first_byte(sim: &TcpServer, owner: &LineOwner, n: usize) -> Vec<Dur
     if let LineOwner::Guardian { .. } = owner {
         print_guardian_memory();
     }
-    out
+    (out, queued)
 }
 
 #[cfg(target_os = "linux")]
@@ -171,8 +195,9 @@ fn print_guardian_memory() {
 #[cfg(not(target_os = "linux"))]
 fn print_guardian_memory() {}
 
-/// One jogging window process killed: the time from the kill to 238H at the simulator.
-fn kill_to_stop(sim: &TcpServer, run: usize) -> Duration {
+/// One jogging window process killed: the time from the kill to 238H at the simulator,
+/// and to the guardian's exit (Linux).
+fn kill_to_stop(sim: &TcpServer, run: usize) -> (Duration, Option<Duration>) {
     let mut child = Process::new(std::env::current_exe().expect("this bench"))
         .env(WINDOW_ADDR, sim.addr.to_string())
         .env(
@@ -184,9 +209,13 @@ fn kill_to_stop(sim: &TcpServer, run: usize) -> Duration {
         .expect("a window process");
     let stdout = child.stdout.take().expect("its stdout");
     let mut lines = BufReader::new(stdout).lines();
+    let mut guardian_pid = None;
     loop {
         match lines.next() {
             Some(Ok(l)) if l == "jogging" => break,
+            Some(Ok(l)) if l.starts_with("guardian ") => {
+                guardian_pid = l["guardian ".len()..].parse::<u32>().ok();
+            }
             Some(_) => {}
             None => panic!("the window process ended before jogging"),
         }
@@ -197,15 +226,39 @@ fn kill_to_stop(sim: &TcpServer, run: usize) -> Duration {
     child.kill().expect("kill");
     let _ = child.wait();
     let deadline = killed + Duration::from_secs(5);
-    loop {
+    let stopped = loop {
         if let Some(at) = received_at(sim, b"238", killed) {
-            // Let the guardian leave before the next window connects.
-            std::thread::sleep(Duration::from_millis(300));
-            return at.saturating_duration_since(killed);
+            break at.saturating_duration_since(killed);
         }
         assert!(Instant::now() < deadline, "no 238H after the kill");
         std::thread::sleep(Duration::from_millis(1));
-    }
+    };
+    let exited = guardian_pid.and_then(|pid| {
+        while Instant::now() < deadline {
+            if !process_runs(pid) {
+                return Some(killed.elapsed());
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        None
+    });
+    // Let the guardian leave before the next window connects.
+    std::thread::sleep(Duration::from_millis(300));
+    (stopped, exited)
+}
+
+/// Whether process `pid` runs (a zombie waiting to be reaped has exited).
+#[cfg(target_os = "linux")]
+fn process_runs(pid: u32) -> bool {
+    std::fs::read_to_string(format!("/proc/{pid}/stat")).is_ok_and(|s| {
+        !s.rsplit_once(") ")
+            .is_some_and(|(_, rest)| rest.starts_with('Z'))
+    })
+}
+
+#[cfg(not(target_os = "linux"))]
+fn process_runs(_pid: u32) -> bool {
+    false
 }
 
 /// The window process: a continuous jog held through a guardian until killed.
@@ -225,7 +278,10 @@ fn window(addr: &str) {
                 LinkEvent::Connected { .. } | LinkEvent::Disconnected { .. }
             )
         });
-        if matches!(e, LinkEvent::Connected { .. }) {
+        if let LinkEvent::Connected { line } = &e {
+            if let Some(pid) = xsel_pendant::link::transport::guardian_of(line) {
+                println!("guardian {pid}");
+            }
             break s;
         }
     };

@@ -160,7 +160,7 @@ impl Drop for Window {
 /// The arm is idle and the frames after the last jog include 238H.
 fn assert_stopped(sim: &TcpServer) {
     assert!(
-        eventually(Duration::from_secs(5), || sim.handle.with(|c| c.in_use())
+        eventually(Duration::from_secs(10), || sim.handle.with(|c| c.in_use())
             == 0),
         "the arm still moves"
     );
@@ -173,7 +173,7 @@ fn assert_stopped(sim: &TcpServer) {
 
 /// A second client is served: the guardian has let go of the line.
 fn assert_line_free(sim: &TcpServer) {
-    let free = eventually(Duration::from_secs(3), || {
+    let free = eventually(Duration::from_secs(10), || {
         let Ok(mut t) = TcpTransport::connect(&sim.addr.to_string(), Duration::from_secs(1)) else {
             return false;
         };
