@@ -10,6 +10,7 @@
 //!   shared by `link` and `sim`, which never import each other.
 //! - [`protocol`] (the Format B codec) and [`robot`] (SCARA math) import nothing of the
 //!   project; `line` imports nothing of it either.
+//! - [`files`]: files the user names, read with a size bound (imports nothing).
 //! - [`cli`] (the pendant's flags and line set-up) and [`headless`] (its text mode) sit
 //!   above `link` and `sim`, for the binaries.
 
@@ -22,6 +23,7 @@
 
 pub mod cli;
 pub mod codes;
+pub mod files;
 pub mod headless;
 pub mod line;
 pub mod link;

@@ -35,7 +35,7 @@ fn main() -> ExitCode {
         connection: named.then(|| args.connection_settings()),
         fresh: false,
         offline: false,
-        drafts_dir: None,
+        data_dir: None,
         line_owner: if args.no_guardian {
             LineOwner::InProcess
         } else {

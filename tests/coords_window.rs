@@ -1,7 +1,9 @@
 //! The coordinate-table editor in the real window on the embedded simulator, driven
 //! headlessly with egui_kittest: both tables read and compared cell by cell with the
 //! simulator's own, a read with dropped replies, editing with diff and undo, a refused
-//! entry. Waits are bounded by a deadline; nothing sleeps a fixed time before asserting.
+//! entry; and the operator's work in files of its own (drafts, teach list, settings),
+//! back after the window is gone. Waits are bounded by a deadline; nothing sleeps a fixed
+//! time before asserting.
 
 use std::time::Duration;
 
@@ -15,7 +17,7 @@ use xsel_pendant::sim::{Fault, FaultSpec};
 use xsel_pendant::ui::{PendantApp, StartOptions};
 
 mod kittest_common;
-use kittest_common::{click, replace_text, step_until};
+use kittest_common::{click, replace_text, show_tab, step_until};
 
 fn app<'a>() -> Harness<'a, PendantApp> {
     Harness::builder()
@@ -297,7 +299,7 @@ fn drafts_are_autosaved_on_every_change_and_come_back_after_a_close() {
     let _ = std::fs::remove_dir_all(&dir);
     let start = |dir: &std::path::Path| {
         let options = StartOptions {
-            drafts_dir: Some(dir.to_path_buf()),
+            data_dir: Some(dir.to_path_buf()),
             ..StartOptions::fresh_simulator()
         };
         Harness::builder()
@@ -319,5 +321,146 @@ fn drafts_are_autosaved_on_every_change_and_come_back_after_a_close() {
         p.coords.draft(FrameKind::Work).get(5).map(|c| c.r.0),
         Some(45_500)
     );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+fn start_in(dir: &std::path::Path, fresh: bool) -> Harness<'static, PendantApp> {
+    let options = StartOptions {
+        data_dir: Some(dir.to_path_buf()),
+        fresh,
+        ..StartOptions::fresh_simulator()
+    };
+    Harness::builder()
+        .with_size([1280.0, 900.0])
+        .build_eframe(move |cc| PendantApp::new(cc, options))
+}
+
+/// Records the current pose as `name` from the Teach list tab.
+fn record(h: &mut Harness<'_, PendantApp>, name: &str) {
+    step_until(h, "a position to record", |a| {
+        a.pendant().controller.work.is_some()
+    });
+    show_tab(h, "Teach list");
+    type_into(h, "Name", name);
+    click(h, "Record");
+    step_until(h, "the point recorded", |a| {
+        a.pendant().teach.list().position(name).is_some()
+    });
+}
+
+#[test]
+fn a_recorded_point_is_in_its_file_at_once_and_back_after_the_window_is_gone() {
+    let dir = std::env::temp_dir().join(format!("xsel-pendant-teach-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let mut h = start_in(&dir, true);
+    record(&mut h, "PICK1");
+    h.step();
+    // On disk before any close, as a SIGKILL a moment later would find it.
+    let text = std::fs::read_to_string(dir.join("teach-list.json")).expect("saved");
+    assert!(text.contains("PICK1"), "{text}");
+    drop(h);
+    let h = start_in(&dir, true);
+    assert!(
+        h.state().pendant().teach.list().position("PICK1").is_some(),
+        "the point is lost"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn truncated_settings_are_kept_aside_with_a_message_and_the_teach_list_is_untouched() {
+    let dir = std::env::temp_dir().join(format!("xsel-pendant-settings-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let mut h = start_in(&dir, false);
+    record(&mut h, "PLACE2");
+    click(&mut h, "Light theme");
+    h.step();
+    drop(h);
+    let path = dir.join("settings.json");
+    let text = std::fs::read(&path).expect("settings saved");
+    std::fs::write(&path, &text[..text.len() / 2]).unwrap();
+    let h = start_in(&dir, false);
+    let p = h.state().pendant();
+    let said: Vec<&str> = p.messages.iter().map(|m| m.text.as_str()).collect();
+    assert!(
+        said.iter()
+            .any(|t| t.contains("settings could not be read") && t.contains("kept as")),
+        "no word of the unreadable settings: {said:?}"
+    );
+    assert!(
+        p.teach.list().position("PLACE2").is_some(),
+        "the teach list suffered"
+    );
+    let kept = std::fs::read_dir(&dir)
+        .unwrap()
+        .flatten()
+        .find(|e| {
+            e.file_name()
+                .to_string_lossy()
+                .starts_with("settings.json.unreadable")
+        })
+        .expect("the unreadable settings kept");
+    assert_eq!(std::fs::read(kept.path()).unwrap(), &text[..text.len() / 2]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_teach_load_never_empties_the_list_never_blocks_and_replaces_only_when_told() {
+    let dir = std::env::temp_dir().join(format!("xsel-pendant-load-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut h = start_in(&dir.join("data"), true);
+    record(&mut h, "KEEP");
+    let load = |h: &mut Harness<'_, PendantApp>, file: &std::path::Path| {
+        replace_text(h, "File", &file.display().to_string());
+        click(h, "Load");
+        h.step();
+    };
+    let said = |h: &Harness<'_, PendantApp>| {
+        h.state()
+            .pendant()
+            .messages
+            .back()
+            .map(|m| m.text.clone())
+            .unwrap_or_default()
+    };
+    // An object that is no teach list.
+    let empty = dir.join("empty.json");
+    std::fs::write(&empty, "{}").unwrap();
+    load(&mut h, &empty);
+    assert!(
+        said(&h).contains("points") && said(&h).contains("nothing changed"),
+        "{}",
+        said(&h)
+    );
+    assert_eq!(h.state().pendant().teach.list().len(), 1);
+    // A FIFO: refused at once, the window still drawing.
+    #[cfg(unix)]
+    {
+        let fifo = dir.join("points.csv");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        assert!(made.is_ok_and(|s| s.success()), "mkfifo");
+        load(&mut h, &fifo);
+        assert!(said(&h).contains("not a regular file"), "{}", said(&h));
+    }
+    // A real list: it waits for Replace, and Undo load brings the old one back.
+    let other = dir.join("two.json");
+    let mut two = xsel_pendant::pendant::teach::TeachList::new();
+    for n in ["A", "B"] {
+        let at = h.state().pendant().teach.list().get(0).unwrap().taught();
+        two.record(n, at).unwrap();
+    }
+    std::fs::write(&other, two.to_json()).unwrap();
+    load(&mut h, &other);
+    h.get_by_label_contains("Replace the 1 points of the list with the 2 points");
+    assert_eq!(
+        h.state().pendant().teach.list().len(),
+        1,
+        "replaced unasked"
+    );
+    click(&mut h, "Replace");
+    assert_eq!(h.state().pendant().teach.list().len(), 2);
+    click(&mut h, "Undo load");
+    assert!(h.state().pendant().teach.list().position("KEEP").is_some());
     let _ = std::fs::remove_dir_all(&dir);
 }

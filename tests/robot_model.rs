@@ -1,6 +1,7 @@
 //! Robot model files: the shipped ones load; bad ones are refused naming field and line.
 
 use xsel_pendant::robot::{ModelError, RobotModel};
+use xsel_pendant::session::load_model;
 
 const GOOD: &str = include_str!("../assets/robots/scara-500.toml");
 
@@ -41,13 +42,13 @@ fn shipped_files_load_and_say_they_are_examples() {
         "assets/robots/scara-500.toml",
         "assets/robots/scara-250.toml",
     ] {
-        let m = RobotModel::load(path).unwrap();
+        let m = load_model(path).unwrap();
         assert!(m.arm1_mm > 0.0 && m.arm2_mm > 0.0);
         let text = std::fs::read_to_string(path).unwrap();
         assert!(text.contains("EXAMPLES") && text.contains("vendor catalogue"));
     }
-    let big = RobotModel::load("assets/robots/scara-500.toml").unwrap();
-    let small = RobotModel::load("assets/robots/scara-250.toml").unwrap();
+    let big = load_model("assets/robots/scara-500.toml").unwrap();
+    let small = load_model("assets/robots/scara-250.toml").unwrap();
     assert_eq!(big.arm1_mm + big.arm2_mm, 500.0);
     assert_eq!(small.arm1_mm + small.arm2_mm, 250.0);
     assert_eq!((big.work_table_size, big.tool_table_size), (32, 128));
@@ -126,9 +127,15 @@ fn broken_toml_gives_a_line() {
 }
 
 #[test]
-fn missing_file_is_an_io_error() {
-    assert!(matches!(
-        RobotModel::load("assets/robots/no-such-robot.toml"),
-        Err(ModelError::Io { .. })
-    ));
+fn a_missing_file_a_fifo_or_an_endless_device_is_refused_with_its_name() {
+    let e = load_model("assets/robots/no-such-robot.toml").unwrap_err();
+    assert!(
+        e.contains("cannot read") && e.contains("no-such-robot.toml"),
+        "{e}"
+    );
+    #[cfg(target_os = "linux")]
+    {
+        let e = load_model("/dev/zero").unwrap_err();
+        assert!(e.contains("/dev/zero is not a regular file"), "{e}");
+    }
 }

@@ -194,7 +194,7 @@ fn run(args: Args) -> Result<(), Failure> {
         Some(r) if !r.ends_with(".toml") && RobotModel::builtin(r).is_ok() => {
             RobotModel::builtin(r).map_err(|e| Failure::Flag(format!("--robot: {e}")))?
         }
-        Some(path) => RobotModel::load(path).map_err(|e| Failure::Flag(format!("--robot: {e}")))?,
+        Some(path) => load_model_file(path).map_err(|e| Failure::Flag(format!("--robot: {e}")))?,
     };
     let mut setup = SimSetup::for_model(model);
     if let Some(path) = &args.coords {
@@ -335,6 +335,16 @@ fn serve_pty(core: SimCore, opts: RunOptions) -> Result<SimHandle, String> {
 #[cfg(not(unix))]
 fn serve_pty(_: SimCore, _: RunOptions) -> Result<SimHandle, String> {
     Err("--pty is Unix-only (Linux, macOS); use --tcp HOST:PORT, which works everywhere".into())
+}
+
+/// A robot model file, read with the same bounds as the pendant's (a regular file of at
+/// most 1 MB: a FIFO or `/dev/zero` is refused, not read).
+fn load_model_file(path: &str) -> Result<RobotModel, String> {
+    let text = xsel_pendant::files::read_text_bounded(
+        std::path::Path::new(path),
+        xsel_pendant::files::CONFIG_LIMIT,
+    )?;
+    RobotModel::from_toml_str(&text).map_err(|e| format!("{path}: {e}"))
 }
 
 #[cfg(test)]

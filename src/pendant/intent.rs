@@ -37,8 +37,19 @@ pub enum Intent {
     TeachGo(usize),
     /// "Record" the current pose under this name (empty: one is made up).
     TeachRecord(String),
-    /// The teach list after an edit (reorder, delete, rename, load), as a whole.
+    /// The teach list after an edit (reorder, delete, rename), as a whole.
     TeachList(super::teach::TeachList),
+    /// A teach file read (its points, or why not): waits for "Replace".
+    TeachLoaded {
+        path: String,
+        read: Result<super::teach::TeachList, String>,
+    },
+    /// "Replace" the list with the loaded file's points.
+    TeachConfirmLoad,
+    /// Keep the list; forget the loaded file.
+    TeachCancelLoad,
+    /// The list as it was before the last load.
+    TeachUndoLoad,
     /// "Step here" from the arm view: the target, tool tip in the selected work frame.
     SetTarget(Pose),
     /// The connection panel's new settings (it edits a copy).
@@ -79,7 +90,11 @@ impl Pendant {
             Intent::ClearTarget => self.clear_step_target(),
             Intent::TeachGo(index) => self.teach_go(index, now),
             Intent::TeachRecord(name) => self.teach_record(&name, now),
-            Intent::TeachList(list) => self.settings.teach = list,
+            Intent::TeachList(list) => self.teach.set(list),
+            Intent::TeachLoaded { path, read } => self.teach_loaded(&path, read, now),
+            Intent::TeachConfirmLoad => self.teach_confirm_load(now),
+            Intent::TeachCancelLoad => self.teach_cancel_load(),
+            Intent::TeachUndoLoad => self.teach_undo_load(now),
             Intent::SetTarget(pose) => self.set_step_target(pose, now),
             Intent::ConnectionSettings(c) => self.settings.connection = c,
             Intent::Connect => self.connect(now),

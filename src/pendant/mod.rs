@@ -17,6 +17,7 @@ pub mod speed_cap;
 pub mod state;
 pub mod target;
 pub mod teach;
+pub mod teach_book;
 pub mod teach_file;
 mod teach_json;
 mod transitions;
@@ -53,8 +54,10 @@ const KEEP_MESSAGES: usize = 200;
 pub struct Settings {
     pub connection: ConnectionSettings,
     pub jog: JogSettings,
-    /// Taught points, kept with the settings so a closed window loses none.
-    pub teach: teach::TeachList,
+    /// Taught points as earlier versions kept them with the settings: read once, to be
+    /// taken into the teach list's own file, and never written here again.
+    #[serde(rename = "teach", skip_serializing)]
+    pub legacy_teach: teach::TeachList,
     /// Light theme (the default is dark).
     pub light_theme: bool,
     /// Rows the frame log keeps (None: [`frame_log::DEFAULT_CAP`]).
@@ -157,12 +160,19 @@ pub struct Pendant {
     requests: Vec<Request>,
     /// The coordinate-table editor: drafts, reads, "over the arm".
     pub coords: coords::CoordEditor,
+    /// The teach list, a load waiting for "Replace", and what Undo load brings back.
+    pub teach: teach_book::TeachBook,
+    /// The teach pane's last word on a file (loaded, refused, undone).
+    pub teach_feedback: Option<(Level, String)>,
 }
 
 impl Pendant {
-    pub fn new(settings: Settings, model: RobotModel) -> Self {
+    pub fn new(mut settings: Settings, model: RobotModel) -> Self {
         let log_cap = settings.frame_log_cap.unwrap_or(frame_log::DEFAULT_CAP);
+        let teach = teach_book::TeachBook::new(std::mem::take(&mut settings.legacy_teach));
         Self {
+            teach,
+            teach_feedback: None,
             coords: coords::CoordEditor::new(model.work_table_size, model.tool_table_size),
             kin: Scara::new(&model),
             model,
@@ -212,7 +222,8 @@ impl Pendant {
         std::mem::take(&mut self.requests)
     }
 
-    fn say(&mut self, level: Level, text: impl Into<String>, now: Instant) {
+    /// Adds a message for the operator (the window reports its file work through it).
+    pub fn say(&mut self, level: Level, text: impl Into<String>, now: Instant) {
         if self.messages.len() >= KEEP_MESSAGES {
             self.messages.pop_front();
         }

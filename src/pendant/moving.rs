@@ -64,7 +64,7 @@ impl Pendant {
 
     /// "Go" on a taught point: 2D4H after the frame check and the same checks as a step.
     pub fn teach_go(&mut self, index: usize, now: Instant) {
-        let Some(point) = self.settings.teach.get(index).cloned() else {
+        let Some(point) = self.teach.list().get(index).cloned() else {
             return;
         };
         if !self.may_send_move("move", now) {
@@ -109,7 +109,7 @@ impl Pendant {
             return self.say(Level::Warning, "not recorded: no position read yet", now);
         };
         let name = if name.trim().is_empty() {
-            self.settings.teach.unique_name("P")
+            self.teach.list().unique_name("P")
         } else {
             name.trim().to_owned()
         };
@@ -119,7 +119,7 @@ impl Pendant {
             work: status.work,
             tool: status.tool,
         };
-        match self.settings.teach.record(&name, at) {
+        match self.teach.edit(|l| l.record(&name, at)) {
             Ok(_) => self.say(Level::Info, format!("recorded \"{name}\""), now),
             Err(e) => self.say(Level::Warning, format!("not recorded: {e}"), now),
         }

@@ -113,7 +113,7 @@ impl Pendant {
 
     /// What "Go" on taught point `index` would do now, for its ghost.
     pub fn preview_go(&self, index: usize, now: Instant) -> Option<StepPreview> {
-        let point = self.settings.teach.get(index)?;
+        let point = self.teach.list().get(index)?;
         let pose = Pose::from_wire(point.pose);
         let arm = self.arm_now(now).ok();
         let tip_base = arm.map_or(pose, |a| a.work.work_to_base(&pose));

@@ -59,7 +59,12 @@ fn csv_and_json_round_trip_exactly() {
     assert_eq!(TeachList::from_csv(&l.to_csv()), Ok(l.clone()));
     assert_eq!(TeachList::from_json(&l.to_json()), Ok(l.clone()));
     assert_eq!(TeachList::from_csv(H), Ok(TeachList::new()));
-    assert_eq!(TeachList::from_json("{}"), Ok(TeachList::new()));
+    let empty = TeachList::new().to_json();
+    assert_eq!(
+        TeachList::from_json(&empty),
+        Ok(TeachList::new()),
+        "{empty}"
+    );
     assert!(l.to_json().contains("\"pose\": [\n        300000,"));
     assert!(l.to_json().contains("\"arm\": \"undetermined\""));
 }
@@ -438,4 +443,21 @@ proptest! {
             }
         }
     }
+}
+
+#[test]
+fn a_json_object_that_is_not_a_teach_list_is_refused_not_read_as_empty() {
+    for text in [
+        "{}",
+        "{\"anything\": 1}",
+        "{\"points\": [], \"extra\": true}",
+    ] {
+        let e = TeachList::from_json_bytes(text.as_bytes());
+        assert!(e.is_err(), "{text} read as a list");
+    }
+    let e = TeachList::from_json_bytes(b"{}").unwrap_err().to_string();
+    assert!(
+        e.contains("points"),
+        "the reason does not say what is missing: {e}"
+    );
 }

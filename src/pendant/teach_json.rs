@@ -77,9 +77,12 @@ impl TeachList {
 }
 
 /// The top level of a JSON file, each point kept as its text.
+/// A file with other fields, or without `points`, is not a teach list (an object such as
+/// `{}` must never load as an empty list).
 #[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
 struct RawList<'a> {
-    #[serde(borrow, default)]
+    #[serde(borrow)]
     points: Vec<&'a RawValue>,
 }
 

@@ -394,17 +394,17 @@ fn a_recorded_point_is_gone_to_with_2d4h_in_its_own_frame() {
     let now = t0();
     let mut p = ready_at(start(), now);
     p.teach_record("", now);
-    assert_eq!(p.settings.teach.len(), 1);
-    assert_eq!(p.settings.teach.get(0).unwrap().name, "P1");
+    assert_eq!(p.teach.list().len(), 1);
+    assert_eq!(p.teach.list().get(0).unwrap().name, "P1");
     // Away from the point, "Go" sends one 2D4H to the recorded pose.
     let mut p2 = ready_at(Joints::new(20.0, 70.0, 40.0, 10.0), now);
-    p2.settings.teach = p.settings.teach.clone();
+    p2.teach.set(p.teach.list().clone());
     p2.teach_go(0, now);
     let sent = submitted(&mut p2);
     let Some(Command::ScaraMoveAbsolute(m)) = sent.first() else {
         panic!("no 2D4H: {:?}", p2.jog_feedback);
     };
-    let pose = p.settings.teach.get(0).unwrap().pose;
+    let pose = p.teach.list().get(0).unwrap().pose;
     for (i, axis) in [Axis::A1, Axis::A2, Axis::A3, Axis::A4]
         .into_iter()
         .enumerate()
@@ -412,11 +412,11 @@ fn a_recorded_point_is_gone_to_with_2d4h_in_its_own_frame() {
         assert_eq!(m.targets.get(axis), Some(Thou(pose[i])));
     }
     // Taught in another work frame: refused, nothing sent.
-    let mut other = p.settings.teach.clone();
+    let mut other = p.teach.list().clone();
     let mut point = other.remove(0).unwrap();
     point.work = 3;
     other.insert(0, point).unwrap();
-    p2.settings.teach = other;
+    p2.teach.set(other);
     p2.take_requests();
     p2.followed = None;
     p2.teach_go(0, now);

@@ -1,7 +1,5 @@
 //! Robot models: arm geometry, joint limits and motion maxima, loaded from TOML.
 
-use std::path::Path;
-
 use serde::Deserialize;
 use thiserror::Error;
 use toml::Spanned;
@@ -96,8 +94,6 @@ pub enum ModelError {
         line: Option<usize>,
         message: String,
     },
-    #[error("robot model file {path}: {message}")]
-    Io { path: String, message: String },
     #[error("no built-in robot model named `{0}` (built in: scara-500, scara-250)")]
     UnknownBuiltin(String),
 }
@@ -119,16 +115,6 @@ impl RobotModel {
     pub fn from_toml_str(text: &str) -> Result<Self, ModelError> {
         let raw: RawModel = toml::from_str(text).map_err(|e| toml_error(text, &e))?;
         raw.validate(text)
-    }
-
-    /// Reads and parses a model file.
-    pub fn load(path: impl AsRef<Path>) -> Result<Self, ModelError> {
-        let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|e| ModelError::Io {
-            path: path.display().to_string(),
-            message: e.to_string(),
-        })?;
-        Self::from_toml_str(&text)
     }
 
     /// One of the models shipped in `assets/robots/` (see [`BUILTIN_MODELS`]).

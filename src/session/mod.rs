@@ -11,6 +11,7 @@ use std::time::Duration;
 
 use crossbeam_channel::Receiver;
 
+use crate::files;
 use crate::link::transport::{SerialTransport, StreamTransport, TcpTransport};
 use crate::link::{
     Connector, LineSettings, LinkConfig, LinkEvent, LinkHandle, Polling, Repaint, Transport,
@@ -24,17 +25,21 @@ use crate::sim::{EmbeddedOptions, SimHandle, SimSetup, start_embedded};
 /// How often a poll cycle starts in the window.
 pub const POLL_INTERVAL: Duration = Duration::from_millis(100);
 
-/// A robot model by name: `scara-500`, `scara-250`, or a TOML file.
+/// A robot model by name: `scara-500`, `scara-250`, or a TOML file (a regular file of at
+/// most [`files::CONFIG_LIMIT`] bytes).
 pub fn load_model(name: &str) -> Result<RobotModel, String> {
     let builtin = if name.ends_with(".toml") {
         None
     } else {
         RobotModel::builtin(name).ok()
     };
-    builtin
-        .map(Ok)
-        .unwrap_or_else(|| RobotModel::load(name))
-        .map_err(|e| e.to_string())
+    if let Some(model) = builtin {
+        return Ok(model);
+    }
+    let path = std::path::Path::new(name);
+    let text = files::read_text_bounded(path, files::CONFIG_LIMIT)
+        .map_err(|e| format!("robot model: {e}"))?;
+    RobotModel::from_toml_str(&text).map_err(|e| format!("robot model {name}: {e}"))
 }
 
 /// Who owns a serial port or TCP bridge: the window's own link thread, or a guardian

@@ -192,9 +192,11 @@ pub fn parse(text: &str, model: &RobotModel) -> Result<CoordsFile, CoordsFileErr
 /// Reads and parses a coordinate file.
 pub fn load(path: impl AsRef<Path>, model: &RobotModel) -> Result<CoordsFile, CoordsFileError> {
     let path = path.as_ref();
-    let text = std::fs::read_to_string(path).map_err(|e| CoordsFileError::Io {
-        path: path.display().to_string(),
-        message: e.to_string(),
+    let text = crate::files::read_text_bounded(path, crate::files::CONFIG_LIMIT).map_err(|e| {
+        CoordsFileError::Io {
+            path: path.display().to_string(),
+            message: e,
+        }
     })?;
     parse(&text, model)
 }

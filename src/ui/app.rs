@@ -16,9 +16,9 @@ use super::layout::{self, Tab, Tabs};
 use super::pad::PadOutput;
 use super::simulator::{SimState, SimulatorPanel};
 use super::teach::TeachPanel;
+use super::work_files::WorkFiles;
 use super::{safety_band, top_bar};
 use crate::link::{Priority, TableRequest};
-use crate::pendant::coords::SavedDrafts;
 use crate::pendant::{
     ConnectionSettings, Intent, JogInput, Pendant, Press, Request, Settings, StopCause,
 };
@@ -42,8 +42,6 @@ const LINK_REPAINT: Duration = Duration::from_millis(100);
 const HELD_REFRESH: Duration = Duration::from_millis(40);
 /// The controller's reply buffer assumed for table reads (PROTOCOL.md 1.7).
 const REPLY_BUFFER: usize = 2048;
-/// The coordinate-table drafts, autosaved on every change beside eframe's settings.
-const DRAFTS_FILE: &str = "coords-drafts.json";
 
 /// How the window starts.
 #[derive(Clone, Debug, Default)]
@@ -54,9 +52,10 @@ pub struct StartOptions {
     pub fresh: bool,
     /// Open no line at start (image tests drive the pendant with scripted events).
     pub offline: bool,
-    /// Where the coordinate-table drafts are autosaved and restored from; `None`: the
-    /// app's data directory, or nowhere in a fresh start.
-    pub drafts_dir: Option<std::path::PathBuf>,
+    /// Where the teach list, the coordinate-table drafts (and, unless fresh, the
+    /// settings) are saved and restored from; `None`: the app's data directory, or
+    /// nowhere in a fresh start.
+    pub data_dir: Option<std::path::PathBuf>,
     /// Who owns a serial port or TCP bridge: a guardian process (the window binary's
     /// default) or the window's own link thread (`--no-guardian`, tests).
     pub line_owner: LineOwner,
@@ -69,7 +68,7 @@ impl StartOptions {
             connection: None,
             fresh: true,
             offline: false,
-            drafts_dir: None,
+            data_dir: None,
             line_owner: LineOwner::InProcess,
         }
     }
@@ -93,10 +92,8 @@ pub struct PendantApp {
     teach: TeachPanel,
     simulator: SimulatorPanel,
     coords: CoordsPanel,
-    /// Where the drafts are autosaved (none in a fresh start: tests leave the user's
-    /// drafts alone), and the revision last written.
-    drafts_file: Option<std::path::PathBuf>,
-    drafts_saved: u64,
+    /// The teach list and the coordinate drafts in files of their own.
+    work_files: WorkFiles,
     arm: ArmView,
     frame_log: FrameLogPanel,
     dock: egui_tiles::Tree<Tab>,
@@ -107,10 +104,20 @@ pub struct PendantApp {
 
 impl PendantApp {
     pub fn new(cc: &eframe::CreationContext<'_>, options: StartOptions) -> Self {
+        // Settings and the operator's work live in files of their own (written whole,
+        // with a backup); eframe's storage keeps the window and the layout, and is read
+        // for settings only when an earlier version left them there.
+        let data_dir = match options.data_dir.clone() {
+            Some(dir) => Some(dir),
+            None if !options.fresh => eframe::storage_dir(APP_ID),
+            None => None,
+        };
+        let mut work_files = WorkFiles::in_folder(data_dir.as_deref(), !options.fresh);
+        let (from_file, mut notes) = work_files.restore_settings();
         let saved: Option<Settings> = if options.fresh {
             None
         } else {
-            cc.storage.and_then(|s| eframe::get_value(s, SETTINGS_KEY))
+            from_file.or_else(|| cc.storage.and_then(|s| eframe::get_value(s, SETTINGS_KEY)))
         };
         let saved_layout = if options.fresh {
             None
@@ -133,6 +140,9 @@ impl PendantApp {
         pendant
             .frame_log
             .set_origin(Some(now), std::time::SystemTime::now());
+        for text in notes.drain(..) {
+            pendant.say(crate::pendant::Level::Warning, text, now);
+        }
         if let Some(e) = problem {
             pendant.connect_failed(e, now);
         } else if !options.offline {
@@ -155,8 +165,7 @@ impl PendantApp {
             teach: TeachPanel::default(),
             simulator: SimulatorPanel::default(),
             coords: CoordsPanel::default(),
-            drafts_file: None,
-            drafts_saved: 0,
+            work_files,
             arm: ArmView::default(),
             frame_log: FrameLogPanel::default(),
             dock: layout::checked_layout(saved_layout),
@@ -164,59 +173,9 @@ impl PendantApp {
             help_open: false,
             applied_theme: None,
         };
-        let drafts_dir = match options.drafts_dir {
-            Some(dir) => Some(dir),
-            None if !options.fresh => eframe::storage_dir(APP_ID),
-            None => None,
-        };
-        app.drafts_file = drafts_dir.map(|d| d.join(DRAFTS_FILE));
-        app.restore_drafts(now);
+        app.work_files.restore(&mut app.pendant, now);
         app.run_requests(&cc.egui_ctx, now);
         app
-    }
-
-    /// Takes back the drafts autosaved by the last run, if any.
-    fn restore_drafts(&mut self, now: Instant) {
-        let Some(path) = &self.drafts_file else {
-            return;
-        };
-        let Ok(text) = std::fs::read_to_string(path) else {
-            return;
-        };
-        match serde_json::from_str::<SavedDrafts>(&text) {
-            Ok(saved) if self.pendant.coords.restore(&saved) => {
-                self.pendant.note("coordinate-table drafts restored from the last run", now);
-            }
-            _ => self.pendant.note(
-                format!("the saved drafts in {} could not be read; they are kept there until the next edit", path.display()),
-                now,
-            ),
-        }
-        self.drafts_saved = self.pendant.coords.revision();
-    }
-
-    /// Writes the drafts when they changed since the last write (a new file renamed over
-    /// the old, so a crash mid-write leaves the previous one).
-    fn autosave_drafts(&mut self, now: Instant) {
-        let revision = self.pendant.coords.revision();
-        if revision == self.drafts_saved {
-            return;
-        }
-        self.drafts_saved = revision;
-        let Some(path) = &self.drafts_file else {
-            return;
-        };
-        let text = serde_json::to_string(&self.pendant.coords.saved()).unwrap_or_default();
-        let tmp = path.with_extension("json.new");
-        let written = path
-            .parent()
-            .map_or(Ok(()), std::fs::create_dir_all)
-            .and_then(|()| std::fs::write(&tmp, text))
-            .and_then(|()| std::fs::rename(&tmp, path));
-        if let Err(e) = written {
-            let text = format!("drafts not autosaved to {}: {e}", path.display());
-            self.pendant.note(text, now);
-        }
     }
 
     /// The pendant model (tests and benches read it).
@@ -478,12 +437,16 @@ impl eframe::App for PendantApp {
             self.simulator.done(format!("Simulator: {text}"));
         }
         self.run_requests(&ctx, now);
-        self.autosave_drafts(now);
+        self.work_files.autosave(&mut self.pendant, now);
         first_frame_probe(&ctx, self.started);
     }
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
-        eframe::set_value(storage, SETTINGS_KEY, &self.pendant.settings);
+        // The settings are in their own file (written on every change); the copy an earlier
+        // version kept here goes once that file and the teach list's are written.
+        if self.work_files.all_saved() {
+            storage.remove_string(SETTINGS_KEY);
+        }
         eframe::set_value(storage, LAYOUT_KEY, &self.dock);
     }
 

@@ -24,6 +24,7 @@ mod status;
 mod teach;
 mod top_bar;
 mod widgets;
+mod work_files;
 
 pub use app::{APP_ID, PendantApp, StartOptions};
 pub use run::run_window;

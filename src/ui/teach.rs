@@ -6,9 +6,9 @@ use std::time::Instant;
 
 use egui::{Button, RichText, TextEdit, Ui};
 
-use super::widgets::RED;
+use super::widgets::{AMBER, RED, reserved_line};
 use crate::pendant::teach::{TeachList, arm_word};
-use crate::pendant::{Intent, Pendant};
+use crate::pendant::{Intent, Level, Pendant};
 
 /// The panel's own state: the name being typed, the selected row, the file path.
 #[derive(Default)]
@@ -65,7 +65,7 @@ impl TeachPanel {
             .unwrap_or_default();
         let how = go_words(pendant);
         let mut go = None;
-        let list = &pendant.settings.teach;
+        let list = pendant.teach.list();
         if list.is_empty() {
             ui.label("No points taught yet.");
             return;
@@ -112,11 +112,11 @@ impl TeachPanel {
 
     /// Up, Down, Delete and Rename, each on a copy of the list pushed whole.
     fn actions(&mut self, ui: &mut Ui, pendant: &Pendant, intents: &mut Vec<Intent>) {
-        let Some(i) = self.selected.filter(|&i| i < pendant.settings.teach.len()) else {
+        let Some(i) = self.selected.filter(|&i| i < pendant.teach.list().len()) else {
             return;
         };
         let edit = |f: &mut dyn FnMut(&mut TeachList)| {
-            let mut list = pendant.settings.teach.clone();
+            let mut list = pendant.teach.list().clone();
             f(&mut list);
             list
         };
@@ -143,7 +143,7 @@ impl TeachPanel {
             ui.add(TextEdit::singleline(&mut self.rename).desired_width(120.0))
                 .labelled_by(label.id);
             if ui.button("Apply").clicked() {
-                let mut list = pendant.settings.teach.clone();
+                let mut list = pendant.teach.list().clone();
                 match list.rename(i, &self.rename) {
                     Ok(()) => intents.push(Intent::TeachList(list)),
                     Err(e) => self.file_message = Some((false, e.to_string())),
@@ -166,23 +166,58 @@ impl TeachPanel {
             if ui.button("Save").clicked() {
                 self.file_message = Some(save(&self.path, pendant));
             }
+            let waiting = pendant.teach.pending().is_some();
             if ui
-                .button("Load")
-                .on_hover_text("Replaces the list; a file with an error changes nothing")
+                .add_enabled(!waiting, Button::new("Load"))
+                .on_hover_text(
+                    "Reads a list; it replaces this one only when you say so. A file with \
+                     an error or no points changes nothing",
+                )
                 .clicked()
             {
-                let (message, list) = load(&self.path, pendant);
-                self.file_message = Some(message);
-                if let Some(list) = list {
-                    intents.push(Intent::TeachList(list));
-                    self.selected = None;
-                }
+                self.file_message = None;
+                intents.push(load(&self.path));
+            }
+            if let Some((path, n)) = pendant.teach.undoable_load()
+                && ui
+                    .button("Undo load")
+                    .on_hover_text(format!(
+                        "Back to the {n} points the load of {path} replaced"
+                    ))
+                    .clicked()
+            {
+                intents.push(Intent::TeachUndoLoad);
+                self.selected = None;
             }
         });
-        if let Some((ok, text)) = &self.file_message {
-            let color = if *ok { ui.visuals().text_color() } else { RED };
-            ui.label(RichText::new(text).color(color));
+        if let Some(p) = pendant.teach.pending() {
+            ui.label(
+                RichText::new(format!(
+                    "Replace the {} points of the list with the {} points of {}?",
+                    pendant.teach.list().len(),
+                    p.list.len(),
+                    p.path
+                ))
+                .color(AMBER),
+            );
+            ui.horizontal(|ui| {
+                if ui.button("Replace").clicked() {
+                    intents.push(Intent::TeachConfirmLoad);
+                    self.selected = None;
+                }
+                if ui.button("Cancel").clicked() {
+                    intents.push(Intent::TeachCancelLoad);
+                }
+            });
         }
+        // The panel's own word (a save) or the pendant's (a load): one reserved line.
+        let said = match (&self.file_message, &pendant.teach_feedback) {
+            (Some((ok, text)), _) => Some((*ok, text.as_str())),
+            (None, Some((level, text))) => Some((*level == Level::Info, text.as_str())),
+            (None, None) => None,
+        };
+        let said = said.map(|(ok, t)| (if ok { ui.visuals().text_color() } else { RED }, t));
+        reserved_line(ui, said, said.map(|(_, t)| t));
     }
 }
 
@@ -198,7 +233,7 @@ fn save(path: &str, pendant: &Pendant) -> (bool, String) {
     if path.is_empty() {
         return (false, "enter a file name first".into());
     }
-    let list = &pendant.settings.teach;
+    let list = pendant.teach.list();
     let text = if is_json(path) {
         list.to_json()
     } else {
@@ -210,30 +245,25 @@ fn save(path: &str, pendant: &Pendant) -> (bool, String) {
     }
 }
 
-/// Reads a list: the message, and the new list unless anything was wrong (then the list
-/// in the window is left as it was).
-fn load(path: &str, pendant: &Pendant) -> ((bool, String), Option<TeachList>) {
-    let path = path.trim();
-    if path.is_empty() {
-        return ((false, "enter a file name first".into()), None);
-    }
-    let bytes = match std::fs::read(path) {
-        Ok(b) => b,
-        Err(e) => return ((false, format!("cannot read {path}: {e}")), None),
-    };
-    let mut list = pendant.settings.teach.clone();
-    let result = if is_json(path) {
-        list.load_json(&bytes)
+/// Reads a list (a regular file, bounded in size; still on the UI thread, bounded) and
+/// hands the pendant its points or why not.
+fn load(path: &str) -> Intent {
+    let path = path.trim().to_owned();
+    let read = if path.is_empty() {
+        Err("enter a file name first".to_owned())
     } else {
-        list.load_csv(&bytes)
+        crate::files::read_bounded(Path::new(&path), crate::files::DOCUMENT_LIMIT).and_then(
+            |bytes| {
+                let list = if is_json(&path) {
+                    TeachList::from_json_bytes(&bytes)
+                } else {
+                    TeachList::from_csv_bytes(&bytes)
+                };
+                list.map_err(|e| format!("{path}: {e}"))
+            },
+        )
     };
-    match result {
-        Ok(()) => {
-            let said = format!("loaded {} points from {path}", list.len());
-            ((true, said), Some(list))
-        }
-        Err(e) => ((false, format!("{path}: {e} (nothing changed)")), None),
-    }
+    Intent::TeachLoaded { path, read }
 }
 
 /// How a Go moves, said before it is pressed: 2D4H, PTP or CP, the speed sent.

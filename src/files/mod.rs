@@ -1,0 +1,119 @@
+//! Files the user names, read with bounds: only a regular file is opened (a FIFO, a
+//! device or a directory is refused before `open`, which could block for good), and only
+//! up to a size limit checked before reading and again while reading; and operator work
+//! saved in files of its own (`saved`). Imports nothing of the project.
+
+pub mod saved;
+
+use std::io::Read;
+use std::path::Path;
+
+/// The most a teach list or coordinate-table file may hold (10,000 points are about
+/// 1 MB as CSV).
+pub const DOCUMENT_LIMIT: u64 = 8 * 1024 * 1024;
+/// The most a robot model or simulator coordinate file may hold.
+pub const CONFIG_LIMIT: u64 = 1024 * 1024;
+
+/// Reads all of `path` if it is a regular file of at most `limit` bytes; otherwise one
+/// sentence that names the file and the reason.
+pub fn read_bounded(path: &Path, limit: u64) -> Result<Vec<u8>, String> {
+    let shown = path.display();
+    let meta = std::fs::metadata(path).map_err(|e| format!("cannot read {shown}: {e}"))?;
+    if meta.is_dir() {
+        return Err(format!("{shown} is a folder, not a file"));
+    }
+    if !meta.is_file() {
+        return Err(format!(
+            "{shown} is not a regular file (a pipe, device or socket): it is not read"
+        ));
+    }
+    if meta.len() > limit {
+        return Err(too_big(path, meta.len(), limit));
+    }
+    let file = std::fs::File::open(path).map_err(|e| format!("cannot read {shown}: {e}"))?;
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    file.take(limit + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("cannot read {shown}: {e}"))?;
+    if bytes.len() as u64 > limit {
+        return Err(too_big(path, bytes.len() as u64, limit));
+    }
+    Ok(bytes)
+}
+
+/// [`read_bounded`] as UTF-8 text.
+pub fn read_text_bounded(path: &Path, limit: u64) -> Result<String, String> {
+    let bytes = read_bounded(path, limit)?;
+    String::from_utf8(bytes).map_err(|e| {
+        format!(
+            "{} is not UTF-8 text (bad byte at offset {})",
+            path.display(),
+            e.utf8_error().valid_up_to()
+        )
+    })
+}
+
+fn too_big(path: &Path, size: u64, limit: u64) -> String {
+    format!(
+        "{} is {} and more than this kind of file may hold ({}): it is not read",
+        path.display(),
+        megabytes(size),
+        megabytes(limit)
+    )
+}
+
+fn megabytes(bytes: u64) -> String {
+    format!("{:.1} MB", bytes as f64 / 1e6)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn temp(name: &str) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("xsel-files-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        dir.join(name)
+    }
+
+    #[test]
+    fn a_file_within_the_limit_is_read_whole() {
+        let path = temp("small.csv");
+        std::fs::write(&path, b"name,x\nP1,1\n").unwrap();
+        assert_eq!(read_bounded(&path, 100).unwrap(), b"name,x\nP1,1\n");
+    }
+
+    #[test]
+    fn a_huge_file_a_folder_or_a_missing_one_is_refused_with_its_name() {
+        let path = temp("big.csv");
+        std::fs::write(&path, vec![b','; 5000]).unwrap();
+        let e = read_bounded(&path, 1000).unwrap_err();
+        assert!(e.contains("big.csv") && e.contains("not read"), "{e}");
+        let dir = temp("");
+        let e = read_bounded(&dir, 1000).unwrap_err();
+        assert!(e.contains("folder"), "{e}");
+        let e = read_bounded(&temp("missing.csv"), 1000).unwrap_err();
+        assert!(
+            e.starts_with("cannot read") && e.contains("missing.csv"),
+            "{e}"
+        );
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_fifo_is_refused_without_blocking() {
+        let path = temp("fifo");
+        let _ = std::fs::remove_file(&path);
+        let made = std::process::Command::new("mkfifo").arg(&path).status();
+        assert!(made.is_ok_and(|s| s.success()), "mkfifo failed");
+        let e = read_bounded(&path, 1000).unwrap_err();
+        assert!(e.contains("not a regular file"), "{e}");
+    }
+
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn an_endless_device_is_refused_not_read() {
+        let e = read_bounded(Path::new("/dev/zero"), 1000).unwrap_err();
+        assert!(e.contains("not a regular file"), "{e}");
+    }
+}

@@ -1,0 +1,152 @@
+//! The settings and the operator's work in files of their own: the settings, the teach
+//! list and the coordinate-table drafts, read back at start and written after every
+//! change (see `files::saved`); what happens is said in Messages.
+
+use std::path::Path;
+use std::time::Instant;
+
+use crate::files::saved::{SaveNews, SavedFile};
+use crate::pendant::coords::SavedDrafts;
+use crate::pendant::teach::TeachList;
+use crate::pendant::{Level, Pendant, Settings};
+
+/// The coordinate-table drafts.
+const DRAFTS_FILE: &str = "coords-drafts.json";
+/// The teach list.
+const TEACH_FILE: &str = "teach-list.json";
+/// The settings (connection, jog choices, theme, frame log size).
+const SETTINGS_FILE: &str = "settings.json";
+
+/// The files, in one folder (none in a fresh start: tests leave the user's work alone).
+#[derive(Debug, Default)]
+pub struct WorkFiles {
+    drafts: Option<SavedFile>,
+    teach: Option<SavedFile>,
+    settings: Option<SavedFile>,
+}
+
+impl WorkFiles {
+    /// The files in `dir`; the settings' file only `with_settings`.
+    pub fn in_folder(dir: Option<&Path>, with_settings: bool) -> Self {
+        Self {
+            drafts: dir.map(|d| SavedFile::new(d.join(DRAFTS_FILE), "coordinate-table drafts")),
+            teach: dir.map(|d| SavedFile::new(d.join(TEACH_FILE), "teach list")),
+            settings: dir
+                .filter(|_| with_settings)
+                .map(|d| SavedFile::new(d.join(SETTINGS_FILE), "settings")),
+        }
+    }
+
+    /// The settings saved last time, if their file is there and readable, and what to
+    /// say about it (an unreadable file is kept aside, the backup read).
+    pub fn restore_settings(&mut self) -> (Option<Settings>, Vec<String>) {
+        let Some(file) = &mut self.settings else {
+            return (None, Vec::new());
+        };
+        let restored =
+            file.restore(|b| serde_json::from_slice::<Settings>(b).map_err(|e| e.to_string()));
+        if let Some(s) = &restored.value {
+            file.mark_written(settings_revision(s));
+        }
+        (restored.value, restored.notes)
+    }
+
+    /// Every file is written up to date (the settings and the teach list at least once).
+    pub fn all_saved(&self) -> bool {
+        [&self.settings, &self.teach, &self.drafts]
+            .into_iter()
+            .flatten()
+            .all(SavedFile::is_saved)
+    }
+
+    /// Takes back what the last run saved. A teach list still in old settings (and no
+    /// file yet) stays in the pendant and is written to its file at the first save.
+    pub fn restore(&mut self, pendant: &mut Pendant, now: Instant) {
+        if let Some(file) = &mut self.drafts {
+            let restored = file.restore(|b| {
+                let saved: SavedDrafts = serde_json::from_slice(b).map_err(|e| e.to_string())?;
+                Ok(saved)
+            });
+            say_all(pendant, restored.notes, now);
+            if let Some(saved) = restored.value {
+                if pendant.coords.restore(&saved) {
+                    pendant.note("coordinate-table drafts restored from the last run", now);
+                } else {
+                    let text = format!(
+                        "the drafts in {} are of another format and were not restored",
+                        file.path().display()
+                    );
+                    pendant.say(Level::Warning, text, now);
+                }
+            }
+            file.mark_written(pendant.coords.revision());
+        }
+        if let Some(file) = &mut self.teach {
+            let restored =
+                file.restore(|b| TeachList::from_json_bytes(b).map_err(|e| e.to_string()));
+            say_all(pendant, restored.notes, now);
+            match restored.value {
+                Some(list) => {
+                    let n = list.len();
+                    pendant.teach.set(list);
+                    file.mark_written(pendant.teach.revision());
+                    pendant.note(format!("teach list restored: {n} points"), now);
+                }
+                None if !pendant.teach.list().is_empty() => {
+                    let text = format!(
+                        "the teach list ({} points) moves from the settings into {}",
+                        pendant.teach.list().len(),
+                        file.path().display()
+                    );
+                    pendant.note(text, now);
+                }
+                None => file.mark_written(pendant.teach.revision()),
+            }
+        }
+    }
+
+    /// Writes what changed since it was last written (or retries a failed write).
+    pub fn autosave(&mut self, pendant: &mut Pendant, now: Instant) {
+        let mut news = Vec::new();
+        if let Some(file) = &mut self.drafts {
+            let coords = &pendant.coords;
+            news.extend(file.save(coords.revision(), now, || {
+                serde_json::to_vec(&coords.saved()).unwrap_or_default()
+            }));
+        }
+        if let Some(file) = &mut self.teach {
+            let teach = &pendant.teach;
+            news.extend(file.save(teach.revision(), now, || {
+                teach.list().to_json().into_bytes()
+            }));
+        }
+        if let Some(file) = &mut self.settings {
+            let settings = &pendant.settings;
+            news.extend(file.save(settings_revision(settings), now, || {
+                serde_json::to_vec_pretty(settings).unwrap_or_default()
+            }));
+        }
+        for n in news {
+            match n {
+                SaveNews::Failed(text) => pendant.say(Level::Error, text, now),
+                SaveNews::Recovered(text) => pendant.note(text, now),
+            }
+        }
+    }
+}
+
+/// The settings' revision: a hash of their saved form (they are small; a change of any
+/// field changes it).
+fn settings_revision(settings: &Settings) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let bytes = serde_json::to_vec(settings).unwrap_or_default();
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    bytes.hash(&mut h);
+    h.finish()
+}
+
+fn say_all(pendant: &mut Pendant, notes: Vec<String>, now: Instant) {
+    for text in notes {
+        pendant.say(Level::Warning, text, now);
+    }
+}
