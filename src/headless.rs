@@ -283,9 +283,9 @@ impl Session {
         }
         writeln!(
             self.out,
-            "\nThe desktop window (jog, coordinate tables, arm view, frame log) is not built yet;\n\
-             this run shows the link and the controller (or simulator) working headless.\n\
-             `--watch` keeps polling; `cargo run --bin xsel-sim -- --help` serves the simulator."
+            "\nText mode: the controller's state once. The window (run without --headless) jogs,\n\
+             edits coordinate tables and shows the arm and the traffic; `--watch` keeps\n\
+             polling; `cargo run --bin xsel-sim -- --help` serves the simulator on its own."
         )?;
         self.out.flush()?;
         drop(self.link);

@@ -135,8 +135,7 @@ fn render(args: &Args) -> Result<String, String> {
     let png = PngPainter::new()
         .render_png(&scene, &palette, w, h)
         .map_err(|e| e.to_string())?;
-    std::fs::write(path, png)
-        .map_err(|e| format!("--render-png: cannot write {}: {e}", path.display()))?;
+    crate::files::write_whole(path, &png).map_err(|e| format!("--render-png: {e}"))?;
     Ok(format!(
         "{}: {w}x{h}, {} J1 {:.3} J2 {:.3} Z {:.3} J4 {:.3}",
         path.display(),

@@ -39,6 +39,28 @@ fn every_bad_option_exits_2_with_one_line_naming_it() {
         assert!(err[0].contains(flag), "{flag} {value}: {}", run.stderr);
         assert_no_panic(&run.stderr);
     }
+    // A listening address that names nothing, and a robot file that never ends.
+    let mut odd = vec![vec!["--tcp", "nowhere"], vec!["--tcp", "127.0.0.1:99999"]];
+    if cfg!(target_os = "linux") {
+        odd.push(vec!["--tcp", "127.0.0.1:0", "--robot", "/dev/zero"]);
+    }
+    for args in odd {
+        let run = run(SIM, &args, Duration::from_secs(20));
+        assert_eq!(
+            run.status.and_then(|s| s.code()),
+            Some(2),
+            "{args:?}: {}",
+            run.stderr
+        );
+        let err: Vec<&str> = run.stderr.lines().collect();
+        assert_eq!(err.len(), 1, "{args:?}: {}", run.stderr);
+        assert!(
+            err[0].contains(args[args.len() - 2]),
+            "{args:?}: {}",
+            run.stderr
+        );
+        assert_no_panic(&run.stderr);
+    }
 }
 
 /// Sends 215H and reads the reply up to its LF, with a deadline.

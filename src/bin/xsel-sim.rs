@@ -239,6 +239,10 @@ fn run(args: Args) -> Result<(), Failure> {
         serve_pty(core, opts).map_err(Failure::Run)?
     } else {
         let addr = args.tcp.as_deref().unwrap_or("127.0.0.1:5099");
+        // An address that names nothing is a bad flag (exit 2), like every other one.
+        std::net::ToSocketAddrs::to_socket_addrs(addr).map_err(|e| {
+            Failure::Flag(format!("--tcp {addr}: not an address to listen on ({e})"))
+        })?;
         let server = start_tcp(core, addr, opts)
             .map_err(|e| Failure::Run(format!("cannot listen on {addr}: {e}")))?;
         let mut out = std::io::stdout();

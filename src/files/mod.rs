@@ -53,6 +53,26 @@ pub fn read_text_bounded(path: &Path, limit: u64) -> Result<String, String> {
     })
 }
 
+/// Writes `bytes` to a file the user named, whole: refused if the name is a folder, a
+/// pipe or a device (writing there could block for good), else written as a new file
+/// renamed over the old, so a full disk leaves the old file as it was.
+pub fn write_whole(path: &Path, bytes: &[u8]) -> Result<(), String> {
+    check_target(path)?;
+    saved::write_replacing(path, bytes, None)
+        .map_err(|e| format!("cannot write {}: {e}", path.display()))
+}
+
+/// Refuses a target that exists and is not a regular file.
+pub fn check_target(path: &Path) -> Result<(), String> {
+    match std::fs::metadata(path) {
+        Ok(meta) if !meta.is_file() => Err(format!(
+            "{} is not a regular file (a folder, pipe or device): nothing is written there",
+            path.display()
+        )),
+        _ => Ok(()),
+    }
+}
+
 fn too_big(path: &Path, size: u64, limit: u64) -> String {
     format!(
         "{} is {} and more than this kind of file may hold ({}): it is not read",

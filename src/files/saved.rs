@@ -169,6 +169,12 @@ fn with_suffix(path: &Path, suffix: &str) -> PathBuf {
 /// or the new one whole: a new file written and flushed, the old one renamed to `.bak`,
 /// the new one renamed into place.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    write_replacing(path, bytes, Some(&with_suffix(path, ".bak")))
+}
+
+/// `bytes` into `path` through a new file renamed into place; the old file, if any, is
+/// renamed to `backup` first (or simply replaced).
+pub fn write_replacing(path: &Path, bytes: &[u8], backup: Option<&Path>) -> std::io::Result<()> {
     use std::io::Write;
     if let Some(dir) = path.parent() {
         std::fs::create_dir_all(dir)?;
@@ -182,8 +188,10 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
         let _ = std::fs::remove_file(&new);
         return Err(e);
     }
-    if path.exists() {
-        std::fs::rename(path, with_suffix(path, ".bak"))?;
+    if let Some(backup) = backup
+        && path.exists()
+    {
+        std::fs::rename(path, backup)?;
     }
     std::fs::rename(&new, path)
 }

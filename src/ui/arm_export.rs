@@ -88,9 +88,7 @@ impl Export {
                 .render_view(&scene, &palette, &view, w, h)
                 .map_err(|e| e.to_string())
                 .and_then(|p| crate::render::paint_png::encode(&p).map_err(|e| e.to_string()))
-                .and_then(|bytes| {
-                    std::fs::write(&path, bytes).map_err(|e| format!("cannot write {path}: {e}"))
-                })
+                .and_then(|bytes| crate::files::write_whole(std::path::Path::new(&path), &bytes))
                 .map(|()| {
                     let shown = std::path::absolute(&path)
                         .map_or(path.clone(), |p| p.display().to_string());

@@ -257,7 +257,10 @@ fn export(path: &str, pendant: &Pendant) -> CoordsIntent {
     let Some(format) = TableFormat::of_path(path) else {
         return CoordsIntent::FileNotNamed;
     };
-    let result = std::fs::write(path, pendant.export_tables(format)).map_err(|e| e.to_string());
+    let result = crate::files::write_whole(
+        std::path::Path::new(path),
+        pendant.export_tables(format).as_bytes(),
+    );
     CoordsIntent::Exported {
         path: path.to_owned(),
         result,
@@ -272,6 +275,6 @@ fn import(path: &str) -> CoordsIntent {
     CoordsIntent::Import {
         path: path.to_owned(),
         format,
-        bytes: std::fs::read(path).map_err(|e| e.to_string()),
+        bytes: crate::files::read_bounded(std::path::Path::new(path), crate::files::DOCUMENT_LIMIT),
     }
 }

@@ -239,9 +239,9 @@ fn save(path: &str, pendant: &Pendant) -> (bool, String) {
     } else {
         list.to_csv()
     };
-    match std::fs::write(path, text) {
+    match crate::files::write_whole(Path::new(path), text.as_bytes()) {
         Ok(()) => (true, format!("saved {} points to {path}", list.len())),
-        Err(e) => (false, format!("cannot write {path}: {e}")),
+        Err(e) => (false, e),
     }
 }
 

@@ -38,7 +38,8 @@ pub enum CoordsIntent {
         number: u8,
         on: bool,
     },
-    /// A file's bytes (or why they could not be read) to import into the drafts.
+    /// A file's bytes (or the sentence saying why they could not be read) to import into
+    /// the drafts.
     Import {
         path: String,
         format: TableFormat,
@@ -152,10 +153,8 @@ impl Pendant {
                         ok: true,
                         text: format!("exported the work and tool drafts to {path}"),
                     },
-                    Err(e) => FileOutcome {
-                        ok: false,
-                        text: format!("cannot write {path}: {e}"),
-                    },
+                    // The writer's sentence names the file.
+                    Err(e) => FileOutcome { ok: false, text: e },
                 });
             }
             CoordsIntent::FileNotNamed => {
@@ -199,7 +198,8 @@ impl Pendant {
         let refused = |text: String| FileOutcome { ok: false, text };
         let bytes = match bytes {
             Ok(b) => b,
-            Err(e) => return refused(format!("cannot read {path}: {e}")),
+            // The reader's sentence names the file.
+            Err(e) => return refused(e),
         };
         match self.import_tables(&bytes, format) {
             Ok(n) => FileOutcome {
@@ -274,7 +274,7 @@ mod tests {
             CoordsIntent::Import {
                 path: "t.csv".into(),
                 format: TableFormat::Csv,
-                bytes: Err("No such file or directory".into()),
+                bytes: Err("cannot read t.csv: No such file or directory".into()),
             },
             now,
         );

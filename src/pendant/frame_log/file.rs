@@ -118,12 +118,39 @@ pub fn write_text<'a>(
     Ok(n)
 }
 
+/// The longest line a log this program wrote can have: a row's bytes as hex, its note
+/// (each character escaped at worst) and the JSON around them. A longer line is refused before it is held whole.
+const MAX_LINE: usize = 2 * MAX_ROW_BYTES + 6 * MAX_NOTE_BYTES + 512;
+
+/// The next line (without its end), at most [`MAX_LINE`] bytes; `None` at the end.
+fn bounded_line(input: &mut impl BufRead) -> Result<Option<String>, String> {
+    let mut line = Vec::new();
+    let read = std::io::Read::take(&mut *input, MAX_LINE as u64 + 1)
+        .read_until(b'\n', &mut line)
+        .map_err(|e| format!("cannot read: {e}"))?;
+    if read == 0 {
+        return Ok(None);
+    }
+    if line.len() > MAX_LINE && line.last() != Some(&b'\n') {
+        return Err(format!(
+            "a line longer than any this program writes (more than {MAX_LINE} bytes): not read further"
+        ));
+    }
+    while matches!(line.last(), Some(b'\n' | b'\r')) {
+        line.pop();
+    }
+    String::from_utf8(line)
+        .map(Some)
+        .map_err(|_| "not UTF-8 text".to_owned())
+}
+
 /// Reads a JSON Lines log into a new log (times as recorded). The error names the line.
-pub fn read_jsonl(input: impl BufRead, cap: usize) -> Result<FrameLog, String> {
-    let mut lines = input.lines().enumerate();
+pub fn read_jsonl(mut input: impl BufRead, cap: usize) -> Result<FrameLog, String> {
+    let mut next_line = move || bounded_line(&mut input);
+    let mut lines = std::iter::from_fn(move || next_line().transpose()).enumerate();
     let first = match lines.next() {
         Some((_, Ok(l))) => l,
-        Some((_, Err(e))) => return Err(format!("cannot read the file: {e}")),
+        Some((_, Err(e))) => return Err(format!("line 1: {e}")),
         None => return Err("the file is empty".into()),
     };
     let header: Header = serde_json::from_str(&first)
@@ -140,7 +167,7 @@ pub fn read_jsonl(input: impl BufRead, cap: usize) -> Result<FrameLog, String> {
         UNIX_EPOCH + Duration::from_micros(header.start_unix_us),
     );
     for (i, line) in lines {
-        let line = line.map_err(|e| format!("line {}: cannot read: {e}", i + 1))?;
+        let line = line.map_err(|e| format!("line {}: {e}", i + 1))?;
         if line.trim().is_empty() {
             continue;
         }

@@ -403,3 +403,25 @@ proptest::proptest! {
         }
     }
 }
+
+#[test]
+fn an_endless_line_is_refused_after_a_bounded_read_not_held_whole() {
+    /// Bytes without end (no LF), counting how many were read.
+    struct Endless(std::rc::Rc<std::cell::Cell<usize>>);
+    impl std::io::Read for Endless {
+        fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+            buf.fill(b'7');
+            self.0.set(self.0.get() + buf.len());
+            Ok(buf.len())
+        }
+    }
+    let count = std::rc::Rc::new(std::cell::Cell::new(0));
+    let input = std::io::BufReader::new(Endless(count.clone()));
+    let e = read_jsonl(input, 100).unwrap_err();
+    assert!(e.contains("longer than any this program writes"), "{e}");
+    assert!(
+        count.get() < 1 << 20,
+        "read {} bytes of an endless line",
+        count.get()
+    );
+}

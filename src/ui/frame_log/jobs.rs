@@ -73,6 +73,8 @@ pub fn save(
     format: Format,
     path: PathBuf,
 ) -> Result<Job<Result<String, String>>, String> {
+    // A pipe or a device would block the job for good: refused before it starts.
+    crate::files::check_target(&path)?;
     Job::spawn("frame-log save", move || {
         let file =
             File::create(&path).map_err(|e| format!("cannot create {}: {e}", path.display()))?;
@@ -92,6 +94,15 @@ pub fn save(
 
 /// Opens a JSON Lines log.
 pub fn open(path: PathBuf, cap: usize) -> Result<Job<Result<FrameLog, String>>, String> {
+    // A pipe or a device would block the open, or never end: refused before the job.
+    let meta =
+        std::fs::metadata(&path).map_err(|e| format!("cannot open {}: {e}", path.display()))?;
+    if !meta.is_file() {
+        return Err(format!(
+            "{} is not a regular file (a folder, pipe or device): it is not read",
+            path.display()
+        ));
+    }
     Job::spawn("frame-log open", move || {
         let file = File::open(&path).map_err(|e| format!("cannot open {}: {e}", path.display()))?;
         read_jsonl(BufReader::new(file), cap).map_err(|e| format!("{}: {e}", path.display()))
