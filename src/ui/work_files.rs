@@ -90,7 +90,12 @@ impl WorkFiles {
                     let n = list.len();
                     pendant.teach.set(list);
                     file.mark_written(pendant.teach.revision());
-                    pendant.note(format!("teach list restored: {n} points"), now);
+                    let points = if n == 1 {
+                        "1 point".to_owned()
+                    } else {
+                        format!("{n} points")
+                    };
+                    pendant.note(format!("teach list restored: {points}"), now);
                 }
                 None if !pendant.teach.list().is_empty() => {
                     let text = format!(
