@@ -30,6 +30,15 @@ pub trait Line: Send {
 
 impl Line for TcpStream {
     fn read_timeout(&mut self, buf: &mut [u8], timeout: Duration) -> io::Result<usize> {
+        if timeout.is_zero() {
+            // What is already there, without waiting: [observed] a socket read time-out
+            // is kept in kernel ticks (4-8 ms on Linux), so even 100 us waited that long
+            // before every command while the input was drained.
+            self.set_nonblocking(true)?;
+            let got = self.read(buf);
+            self.set_nonblocking(false)?;
+            return got;
+        }
         self.set_read_timeout(Some(timeout.max(MIN_TIMEOUT)))?;
         self.read(buf)
     }

@@ -27,6 +27,12 @@ pub trait Transport: Send {
     fn take_guardian_stops(&mut self) -> Vec<String> {
         Vec::new()
     }
+    /// A second handle that writes to the same line, so one thread can block reading
+    /// while another writes at once (the guardian); `None` where the line has no such
+    /// handle.
+    fn try_clone_writer(&self) -> Option<Box<dyn Write + Send>> {
+        None
+    }
 }
 
 /// How a line owned by a guardian process names itself: `<line> (guardian process <pid>)`.
@@ -151,6 +157,13 @@ impl Transport for SerialTransport {
     fn describe(&self) -> String {
         format!("{} {}", self.name, self.settings)
     }
+
+    fn try_clone_writer(&self) -> Option<Box<dyn Write + Send>> {
+        self.port
+            .try_clone()
+            .ok()
+            .map(|p| Box::new(p) as Box<dyn Write + Send>)
+    }
 }
 
 /// A TCP connection to a serial-to-Ethernet bridge or to `xsel-sim --tcp`.
@@ -197,6 +210,13 @@ impl Transport for TcpTransport {
 
     fn describe(&self) -> String {
         format!("tcp {}", self.peer)
+    }
+
+    fn try_clone_writer(&self) -> Option<Box<dyn Write + Send>> {
+        self.stream
+            .try_clone()
+            .ok()
+            .map(|s| Box::new(s) as Box<dyn Write + Send>)
     }
 }
 

@@ -5,9 +5,11 @@
 
 use std::io::{self, BufReader, Write};
 use std::process::ExitCode;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use crossbeam_channel::{Receiver, TryRecvError, unbounded};
+use crossbeam_channel::{Receiver, RecvTimeoutError, Sender, unbounded};
 
 use super::core::GuardianCore;
 use super::wire::{self, FromGuardian, OpenLine, ToGuardian};
@@ -16,14 +18,20 @@ use crate::link::timing::Timing;
 use crate::pendant::LineKind;
 use crate::session::Connection;
 
-/// Longest wait for the line's bytes before the pipe is looked at again: bounds the
-/// time a window frame waits to go out.
-const READ_SLICE: Duration = Duration::from_millis(2);
+/// How long the line's reader waits in one read before it looks whether it should end.
+const READ_SLICE: Duration = Duration::from_millis(100);
+/// Longest sleep of the loop when nothing is due (it wakes at once on any event).
+const IDLE_WAIT: Duration = Duration::from_secs(1);
 
-/// What the stdin reader hands the loop.
-enum FromWindow {
-    Message(ToGuardian),
-    Closed(String),
+/// What the loop waits for: from the window's pipe or from the line, on one channel,
+/// so a frame goes out the moment it arrives. ([observed] A loop that polled the line
+/// with a 2 ms socket read time-out woke only every 8 ms on Linux: socket time-outs are
+/// kept in kernel ticks, so frames waited 4 ms on average.)
+enum Event {
+    Window(ToGuardian),
+    WindowClosed(String),
+    Line(Vec<u8>),
+    LineLost(String),
 }
 
 /// Runs the guardian; the exit code says whether the line was opened.
@@ -42,13 +50,19 @@ pub fn run() -> ExitCode {
         }
     };
     let mut out = io::stdout().lock();
-    let mut line = match open_line(&open) {
+    let line = match open_line(&open) {
         Ok(line) => line,
         Err(e) => {
             log(&e);
             let _ = wire::send(&mut out, &FromGuardian::Failed(e));
             return ExitCode::from(1);
         }
+    };
+    let Some(writer) = line.try_clone_writer() else {
+        let e = "this line cannot be read and written from two threads".to_owned();
+        log(&e);
+        let _ = wire::send(&mut out, &FromGuardian::Failed(e.clone()));
+        return ExitCode::from(1);
     };
     let described = line.describe();
     log(&format!("{described} open"));
@@ -59,7 +73,10 @@ pub fn run() -> ExitCode {
     if wire::send(&mut out, &opened).is_err() {
         return ExitCode::from(1);
     }
-    let window = read_window(input);
+    let (events, from) = unbounded();
+    read_window(input, events.clone());
+    let done = Arc::new(AtomicBool::new(false));
+    let reader = read_line(line, events, done.clone());
     let settings = &open.connection;
     let timing = Timing {
         line: settings.line(),
@@ -67,8 +84,11 @@ pub fn run() -> ExitCode {
     };
     let lease = Duration::from_millis(open.lease_ms);
     let mut core = GuardianCore::new(Instant::now(), settings.station(), lease, timing);
-    relay(&mut core, line.as_mut(), &window, &mut out);
-    drop(line);
+    relay(&mut core, writer, &from, &mut out);
+    done.store(true, Ordering::Relaxed);
+    if let Some(reader) = reader {
+        let _ = reader.join();
+    }
     log("line closed; exiting");
     ExitCode::SUCCESS
 }
@@ -90,65 +110,110 @@ fn open_line(open: &OpenLine) -> Result<Box<dyn Transport>, String> {
 }
 
 /// A thread that reads the window's messages until the pipe closes.
-fn read_window(mut input: BufReader<io::Stdin>) -> Receiver<FromWindow> {
-    let (tx, rx) = unbounded();
+fn read_window(mut input: BufReader<io::Stdin>, events: Sender<Event>) {
     let spawned = std::thread::Builder::new()
         .name("guardian-stdin".into())
-        .spawn(move || {
-            loop {
-                let next = match wire::receive::<ToGuardian>(&mut input) {
-                    Ok(Some(m)) => FromWindow::Message(m),
-                    Ok(None) => FromWindow::Closed("the window's pipe closed".into()),
-                    Err(e) => FromWindow::Closed(format!("the window's pipe failed: {e}")),
-                };
-                let last = matches!(next, FromWindow::Closed(_));
-                if tx.send(next).is_err() || last {
-                    return;
+        .spawn({
+            let events = events.clone();
+            move || {
+                loop {
+                    let next = match wire::receive::<ToGuardian>(&mut input) {
+                        Ok(Some(m)) => Event::Window(m),
+                        Ok(None) => Event::WindowClosed("the window's pipe closed".into()),
+                        Err(e) => Event::WindowClosed(format!("the window's pipe failed: {e}")),
+                    };
+                    let last = matches!(next, Event::WindowClosed(_));
+                    if events.send(next).is_err() || last {
+                        return;
+                    }
                 }
             }
         });
     if let Err(e) = spawned {
         // No reader: act as if the window were gone (STOP if anything may move).
-        log(&format!("cannot read the window's pipe: {e}"));
-        let (tx, rx) = unbounded();
-        let _ = tx.send(FromWindow::Closed("no reader thread".into()));
-        return rx;
+        let _ = events.send(Event::WindowClosed(format!(
+            "cannot read the window's pipe: {e}"
+        )));
     }
-    rx
 }
 
-/// The loop: the window's messages into the core, the core's frames onto the line, the
-/// line's bytes into the core, the core's messages to the window, until it is done.
+/// A thread that owns the line's reading side until the loop is done or the line fails.
+fn read_line(
+    mut line: Box<dyn Transport>,
+    events: Sender<Event>,
+    done: Arc<AtomicBool>,
+) -> Option<std::thread::JoinHandle<()>> {
+    let spawned = std::thread::Builder::new()
+        .name("guardian-line".into())
+        .spawn({
+            let events = events.clone();
+            move || {
+                let mut buf = [0u8; 1024];
+                while !done.load(Ordering::Relaxed) {
+                    let lost = match line.read_timeout(&mut buf, READ_SLICE) {
+                        Ok(0) => Some("the line closed".to_owned()),
+                        Ok(n) => {
+                            let _ = events.send(Event::Line(buf[..n].to_vec()));
+                            None
+                        }
+                        Err(e) if crate::link::transport::is_timeout(&e) => None,
+                        Err(e) => Some(format!("the line failed: {e}")),
+                    };
+                    if let Some(why) = lost {
+                        let _ = events.send(Event::LineLost(why));
+                        return;
+                    }
+                }
+            }
+        });
+    match spawned {
+        Ok(handle) => Some(handle),
+        Err(e) => {
+            let _ = events.send(Event::LineLost(format!("cannot read the line: {e}")));
+            None
+        }
+    }
+}
+
+/// The loop: each event into the core, then the core's frames onto the line and its
+/// messages to the window, until it is done (or the line is lost).
 fn relay(
     core: &mut GuardianCore,
-    line: &mut dyn Transport,
-    window: &Receiver<FromWindow>,
+    mut writer: Box<dyn Write + Send>,
+    events: &Receiver<Event>,
     out: &mut impl Write,
 ) {
-    let mut buf = [0u8; 1024];
     let mut window_open = true;
     loop {
+        let wait = core
+            .poll_timeout()
+            .map_or(IDLE_WAIT, |t| t.saturating_duration_since(Instant::now()))
+            .min(IDLE_WAIT);
+        let event = match events.recv_timeout(wait) {
+            Ok(e) => Some(e),
+            Err(RecvTimeoutError::Timeout) => None,
+            Err(RecvTimeoutError::Disconnected) => {
+                Some(Event::WindowClosed("no more events".into()))
+            }
+        };
         let now = Instant::now();
-        while window_open {
-            match window.try_recv() {
-                Ok(FromWindow::Message(ToGuardian::Bytes(b))) => core.handle_window_bytes(now, &b),
-                Ok(FromWindow::Message(ToGuardian::Heartbeat)) => core.handle_heartbeat(now),
-                Ok(FromWindow::Message(ToGuardian::Open(_))) => {}
-                Ok(FromWindow::Closed(why)) => {
+        match event {
+            Some(Event::Window(ToGuardian::Bytes(b))) => core.handle_window_bytes(now, &b),
+            Some(Event::Window(ToGuardian::Heartbeat)) => core.handle_heartbeat(now),
+            Some(Event::Window(ToGuardian::Open(_))) | None => {}
+            Some(Event::WindowClosed(why)) => {
+                if window_open {
                     log(&why);
                     window_open = false;
                     core.handle_window_closed(now);
                 }
-                Err(TryRecvError::Empty) => break,
-                Err(TryRecvError::Disconnected) => {
-                    window_open = false;
-                    core.handle_window_closed(now);
-                }
             }
+            Some(Event::Line(bytes)) => core.handle_line_bytes(&bytes),
+            Some(Event::LineLost(why)) => return line_lost(core, out, &why),
         }
         core.handle_timeout(Instant::now());
         while let Some(frame) = core.poll_transmit(Instant::now()) {
-            if let Err(e) = line.write_all_bytes(&frame) {
+            if let Err(e) = writer.write_all(&frame).and_then(|()| writer.flush()) {
                 return line_lost(core, out, &format!("cannot write to the line: {e}"));
             }
         }
@@ -166,16 +231,6 @@ fn relay(
                 log(&text);
             }
             return;
-        }
-        let wait = core
-            .poll_timeout()
-            .map_or(READ_SLICE, |t| t.saturating_duration_since(Instant::now()))
-            .min(READ_SLICE);
-        match line.read_timeout(&mut buf, wait) {
-            Ok(0) => return line_lost(core, out, "the line closed"),
-            Ok(n) => core.handle_line_bytes(&buf[..n]),
-            Err(e) if crate::link::transport::is_timeout(&e) => {}
-            Err(e) => return line_lost(core, out, &format!("the line failed: {e}")),
         }
     }
 }
