@@ -91,34 +91,20 @@ impl Connection {
         owner: &LineOwner,
     ) -> Connection {
         let line = settings.line();
-        if let (LineOwner::Guardian { exe }, LineKind::Serial | LineKind::Tcp) =
-            (owner, settings.kind)
-        {
-            return Self::through_guardian(settings, model, exe.clone());
-        }
         match settings.kind {
-            LineKind::Serial => {
-                let port = settings.port.trim().to_owned();
-                let (target, address) = (format!("serial port {port}"), port.clone());
-                let connector: Connector = Box::new(move || {
-                    SerialTransport::open(&port, line).map(|t| Box::new(t) as Box<dyn Transport>)
-                });
-                Connection {
-                    connector,
-                    sim: None,
-                    line,
-                    model,
-                    target,
-                    address,
-                }
-            }
-            LineKind::Tcp => {
-                let addr = settings.tcp.trim().to_owned();
-                let (target, address) = (format!("TCP {addr}"), addr.clone());
-                let connector: Connector = Box::new(move || {
-                    TcpTransport::connect(&addr, Duration::from_secs(2))
-                        .map(|t| Box::new(t) as Box<dyn Transport>)
-                });
+            LineKind::Serial | LineKind::Tcp => {
+                let (target, address) = match settings.kind {
+                    LineKind::Serial => (
+                        format!("serial port {}", settings.port.trim()),
+                        settings.port.trim(),
+                    ),
+                    _ => (format!("TCP {}", settings.tcp.trim()), settings.tcp.trim()),
+                };
+                let address = address.to_owned();
+                let connector = match owner {
+                    LineOwner::Guardian { exe } => guardian_connector(settings, exe.clone()),
+                    LineOwner::InProcess => direct_connector(settings.kind, address.clone(), line),
+                };
                 Connection {
                     connector,
                     sim: None,
@@ -159,40 +145,6 @@ impl Connection {
         }
     }
 
-    /// A serial port or TCP bridge opened by a guardian process, a new one each time the
-    /// link (re)connects.
-    fn through_guardian(
-        settings: &ConnectionSettings,
-        model: RobotModel,
-        exe: PathBuf,
-    ) -> Connection {
-        let line = settings.line();
-        let (target, address) = match settings.kind {
-            LineKind::Serial => (
-                format!("serial port {}", settings.port.trim()),
-                settings.port.trim().to_owned(),
-            ),
-            _ => (
-                format!("TCP {}", settings.tcp.trim()),
-                settings.tcp.trim().to_owned(),
-            ),
-        };
-        let for_guardian = settings.clone();
-        let lease = crate::link::LinkConfig::default().jog_lease;
-        let connector: Connector = Box::new(move || {
-            guardian::GuardianLine::open(&exe, &for_guardian, lease)
-                .map(|t| Box::new(t) as Box<dyn Transport>)
-        });
-        Connection {
-            connector,
-            sim: None,
-            line,
-            model,
-            target,
-            address,
-        }
-    }
-
     /// Opens the line now, so a missing port or a refused connection is reported at once
     /// (the message names the line); the connector then hands out that open line first
     /// and re-opens as before.
@@ -226,6 +178,30 @@ impl Connection {
             format!("cannot open {text}")
         }
     }
+}
+
+/// Opens a serial port or a TCP bridge in this process.
+fn direct_connector(kind: LineKind, address: String, line: LineSettings) -> Connector {
+    match kind {
+        LineKind::Serial => Box::new(move || {
+            SerialTransport::open(&address, line).map(|t| Box::new(t) as Box<dyn Transport>)
+        }),
+        _ => Box::new(move || {
+            TcpTransport::connect(&address, Duration::from_secs(2))
+                .map(|t| Box::new(t) as Box<dyn Transport>)
+        }),
+    }
+}
+
+/// Opens a serial port or TCP bridge through a guardian process, a new one each time
+/// the link (re)connects.
+fn guardian_connector(settings: &ConnectionSettings, exe: PathBuf) -> Connector {
+    let settings = settings.clone();
+    let lease = crate::link::LinkConfig::default().jog_lease;
+    Box::new(move || {
+        guardian::GuardianLine::open(&exe, &settings, lease)
+            .map(|t| Box::new(t) as Box<dyn Transport>)
+    })
 }
 
 /// The link thread on a line, and the simulator behind it when there is one.
