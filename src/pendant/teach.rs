@@ -12,6 +12,9 @@ use crate::protocol::{ArmPolicy, ArmSystem, Axis, Command, PerAxis, ScaraMotion,
 
 /// The longest name, in characters.
 pub const MAX_NAME_CHARS: usize = 32;
+/// The most points a list holds (a file with more is refused, Record says the list is
+/// full): the list draws only its visible rows, and a file of this many is about 1 MB.
+pub const MAX_POINTS: usize = 10_000;
 /// The highest work coordinate system number.
 pub const MAX_WORK: u8 = 31;
 /// The highest tool coordinate system number.
@@ -126,6 +129,9 @@ pub enum TeachError {
     /// The tool coordinate system number is above [`MAX_TOOL`].
     #[error("tool coordinate system {0} is out of range (0-127)")]
     ToolOutOfRange(u8),
+    /// The list already holds [`MAX_POINTS`].
+    #[error("the list is full ({MAX_POINTS} points); delete points or save and start a new list")]
+    ListFull,
     /// No point at this index.
     #[error("there is no point {} (the list has {len})", .index + 1)]
     NoSuchPoint {
@@ -146,7 +152,7 @@ impl TeachError {
             | TeachError::DuplicateName { .. } => Some("name"),
             TeachError::WorkOutOfRange(_) => Some("work"),
             TeachError::ToolOutOfRange(_) => Some("tool"),
-            TeachError::NoSuchPoint { .. } => None,
+            TeachError::NoSuchPoint { .. } | TeachError::ListFull => None,
         }
     }
 }
@@ -228,6 +234,9 @@ impl TeachList {
     pub fn insert(&mut self, index: usize, point: TeachPoint) -> Result<usize, TeachError> {
         if index > self.points.len() {
             return Err(self.no_such(index));
+        }
+        if self.points.len() >= MAX_POINTS {
+            return Err(TeachError::ListFull);
         }
         let point = point.checked()?;
         self.check_free(&point.name, None)?;

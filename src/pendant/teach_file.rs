@@ -18,7 +18,7 @@ use std::collections::HashMap;
 use std::fmt;
 
 use super::teach::{
-    MAX_TOOL, MAX_WORK, TeachList, TeachPoint, arm_word, check_name, parse_arm_word,
+    MAX_POINTS, MAX_TOOL, MAX_WORK, TeachList, TeachPoint, arm_word, check_name, parse_arm_word,
 };
 use crate::protocol::Thou;
 
@@ -27,6 +27,8 @@ pub const CSV_HEADER: &str = "name,x_mm,y_mm,z_mm,r_deg,arm,work,tool";
 const COLUMNS: [&str; 8] = [
     "name", "x_mm", "y_mm", "z_mm", "r_deg", "arm", "work", "tool",
 ];
+/// Fields a line may have before it is refused while being split.
+const MAX_FIELDS: usize = 64;
 const NUMBER_HINT: &str = "is not a number (use a dot, 3 decimals at most)";
 
 /// Why a file did not load: the 1-based line, the column when one is to blame, and what
@@ -141,10 +143,33 @@ pub(super) fn not_utf8(bytes: &[u8], offset: usize) -> FileError {
             _ => {}
         }
     }
+    // A bad byte on the first line (the header, plain ASCII in every teach file) or a NUL
+    // near the start: a binary file or another kind of file, not a field to fix.
+    let head = bytes.get(..8192).unwrap_or(bytes);
+    if line == 1 || head.contains(&0) {
+        return FileError::new(
+            line,
+            None,
+            format!(
+                "this is not a teach list: it is not text (a binary file, or text in \
+                 another encoding: bad byte at offset {offset}); save the list as UTF-8"
+            ),
+        );
+    }
     FileError::new(
         line,
         column(col),
         format!("the file is not UTF-8 text (bad byte at offset {offset}); save it as UTF-8"),
+    )
+}
+
+/// A file with more points than a list holds (`points` when counted).
+pub(super) fn too_many(points: Option<usize>) -> FileError {
+    let held = points.map_or(format!("more than {MAX_POINTS}"), |n| n.to_string());
+    FileError::new(
+        1,
+        None,
+        format!("the file holds {held} points; a list holds at most {MAX_POINTS}: split the file"),
     )
 }
 
@@ -206,6 +231,18 @@ impl Records<'_> {
                 }
             }
             fields.push(field);
+            // Checked as the line is split: a line of a million commas stops here (a
+            // few extra fields get the exact count from the point's check).
+            if fields.len() > MAX_FIELDS {
+                return Err(FileError::new(
+                    start,
+                    None,
+                    format!(
+                        "more than {MAX_FIELDS} fields on one line: this is not a teach list \
+                         (its lines have 8 fields: {CSV_HEADER})"
+                    ),
+                ));
+            }
             match self.it.next() {
                 Some(',') => {}
                 Some('\r') => {
@@ -294,6 +331,9 @@ fn parse_csv(text: &str) -> Result<TeachList, FileError> {
                 Some("name"),
                 format!("\"{}\" is already used on line {first}", shown(&point.name)),
             ));
+        }
+        if list.len() == MAX_POINTS {
+            return Err(too_many(None));
         }
         names.insert(point.name.clone(), record.line);
         list.push_checked(point);

@@ -237,8 +237,14 @@ fn non_utf8_names_the_line_and_field() {
         e.message.contains(&format!("offset {}", bytes.len() - 15)),
         "{e}"
     );
+    // A binary file is said to be one, not blamed on a field.
     let e = TeachList::from_csv_bytes(b"\xC3").unwrap_err();
-    assert_eq!((e.line, e.field.as_deref()), (1, Some("name")));
+    assert_eq!((e.line, e.field.as_deref()), (1, None));
+    assert!(e.message.contains("not a teach list"), "{e}");
+    let png = b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR";
+    let e = TeachList::from_csv_bytes(png).unwrap_err();
+    assert_eq!(e.field, None, "{e}");
+    assert!(e.message.contains("binary"), "{e}");
     // A BOM in bytes is fine.
     let mut bom = b"\xEF\xBB\xBF".to_vec();
     bom.extend_from_slice(H.as_bytes());
@@ -460,4 +466,35 @@ fn a_json_object_that_is_not_a_teach_list_is_refused_not_read_as_empty() {
         e.contains("points"),
         "the reason does not say what is missing: {e}"
     );
+}
+
+#[test]
+fn a_line_of_a_million_commas_is_refused_as_it_is_split() {
+    let mut text = String::from(H);
+    text.push_str(&",".repeat(1_000_000));
+    let e = TeachList::from_csv_bytes(text.as_bytes()).unwrap_err();
+    assert_eq!((e.line, e.field.as_deref()), (2, None));
+    assert!(e.message.contains("more than 64 fields"), "{e}");
+}
+
+#[test]
+fn a_file_of_more_points_than_a_list_holds_is_refused_and_a_full_list_refuses_a_record() {
+    use crate::pendant::teach::MAX_POINTS;
+    let mut text = String::from(H);
+    for i in 0..=MAX_POINTS {
+        text.push_str(&format!("P{i},1,2,3,4,left,0,0\n"));
+    }
+    let e = TeachList::from_csv_bytes(text.as_bytes()).unwrap_err();
+    assert!(e.message.contains("at most 10000"), "{e}");
+    // Exactly the limit loads, and then the list is full.
+    let cut = text.rfind("P10000").unwrap();
+    let mut full = TeachList::from_csv_bytes(&text.as_bytes()[..cut]).unwrap();
+    assert_eq!(full.len(), MAX_POINTS);
+    let at = full.get(0).unwrap().taught();
+    assert_eq!(
+        full.record("ONE MORE", at),
+        Err(crate::pendant::teach::TeachError::ListFull)
+    );
+    let json = full.to_json();
+    assert_eq!(TeachList::from_json(&json).map(|l| l.len()), Ok(MAX_POINTS));
 }

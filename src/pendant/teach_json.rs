@@ -10,9 +10,9 @@ use serde::{Deserialize, Deserializer, Serializer};
 use serde_json::value::RawValue;
 
 use super::teach::{
-    MAX_TOOL, MAX_WORK, TeachList, TeachPoint, arm_word, check_name, parse_arm_word,
+    MAX_POINTS, MAX_TOOL, MAX_WORK, TeachList, TeachPoint, arm_word, check_name, parse_arm_word,
 };
-use super::teach_file::{FileError, not_utf8, shown};
+use super::teach_file::{FileError, not_utf8, shown, too_many};
 use crate::protocol::ArmSystem;
 
 impl TeachList {
@@ -28,14 +28,21 @@ impl TeachList {
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let raw: RawList<'_> =
             serde_json::from_str(text).map_err(|e| json_error(&e, text, 0, 0))?;
+        if raw.points.len() > MAX_POINTS {
+            return Err(too_many(Some(raw.points.len())));
+        }
         let mut names: HashMap<String, usize> = HashMap::new();
         let mut list = TeachList::new();
+        // Lines counted from where the last point started, so a long file is read once.
+        let (mut counted_to, mut line0) = (0, 0);
         for (k, point) in raw.points.iter().enumerate() {
             let s = point.get();
             // Where the point starts in `text`: its line (0-based) and column (1-based).
             let offset = (s.as_ptr() as usize).saturating_sub(text.as_ptr() as usize);
+            let since = text.as_bytes().get(counted_to..offset).unwrap_or_default();
+            line0 += since.iter().filter(|&&b| b == b'\n').count();
+            counted_to = offset.max(counted_to);
             let before = text.as_bytes().get(..offset).unwrap_or_default();
-            let line0 = before.iter().filter(|&&b| b == b'\n').count();
             let col0 = before.iter().rev().take_while(|&&b| b != b'\n').count();
             let p: TeachPoint =
                 serde_json::from_str(s).map_err(|e| json_error(&e, s, line0, col0))?;
