@@ -66,12 +66,15 @@ struct BadInput {
     chunks: u64,
     bytes: u64,
     sample: String,
+    /// Why the first chunk was bad (wrong length for its ID, another station...).
+    reason: String,
     last_print: Option<Instant>,
 }
 
 impl BadInput {
-    fn add(&mut self, bytes: &[u8]) {
+    fn add(&mut self, bytes: &[u8], reason: &dyn std::fmt::Display) {
         if self.chunks == 0 {
+            self.reason = reason.to_string();
             let head = printable(&bytes[..bytes.len().min(BAD_INPUT_SAMPLE)]);
             self.sample = head.chars().take(BAD_INPUT_SAMPLE).collect();
             if bytes.len() > BAD_INPUT_SAMPLE || self.sample.len() < head.len() {
@@ -91,16 +94,20 @@ impl BadInput {
             return None;
         }
         let text = if self.chunks == 1 {
-            format!("link: bad input ({} bytes): {}", self.bytes, self.sample)
+            format!(
+                "link: bad input ({} bytes, {}): {}",
+                self.bytes, self.reason, self.sample
+            )
         } else {
             format!(
-                "link: bad input: {} chunks, {} bytes{}, first: {}",
+                "link: bad input: {} chunks, {} bytes{}, first ({}): {}",
                 self.chunks,
                 self.bytes,
                 self.last_print.map_or(String::new(), |t| format!(
                     " in {:.1} s",
                     (now - t).as_secs_f64()
                 )),
+                self.reason,
                 self.sample
             )
         };
@@ -215,7 +222,11 @@ impl Session {
                 self.scara_fresh = true;
             }
             LinkEvent::Health(h) => self.health = Some(h),
-            LinkEvent::Garbage { ref bytes, .. } => self.bad.add(bytes),
+            LinkEvent::Garbage {
+                ref bytes,
+                ref error,
+                ..
+            } => self.bad.add(bytes, error),
             LinkEvent::Connected { .. } | LinkEvent::Reconnected { .. } => {
                 self.line_up = true;
                 writeln!(self.out, "link: {}", ev.summary())?;
@@ -361,18 +372,19 @@ mod tests {
         let mut bad = BadInput::default();
         let t0 = Instant::now();
         assert_eq!(bad.due(t0, false), None);
-        bad.add(&[b'x'; 16 * 1024]);
+        bad.add(&[b'x'; 16 * 1024], &"no ! header");
         let first = bad.due(t0, false).unwrap();
         assert!(
-            first.contains("16384 bytes") && first.len() < 300,
+            first.contains("16384 bytes, no ! header") && first.len() < 300,
             "{first}"
         );
         for _ in 0..100 {
-            bad.add(&[0xFF; 16 * 1024]);
+            bad.add(&[0xFF; 16 * 1024], &"reply from station 03, not 99");
         }
         assert_eq!(bad.due(t0 + Duration::from_millis(500), false), None);
         let later = bad.due(t0 + BAD_INPUT_EVERY, false).unwrap();
         assert!(later.contains("100 chunks, 1638400 bytes"), "{later}");
+        assert!(later.contains("first (reply from station 03"), "{later}");
         assert!(later.len() < 300, "{} characters", later.len());
         assert_eq!(bad.due(t0 + 3 * BAD_INPUT_EVERY, true), None);
     }

@@ -14,7 +14,8 @@ use xsel_pendant::protocol::Station;
 use xsel_pendant::robot::RobotModel;
 use xsel_pendant::sim::console::{self, OperatorAction, parse_code};
 use xsel_pendant::sim::errors::code_table_text;
-use xsel_pendant::sim::runner::{RunOptions, SimCore, format_entry, start_tcp};
+use xsel_pendant::sim::log_limit::LogLimiter;
+use xsel_pendant::sim::runner::{RunOptions, SimCore, start_tcp};
 use xsel_pendant::sim::state::DEFAULT_SERVO_SWITCH_MS;
 use xsel_pendant::sim::{Controller, FaultSpec, SimSetup, coords_file};
 use xsel_pendant::sim::{Mode, SimHandle, SimWatch};
@@ -24,6 +25,8 @@ Every frame in and out is logged to stderr with the time since start, e.g.
   [  1.234567] rx !992120189\\r\\n  command 212H axis status
 A frame that gets no reply (also a run without '!' header, logged at its LF) says why:
   [  1.240000] rx !99215FF\\r\\n  ...  [silent: wrong checksum]
+Under a flood of garbage at most 10 dropped runs a second are logged, each cut at 80
+bytes; one line counts the rest.
 If stderr is closed (e.g. `2>&1 | head`), the simulator keeps serving with logging off.
 A bad option ends it with exit code 2 and one line on stderr naming the option.
 
@@ -219,9 +222,19 @@ fn run(args: Args) -> Result<(), Failure> {
     let log_on = logging.clone();
     let opts = RunOptions {
         pacing: args.baud.map(byte_time_8n1),
-        log: Some(Box::new(move |entry| {
-            if log_on.load(Ordering::Relaxed) && !say(&format_entry(entry)) {
-                log_on.store(false, Ordering::Relaxed);
+        log: Some(Box::new({
+            // Garbage floods are cut and counted, as in the pendant's frame log.
+            let mut limiter = LogLimiter::default();
+            move |entry| {
+                if !log_on.load(Ordering::Relaxed) {
+                    return;
+                }
+                for line in limiter.lines(entry) {
+                    if !say(&line) {
+                        log_on.store(false, Ordering::Relaxed);
+                        return;
+                    }
+                }
             }
         })),
         notice: Some(Arc::new(|line: &str| {

@@ -14,6 +14,7 @@ pub mod errors;
 pub mod faults;
 pub mod framing;
 mod handlers;
+pub mod log_limit;
 pub mod motion;
 pub mod pipe;
 pub mod runner;
