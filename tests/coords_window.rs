@@ -17,7 +17,7 @@ use xsel_pendant::sim::{Fault, FaultSpec};
 use xsel_pendant::ui::{PendantApp, StartOptions};
 
 mod kittest_common;
-use kittest_common::{click, replace_text, show_tab, step_until};
+use kittest_common::{click, replace_text, show_tab, step_until, step_until_shown};
 
 fn app<'a>() -> Harness<'a, PendantApp> {
     Harness::builder()
@@ -354,10 +354,12 @@ fn a_recorded_point_is_in_its_file_at_once_and_back_after_the_window_is_gone() {
     let _ = std::fs::remove_dir_all(&dir);
     let mut h = start_in(&dir, true);
     record(&mut h, "PICK1");
-    h.step();
-    // On disk before any close, as a SIGKILL a moment later would find it.
-    let text = std::fs::read_to_string(dir.join("teach-list.json")).expect("saved");
-    assert!(text.contains("PICK1"), "{text}");
+    // On disk within frames, before any close, as a SIGKILL a moment later would find
+    // it (the write is a job: the window does not wait for the disk).
+    let file = dir.join("teach-list.json");
+    step_until(&mut h, "the point written to its file", |_| {
+        std::fs::read_to_string(&file).is_ok_and(|t| t.contains("PICK1"))
+    });
     drop(h);
     let h = start_in(&dir, true);
     assert!(
@@ -411,10 +413,14 @@ fn a_teach_load_never_empties_the_list_never_blocks_and_replaces_only_when_told(
     std::fs::create_dir_all(&dir).unwrap();
     let mut h = start_in(&dir.join("data"), true);
     record(&mut h, "KEEP");
+    // The read is a job: the window keeps drawing until the pendant has its answer.
     let load = |h: &mut Harness<'_, PendantApp>, file: &std::path::Path| {
+        let before = h.state().pendant().teach_feedback.clone();
         replace_text(h, "File", &file.display().to_string());
         click(h, "Load");
-        h.step();
+        step_until(h, "the load answered", |a| {
+            a.pendant().teach_feedback != before || a.pendant().teach.pending().is_some()
+        });
     };
     let said = |h: &Harness<'_, PendantApp>| {
         h.state()
@@ -462,5 +468,81 @@ fn a_teach_load_never_empties_the_list_never_blocks_and_replaces_only_when_told(
     assert_eq!(h.state().pendant().teach.list().len(), 2);
     click(&mut h, "Undo load");
     assert!(h.state().pendant().teach.list().position("KEEP").is_some());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_save_over_a_file_that_is_there_asks_first_and_says_the_full_path_and_time() {
+    let dir = std::env::temp_dir().join(format!("xsel-pendant-overwrite-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut h = start_in(&dir.join("data"), true);
+    record(&mut h, "KEEP");
+    let target = dir.join("points.csv");
+    std::fs::write(&target, "the operator's own file").unwrap();
+    let save = |h: &mut Harness<'_, PendantApp>| {
+        replace_text(h, "File", &target.display().to_string());
+        click(h, "Save");
+    };
+    save(&mut h);
+    step_until_shown(&mut h, "already exists");
+    click(&mut h, "Keep it");
+    assert_eq!(
+        std::fs::read_to_string(&target).unwrap(),
+        "the operator's own file",
+        "overwritten unasked"
+    );
+    save(&mut h);
+    step_until_shown(&mut h, "already exists");
+    click(&mut h, "Replace");
+    step_until_shown(&mut h, "saved 1 point to");
+    let said = format!("saved 1 point to {}", target.display());
+    h.get_by_label_contains(&said);
+    h.get_by_label_contains("UTC");
+    assert!(std::fs::read_to_string(&target).unwrap().contains("KEEP"));
+    // A bare name goes into the folder of the last file used, not the working directory.
+    replace_text(&mut h, "File", "second.csv");
+    click(&mut h, "Save");
+    step_until_shown(&mut h, "saved 1 point to");
+    assert!(
+        dir.join("second.csv").exists(),
+        "not in the last folder used"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_list_of_ten_thousand_points_loads_off_the_ui_thread_and_draws_only_what_is_seen() {
+    use xsel_pendant::pendant::teach::{MAX_POINTS, TeachList};
+    let dir = std::env::temp_dir().join(format!("xsel-pendant-10k-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut h = start_in(&dir.join("data"), true);
+    record(&mut h, "FIRST");
+    let at = h.state().pendant().teach.list().get(0).unwrap().taught();
+    let mut big = TeachList::new();
+    for i in 0..MAX_POINTS {
+        big.record(&format!("P{i}"), at).unwrap();
+    }
+    let file = dir.join("big.csv");
+    std::fs::write(&file, big.to_csv()).unwrap();
+    replace_text(&mut h, "File", &file.display().to_string());
+    click(&mut h, "Load");
+    step_until(&mut h, "the 10,000 points read", |a| {
+        a.pendant().teach.pending().is_some()
+    });
+    click(&mut h, "Replace");
+    assert_eq!(h.state().pendant().teach.list().len(), MAX_POINTS);
+    h.run_steps(2);
+    // The first rows are drawn; the last one is not laid out until scrolled to.
+    h.get_by_label("P0");
+    assert!(
+        h.query_by_label("P9999").is_none(),
+        "all 10,000 rows were laid out"
+    );
+    // A full list refuses another point with the reason.
+    type_into(&mut h, "Name", "ONE MORE");
+    click(&mut h, "Record");
+    step_until_shown(&mut h, "the list is full");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -1,12 +1,13 @@
 //! Operator work kept in a file of its own beside the settings (the teach list, the
-//! coordinate drafts): written on every change as a new file renamed over the old one,
-//! the previous good copy kept as `.bak`; a failed write is said once and retried every
-//! few seconds; at start the file (or its `.bak`) is read back, and an unreadable file is
-//! moved aside, never overwritten.
+//! coordinate drafts): written on every change, as a job off the UI thread, as a new file
+//! renamed over the old one, the previous good copy kept as `.bak`; a failed write is said
+//! once and retried every few seconds; at start the file (or its `.bak`) is read back,
+//! and an unreadable file is moved aside, never overwritten.
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant, SystemTime};
 
+use super::job::{Job, JobPoll};
 use super::{DOCUMENT_LIMIT, read_bounded};
 
 /// How long after a failed write it is tried again (a full disk, a share gone away).
@@ -39,6 +40,8 @@ pub struct SavedFile {
     written: Option<u64>,
     failing: bool,
     retry_at: Option<Instant>,
+    /// The write under way: the revision it writes.
+    writing: Option<(u64, Job<std::io::Result<()>>)>,
 }
 
 impl SavedFile {
@@ -49,6 +52,7 @@ impl SavedFile {
             written: None,
             failing: false,
             retry_at: None,
+            writing: None,
         }
     }
 
@@ -119,18 +123,94 @@ impl SavedFile {
         self.written = Some(revision);
     }
 
-    /// Writes `contents()` when `revision` was not written yet (after a failure, not
-    /// before the retry time).
+    /// Starts writing `contents()` when `revision` was not written yet (after a
+    /// failure, not before the retry time); one write at a time, off the calling thread.
+    /// Says what the operator should hear of the last write.
     pub fn save(
         &mut self,
         revision: u64,
         now: Instant,
         contents: impl FnOnce() -> Vec<u8>,
     ) -> Option<SaveNews> {
-        if self.written == Some(revision) || self.retry_at.is_some_and(|t| now < t) {
+        let news = self.poll_write(now);
+        if self.writing.is_some()
+            || self.written == Some(revision)
+            || self.retry_at.is_some_and(|t| now < t)
+        {
+            return news;
+        }
+        let path = self.path.clone();
+        let bytes = contents();
+        let what = format!("save the {} to {}", self.what, path.display());
+        match Job::spawn_opening(what, now, move |ctl| {
+            let written = write_atomic(&path, &bytes);
+            ctl.opened();
+            written
+        }) {
+            Ok(job) => self.writing = Some((revision, job)),
+            Err(e) => return news.or(self.failed(&e, now)),
+        }
+        news
+    }
+
+    /// Waits at most `limit` for the write under way, then writes `contents()` here
+    /// if `revision` is still not written (at exit: nothing the operator did is left
+    /// in memory only).
+    pub fn flush(
+        &mut self,
+        revision: u64,
+        limit: std::time::Duration,
+        contents: impl FnOnce() -> Vec<u8>,
+    ) -> Option<SaveNews> {
+        let _ = self.settle(limit, Instant::now());
+        if self.written == Some(revision) && !self.failing {
             return None;
         }
         match write_atomic(&self.path, &contents()) {
+            Ok(()) => {
+                self.written = Some(revision);
+                self.failing = false;
+                None
+            }
+            Err(e) => self.failed(&e.to_string(), Instant::now()),
+        }
+    }
+
+    /// Takes the result of a write that finished.
+    fn poll_write(&mut self, now: Instant) -> Option<SaveNews> {
+        let (revision, job) = self.writing.as_ref()?;
+        let revision = *revision;
+        let result = match job.poll(now) {
+            JobPoll::Running => return None,
+            JobPoll::Done(result) => result.map_err(|e| e.to_string()),
+            JobPoll::OpenTimedOut => Err(format!(
+                "not done within {} s",
+                super::job::OPEN_LIMIT.as_secs()
+            )),
+            JobPoll::Lost => Err("the writing thread stopped".into()),
+        };
+        self.writing = None;
+        self.finish(revision, result, now)
+    }
+
+    /// Waits at most `limit` for the write under way and takes its result (at exit; in
+    /// tests).
+    pub fn settle(&mut self, limit: std::time::Duration, now: Instant) -> Option<SaveNews> {
+        let (revision, job) = self.writing.take()?;
+        let result = job
+            .wait(limit)
+            .unwrap_or_else(|| Err(std::io::Error::other("not done in time")))
+            .map_err(|e| e.to_string());
+        self.finish(revision, result, now)
+    }
+
+    fn finish(
+        &mut self,
+        revision: u64,
+        result: Result<(), String>,
+        now: Instant,
+    ) -> Option<SaveNews> {
+        match result {
             Ok(()) => {
                 self.written = Some(revision);
                 self.retry_at = None;
@@ -142,20 +222,27 @@ impl SavedFile {
                     ))
                 })
             }
-            Err(e) => {
-                self.retry_at = Some(now + RETRY_EVERY);
-                let first = !std::mem::replace(&mut self.failing, true);
-                first.then(|| {
-                    SaveNews::Failed(format!(
-                        "the {} could not be saved to {} ({e}); the last saved copy is kept, \
-                         and saving is tried again every {} s",
-                        self.what,
-                        self.path.display(),
-                        RETRY_EVERY.as_secs()
-                    ))
-                })
-            }
+            Err(e) => self.failed(&e, now),
         }
+    }
+
+    fn failed(&mut self, why: &str, now: Instant) -> Option<SaveNews> {
+        self.retry_at = Some(now + RETRY_EVERY);
+        let first = !std::mem::replace(&mut self.failing, true);
+        first.then(|| {
+            SaveNews::Failed(format!(
+                "the {} could not be saved to {} ({why}); the last saved copy is kept, \
+                 and saving is tried again every {} s",
+                self.what,
+                self.path.display(),
+                RETRY_EVERY.as_secs()
+            ))
+        })
+    }
+
+    /// Whether a write is under way.
+    pub fn is_writing(&self) -> bool {
+        self.writing.is_some()
     }
 }
 
@@ -215,14 +302,27 @@ mod tests {
         }
     }
 
+    const LIMIT: Duration = Duration::from_secs(10);
+
+    /// A save and the wait for its job: what the operator is told.
+    fn saved(
+        f: &mut SavedFile,
+        revision: u64,
+        now: Instant,
+        contents: impl FnOnce() -> Vec<u8>,
+    ) -> Option<SaveNews> {
+        let started = f.save(revision, now, contents);
+        started.or(f.settle(LIMIT, now))
+    }
+
     #[test]
     fn every_change_is_written_whole_and_the_last_good_copy_kept() {
         let d = dir("write");
         let mut f = SavedFile::new(d.join("teach.json"), "teach list");
         let now = Instant::now();
-        assert_eq!(f.save(1, now, || b"ok 1".to_vec()), None);
-        assert_eq!(f.save(1, now, || panic!("written twice")), None);
-        assert_eq!(f.save(2, now, || b"ok 2".to_vec()), None);
+        assert_eq!(saved(&mut f, 1, now, || b"ok 1".to_vec()), None);
+        assert_eq!(saved(&mut f, 1, now, || panic!("written twice")), None);
+        assert_eq!(saved(&mut f, 2, now, || b"ok 2".to_vec()), None);
         assert_eq!(std::fs::read(f.path()).unwrap(), b"ok 2");
         assert_eq!(std::fs::read(d.join("teach.json.bak")).unwrap(), b"ok 1");
         assert!(!d.join("teach.json.new").exists(), "a stray new file");
@@ -230,12 +330,25 @@ mod tests {
     }
 
     #[test]
+    fn a_change_while_a_write_runs_is_written_after_it_and_a_flush_leaves_nothing_unsaved() {
+        let d = dir("busy");
+        let mut f = SavedFile::new(d.join("teach.json"), "teach list");
+        let now = Instant::now();
+        f.save(1, now, || b"ok 1".to_vec());
+        // A second change while the first write may still run: written after it, or now.
+        f.save(2, now, || b"ok 2".to_vec());
+        assert_eq!(f.flush(3, LIMIT, || b"ok 3".to_vec()), None);
+        assert!(f.is_saved() && !f.is_writing());
+        assert_eq!(std::fs::read(f.path()).unwrap(), b"ok 3");
+    }
+
+    #[test]
     fn an_unreadable_file_is_set_aside_and_the_backup_read() {
         let d = dir("aside");
         let mut f = SavedFile::new(d.join("teach.json"), "teach list");
         let now = Instant::now();
-        f.save(1, now, || b"ok first".to_vec());
-        f.save(2, now, || b"ok second".to_vec());
+        saved(&mut f, 1, now, || b"ok first".to_vec());
+        saved(&mut f, 2, now, || b"ok second".to_vec());
         std::fs::write(f.path(), b"garbage").unwrap();
         let r = f.restore(text);
         assert_eq!(r.value.as_deref(), Some("ok first"));
@@ -267,22 +380,23 @@ mod tests {
         let mut f = SavedFile::new(path.clone(), "drafts");
         let t0 = Instant::now();
         assert!(matches!(
-            f.save(1, t0, || b"ok".to_vec()),
+            saved(&mut f, 1, t0, || b"ok".to_vec()),
             Some(SaveNews::Failed(_))
         ));
+        assert!(!f.is_saved());
         assert_eq!(
-            f.save(2, t0 + Duration::from_secs(1), || panic!("not yet")),
+            saved(&mut f, 2, t0 + Duration::from_secs(1), || panic!("not yet")),
             None
         );
         assert_eq!(
-            f.save(2, t0 + RETRY_EVERY, || b"ok".to_vec()),
+            saved(&mut f, 2, t0 + RETRY_EVERY, || b"ok".to_vec()),
             None,
             "said twice"
         );
         std::fs::remove_dir(with_suffix(&path, ".new")).unwrap();
         let later = t0 + RETRY_EVERY * 2;
         assert!(matches!(
-            f.save(2, later, || b"ok 2".to_vec()),
+            saved(&mut f, 2, later, || b"ok 2".to_vec()),
             Some(SaveNews::Recovered(_))
         ));
         assert_eq!(std::fs::read(&path).unwrap(), b"ok 2");

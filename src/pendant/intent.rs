@@ -72,6 +72,8 @@ pub enum Intent {
     ClearFrameLog,
     /// A frame typed as its body, to send through the link.
     SendRaw(String),
+    /// A file was read or written here: its folder is the one names are taken in next.
+    FileUsed(std::path::PathBuf),
 }
 
 impl Pendant {
@@ -108,6 +110,9 @@ impl Pendant {
                 self.settings.frame_log_cap = Some(cap);
             }
             Intent::ClearFrameLog => self.frame_log.clear(),
+            Intent::FileUsed(path) => {
+                self.settings.last_folder = path.parent().map(std::path::Path::to_path_buf);
+            }
             Intent::SendRaw(body) => {
                 // The outcome is kept for the frame log pane and said in Messages.
                 self.raw_sent = Some(self.send_raw(&body, now).map(|c| c.id().to_string()));

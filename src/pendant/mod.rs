@@ -62,6 +62,9 @@ pub struct Settings {
     pub light_theme: bool,
     /// Rows the frame log keeps (None: [`frame_log::DEFAULT_CAP`]).
     pub frame_log_cap: Option<usize>,
+    /// The folder of the last file read or written: a name typed without a folder goes
+    /// there (None: the user's documents).
+    pub last_folder: Option<std::path::PathBuf>,
 }
 
 /// What the pendant asks of the link. The window runs these after drawing a frame;

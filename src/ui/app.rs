@@ -9,6 +9,7 @@ use egui::{Panel, Theme};
 use super::arm_view::ArmView;
 use super::connection::ConnectionPanel;
 use super::coords::CoordsPanel;
+use super::file_field::FolderCache;
 use super::frame_log::FrameLogPanel;
 use super::jog::JogPanel;
 use super::keys::{self, Keys};
@@ -96,6 +97,8 @@ pub struct PendantApp {
     work_files: WorkFiles,
     arm: ArmView,
     frame_log: FrameLogPanel,
+    /// Where a file name typed without a folder goes.
+    folder: FolderCache,
     dock: egui_tiles::Tree<Tab>,
     started: Instant,
     help_open: bool,
@@ -168,6 +171,7 @@ impl PendantApp {
             work_files,
             arm: ArmView::default(),
             frame_log: FrameLogPanel::default(),
+            folder: FolderCache::default(),
             dock: layout::checked_layout(saved_layout),
             started: now,
             help_open: false,
@@ -411,6 +415,9 @@ impl eframe::App for PendantApp {
                 coords: &mut self.coords,
                 frame_log: &mut self.frame_log,
                 simulator: &mut self.simulator,
+                folder: self
+                    .folder
+                    .get(self.pendant.settings.last_folder.as_deref()),
                 sim_state,
                 sim_action: &mut sim_action,
                 now,
@@ -454,6 +461,14 @@ impl eframe::App for PendantApp {
         // Dropping the session shuts the link down: queued STOPs, and a STOP of its own
         // when a jog or move may still run, go out before the line closes.
         self.close();
+    }
+}
+
+impl Drop for PendantApp {
+    /// However the app ends (the window closed, a test's harness dropped), writes under
+    /// way finish and what is still unsaved is written.
+    fn drop(&mut self) {
+        self.work_files.flush(&self.pendant);
     }
 }
 

@@ -1,10 +1,17 @@
 //! "Export view as PNG": the arm view as it is on screen (same centre and zoom, scaled to
-//! the picture), painted by tiny-skia and written on a worker thread, so the window never
-//! waits for it.
+//! the picture), painted by tiny-skia and written as a job, so the window never waits for
+//! it; a file that is there is replaced only when the user says so.
 
-use crossbeam_channel::{Receiver, bounded};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
 use egui::{ComboBox, RichText, Ui};
 
+use super::file_field::{Browse, FieldSpec, FileAsk, FileField, Purpose, job_line, job_lost};
+use super::widgets::clock_utc;
+use crate::files::job::{Job, JobPoll};
+use crate::files::{WriteError, write_file};
+use crate::pendant::Intent;
 use crate::render::paint_png::PngPainter;
 use crate::render::{Palette, Scene, View};
 
@@ -16,10 +23,35 @@ const SIZES: [(&str, Option<[u32; 2]>); 4] = [
     ("3840x2160", Some([3840, 2160])),
 ];
 
+/// The only thing the field does: save a picture.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct SavePng;
+
+static FILE_FIELD: FieldSpec<SavePng> = FieldSpec {
+    label: "PNG file",
+    hint: "arm-view.png",
+    width: 140.0,
+    browse: &[Browse {
+        label: "Save as...",
+        action: SavePng,
+        purpose: Purpose::Save,
+    }],
+    filters: &[("PNG picture", &["png"])],
+};
+
+/// What the view shows now: the scene, its colours, the view and the pane's size.
+pub type Shown<'a> = (&'a Scene, &'a Palette, &'a View, [u32; 2]);
+
+/// What to paint: the scene, its colours, the view and the picture's size.
+type Picture = (Scene, Palette, View, [u32; 2]);
+
+/// What an export job hands back: the path, the size, and how the write went.
+type Exported = (PathBuf, [u32; 2], Result<(), WriteError>);
+
 pub struct Export {
-    path: String,
+    file: FileField<SavePng>,
     size: usize,
-    pending: Option<Receiver<Result<String, String>>>,
+    job: Option<Job<Exported>>,
     /// The last export's outcome: ok, and the text.
     message: Option<(bool, String)>,
 }
@@ -27,26 +59,19 @@ pub struct Export {
 impl Default for Export {
     fn default() -> Self {
         Export {
-            path: "arm-view.png".into(),
+            file: FileField::new(&FILE_FIELD, "arm-view.png"),
             size: 2,
-            pending: None,
+            job: None,
             message: None,
         }
     }
 }
 
 impl Export {
-    pub fn controls(
-        &mut self,
-        ui: &mut Ui,
-        scene: &Scene,
-        palette: &Palette,
-        view: &View,
-        pane: [u32; 2],
-    ) {
-        let label = ui.label("PNG file");
-        ui.add(egui::TextEdit::singleline(&mut self.path).desired_width(140.0))
-            .labelled_by(label.id);
+    pub fn controls(&mut self, ui: &mut Ui, shown: Shown<'_>, folder: &Path, now: Instant) {
+        let (scene, palette, view, pane) = shown;
+        let idle = self.job.is_none();
+        ui.add_enabled_ui(idle, |ui| self.file.show(ui, folder, now));
         let size = ui.label("size");
         ComboBox::from_id_salt("export-size")
             .selected_text(SIZES[self.size].0)
@@ -57,71 +82,86 @@ impl Export {
             })
             .response
             .labelled_by(size.id);
-        let busy = self.pending.is_some();
         let clicked = ui
-            .add_enabled(!busy, egui::Button::new("Export view as PNG"))
+            .add_enabled(idle, egui::Button::new("Export view as PNG"))
             .on_hover_text("Paints the view as shown (tiny-skia, no GPU) into the file")
             .clicked();
         if clicked {
-            let [w, h] = SIZES[self.size].1.unwrap_or(pane);
-            self.start(scene.clone(), *palette, *view, [w.max(16), h.max(16)]);
+            self.file.ask(SavePng, folder);
+        }
+        // The picture is the view as it is when the file is known (typed, or chosen in
+        // the dialog).
+        match self.file.take() {
+            Some(Ok(ask)) => {
+                let [w, h] = SIZES[self.size].1.unwrap_or(pane);
+                let picture = (scene.clone(), *palette, *view, [w.max(16), h.max(16)]);
+                self.start(ask, picture, now);
+            }
+            Some(Err(why)) => self.message = Some((false, why)),
+            None => {}
         }
     }
 
-    fn start(&mut self, scene: Scene, palette: Palette, view: View, [w, h]: [u32; 2]) {
-        let path = self.path.trim().to_string();
-        if path.is_empty() {
-            self.message = Some((false, "name a file to export to".into()));
-            return;
-        }
+    fn start(&mut self, ask: FileAsk<SavePng>, picture: Picture, now: Instant) {
+        let (scene, palette, view, [w, h]) = picture;
+        let FileAsk {
+            path, overwrite, ..
+        } = ask;
         let k = (f64::from(w) / f64::from(view.size[0].max(1.0)))
             .min(f64::from(h) / f64::from(view.size[1].max(1.0)));
         let view = View {
             scale: view.scale * k,
             ..view
         };
-        let (tx, rx) = bounded(1);
-        self.pending = Some(rx);
         self.message = None;
-        std::thread::spawn(move || {
+        let what = format!("exporting {}", path.display());
+        let job = Job::spawn_opening(what, now, move |ctl| {
             let result = PngPainter::new()
                 .render_view(&scene, &palette, &view, w, h)
                 .map_err(|e| e.to_string())
                 .and_then(|p| crate::render::paint_png::encode(&p).map_err(|e| e.to_string()))
-                .and_then(|bytes| crate::files::write_whole(std::path::Path::new(&path), &bytes))
-                .map(|()| {
-                    let shown = std::path::absolute(&path)
-                        .map_or(path.clone(), |p| p.display().to_string());
-                    format!("saved {shown} ({w}x{h})")
-                });
-            let _ = tx.send(result);
+                .map_err(WriteError::Failed)
+                .and_then(|bytes| write_file(&path, &bytes, overwrite, ctl));
+            (path, [w, h], result)
         });
+        match job {
+            Ok(job) => self.job = Some(job),
+            Err(e) => self.message = Some((false, e)),
+        }
     }
 
-    /// Picks up a finished export and shows its outcome.
-    pub fn poll(&mut self, ui: &mut Ui) {
-        if let Some(rx) = &self.pending {
-            match rx.try_recv() {
-                Ok(r) => {
-                    self.message = Some(match r {
-                        Ok(t) => (true, t),
-                        Err(t) => (false, t),
-                    });
-                    self.pending = None;
+    /// Picks up a finished export and shows its outcome, or the job's line while it runs.
+    pub fn poll(&mut self, ui: &mut Ui, now: Instant, intents: &mut Vec<Intent>) {
+        self.file.confirm_line(ui);
+        if let Some(job) = &self.job {
+            match job.poll(now) {
+                JobPoll::Running => {
+                    if job_line(ui, job) {
+                        job.cancel();
+                        self.message = Some((false, format!("cancelled: {}", job.what())));
+                        self.job = None;
+                    }
                 }
-                Err(crossbeam_channel::TryRecvError::Empty) => {
-                    ui.ctx()
-                        .request_repaint_after(std::time::Duration::from_millis(50));
+                JobPoll::Done((path, [w, h], result)) => {
+                    self.job = None;
+                    match result {
+                        Ok(()) => {
+                            let at = clock_utc();
+                            self.message =
+                                Some((true, format!("saved {} ({w}x{h}) at {at}", path.display())));
+                            intents.push(Intent::FileUsed(path));
+                        }
+                        Err(WriteError::Exists(what)) => self.file.exists(SavePng, path, what),
+                        Err(e) => self.message = Some((false, e.sentence(&path))),
+                    }
                 }
-                Err(crossbeam_channel::TryRecvError::Disconnected) => {
-                    self.message = Some((false, "the export stopped unexpectedly".into()));
-                    self.pending = None;
+                lost => {
+                    self.message = job_lost(&lost, job.what()).map(|t| (false, t));
+                    self.job = None;
                 }
             }
         }
-        if self.pending.is_some() {
-            ui.label("exporting...");
-        } else if let Some((ok, text)) = &self.message {
+        if let Some((ok, text)) = &self.message {
             let colour = if *ok {
                 ui.visuals().text_color()
             } else {

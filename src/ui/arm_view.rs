@@ -99,6 +99,7 @@ impl ArmView {
         &mut self,
         ui: &mut Ui,
         pendant: &Pendant,
+        folder: &std::path::Path,
         now: Instant,
         intents: &mut Vec<Intent>,
     ) {
@@ -128,7 +129,7 @@ impl ArmView {
         };
         let scene = build_scene(&input);
         let palette = Palette::for_theme(ui.visuals().dark_mode);
-        self.toolbar(ui, &scene, &palette);
+        self.toolbar(ui, &scene, &palette, folder, now, intents);
         let readout_h = 3.0 * ui.text_style_height(&egui::TextStyle::Body) + 10.0;
         let avail = ui.available_rect_before_wrap();
         let rect = egui::Rect::from_min_max(
@@ -151,7 +152,15 @@ impl ArmView {
         self.scene = Some(scene);
     }
 
-    fn toolbar(&mut self, ui: &mut Ui, scene: &Scene, palette: &Palette) {
+    fn toolbar(
+        &mut self,
+        ui: &mut Ui,
+        scene: &Scene,
+        palette: &Palette,
+        folder: &std::path::Path,
+        now: Instant,
+        intents: &mut Vec<Intent>,
+    ) {
         ui.horizontal_wrapped(|ui| {
             if ui
                 .button("Fit")
@@ -168,10 +177,11 @@ impl ArmView {
                 [v.size[0].round() as u32, v.size[1].round() as u32]
             });
             if let Some(view) = self.view {
-                self.export.controls(ui, scene, palette, &view, pane);
+                let shown = (scene, palette, &view, pane);
+                self.export.controls(ui, shown, folder, now);
             }
         });
-        self.export.poll(ui);
+        self.export.poll(ui, now, intents);
     }
 
     fn interact(

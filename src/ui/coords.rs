@@ -2,25 +2,70 @@
 //! cancel, retry of unread records), the draft's undo, redo and diff, files, the
 //! simulator, and the plain word on writing. The table itself is in `coords_table.rs`.
 
+use std::path::{Path, PathBuf};
 use std::time::{Instant, SystemTime};
 
-use egui::{Button, ProgressBar, RichText, TextEdit, Ui};
+use egui::{Button, ProgressBar, RichText, Ui};
 
 use super::coords_table::{CellEdit, table};
-use super::widgets::{AMBER, GREEN, RED, reserved_line};
+use super::file_field::{Browse, FieldSpec, FileAsk, FileField, Purpose, job_line, job_lost};
+use super::widgets::{AMBER, GREEN, RED, clock_utc, reserved_line};
+use crate::files::job::{Job, JobPoll};
+use crate::files::{DOCUMENT_LIMIT, WriteError, read_bounded_in, write_file};
 use crate::pendant::coords::file::TableFormat;
 use crate::pendant::coords::intent::coord_kind;
 use crate::pendant::coords::{CoordsIntent, FileOutcome, diff};
 use crate::pendant::{Intent, Pendant};
 use crate::robot::FrameKind;
 
-/// What the pane keeps between frames: the tab, the cell being typed, the file path.
+/// What the file field is for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum TablesFile {
+    Import,
+    Export,
+}
+
+static FILE_FIELD: FieldSpec<TablesFile> = FieldSpec {
+    label: "File",
+    hint: "tables.csv, .json or .toml",
+    width: 200.0,
+    browse: &[
+        Browse {
+            label: "Import a file...",
+            action: TablesFile::Import,
+            purpose: Purpose::Open,
+        },
+        Browse {
+            label: "Export the drafts as...",
+            action: TablesFile::Export,
+            purpose: Purpose::Save,
+        },
+    ],
+    filters: &[("Coordinate tables", &["csv", "json", "toml"])],
+};
+
+/// A finished file job.
+enum TablesDone {
+    Read {
+        path: PathBuf,
+        format: TableFormat,
+        bytes: Result<Vec<u8>, String>,
+    },
+    Written {
+        path: PathBuf,
+        result: Result<(), WriteError>,
+    },
+}
+
+/// What the pane keeps between frames: the tab, the cell being typed, the file and its
+/// job.
 pub struct CoordsPanel {
     pub(super) kind: FrameKind,
     pub(super) edit: Option<CellEdit>,
     pub(super) show_diff: bool,
     pub(super) only_differences: bool,
-    path: String,
+    file: FileField<TablesFile>,
+    job: Option<Job<TablesDone>>,
     write_note: bool,
 }
 
@@ -31,7 +76,8 @@ impl Default for CoordsPanel {
             edit: None,
             show_diff: false,
             only_differences: false,
-            path: String::new(),
+            file: FileField::new(&FILE_FIELD, ""),
+            job: None,
             write_note: false,
         }
     }
@@ -40,25 +86,30 @@ impl Default for CoordsPanel {
 /// `HH:MM:SS UTC` of an instant in the past.
 fn wall_clock(at: Instant, now: Instant) -> String {
     let ago = now.saturating_duration_since(at);
-    let secs = SystemTime::now()
+    let at = SystemTime::now()
         .checked_sub(ago)
-        .and_then(|t| t.duration_since(SystemTime::UNIX_EPOCH).ok())
-        .map_or(0, |d| d.as_secs());
-    let day = secs % 86_400;
-    format!(
-        "{:02}:{:02}:{:02} UTC",
-        day / 3600,
-        day % 3600 / 60,
-        day % 60
-    )
+        .unwrap_or(SystemTime::UNIX_EPOCH);
+    super::widgets::utc_time(at)
 }
 
 impl CoordsPanel {
-    pub fn show(&mut self, ui: &mut Ui, pendant: &Pendant, now: Instant, out: &mut Vec<Intent>) {
+    pub fn show(
+        &mut self,
+        ui: &mut Ui,
+        pendant: &Pendant,
+        folder: &Path,
+        now: Instant,
+        out: &mut Vec<Intent>,
+    ) {
+        let mut from_files = Vec::new();
+        {
+            let mut ask = |i: CoordsIntent| out.push(Intent::Coords(i));
+            self.tabs_and_reading(ui, pendant, now, &mut ask);
+            self.draft_bar(ui, pendant, &mut ask);
+        }
+        self.files(ui, pendant, folder, now, &mut |i| from_files.push(i));
+        out.append(&mut from_files);
         let mut ask = |i: CoordsIntent| out.push(Intent::Coords(i));
-        self.tabs_and_reading(ui, pendant, now, &mut ask);
-        self.draft_bar(ui, pendant, &mut ask);
-        self.files(ui, pendant, &mut ask);
         // The refusal and the file result in lines that are always there: the table
         // below never jumps when one appears.
         let refused = pendant.coords.refused.as_ref().map(|r| r.sentence());
@@ -200,36 +251,53 @@ impl CoordsPanel {
         });
     }
 
-    fn files(&mut self, ui: &mut Ui, pendant: &Pendant, ask: &mut impl FnMut(CoordsIntent)) {
+    fn files(
+        &mut self,
+        ui: &mut Ui,
+        pendant: &Pendant,
+        folder: &Path,
+        now: Instant,
+        ask: &mut impl FnMut(Intent),
+    ) {
+        self.poll_job(now, ask);
+        let idle = self.job.is_none();
         ui.horizontal_wrapped(|ui| {
-            let label = ui.label("File");
-            ui.add(
-                TextEdit::singleline(&mut self.path)
-                    .desired_width(200.0)
-                    .hint_text("tables.csv, .json or .toml"),
-            )
-            .labelled_by(label.id)
-            .on_hover_text(
-                ".csv, .json, or .toml: the simulator's coordinate file (xsel-sim --coords)",
-            );
-            if ui.button("Import").clicked() {
-                ask(import(&self.path));
-                self.edit = None;
+            ui.add_enabled_ui(idle, |ui| self.file.show(ui, folder, now))
+                .response
+                .on_hover_text(
+                    ".csv, .json, or .toml: the simulator's coordinate file (xsel-sim --coords)",
+                );
+            if ui.add_enabled(idle, Button::new("Import")).clicked() {
+                self.file.ask(TablesFile::Import, folder);
             }
-            if ui.button("Export").clicked() {
-                ask(export(&self.path, pendant));
+            if ui.add_enabled(idle, Button::new("Export")).clicked() {
+                self.file.ask(TablesFile::Export, folder);
             }
             if ui
                 .button("Try on simulator")
                 .on_hover_text("The built-in simulator answers 2A4H with the draft from now on")
                 .clicked()
             {
-                ask(CoordsIntent::TryOnSimulator);
+                ask(Intent::Coords(CoordsIntent::TryOnSimulator));
             }
             if ui.button("Write to controller?").clicked() {
                 self.write_note = !self.write_note;
             }
         });
+        match self.file.take() {
+            Some(Ok(file)) => self.start_job(file, pendant, now, ask),
+            Some(Err(why)) => ask(Intent::Coords(CoordsIntent::FileRefused(why))),
+            None => {}
+        }
+        self.file.confirm_line(ui);
+        if let Some(job) = &self.job
+            && job_line(ui, job)
+        {
+            job.cancel();
+            let text = format!("cancelled: {}; nothing changed", job.what());
+            ask(Intent::Coords(CoordsIntent::FileRefused(text)));
+            self.job = None;
+        }
         if self.write_note {
             ui.label(
                 RichText::new(
@@ -250,31 +318,97 @@ impl CoordsPanel {
     }
 }
 
-// File reads and writes here still run on the UI thread (bounded and moved to jobs by
-// the files issue); the pendant is handed what happened.
-fn export(path: &str, pendant: &Pendant) -> CoordsIntent {
-    let path = path.trim();
-    let Some(format) = TableFormat::of_path(path) else {
-        return CoordsIntent::FileNotNamed;
-    };
-    let result = crate::files::write_whole(
-        std::path::Path::new(path),
-        pendant.export_tables(format).as_bytes(),
-    );
-    CoordsIntent::Exported {
-        path: path.to_owned(),
-        result,
+impl CoordsPanel {
+    /// Starts an Import (read off the UI thread, handed to the pendant) or an Export
+    /// (the drafts as the name's format, written off the UI thread).
+    fn start_job(
+        &mut self,
+        file: FileAsk<TablesFile>,
+        pendant: &Pendant,
+        now: Instant,
+        ask: &mut impl FnMut(Intent),
+    ) {
+        let FileAsk {
+            action,
+            path,
+            overwrite,
+        } = file;
+        let Some(format) = TableFormat::of_path(&path.to_string_lossy()) else {
+            return ask(Intent::Coords(CoordsIntent::FileNotNamed));
+        };
+        let shown = path.display().to_string();
+        let job = match action {
+            TablesFile::Import => {
+                self.edit = None;
+                Job::spawn_opening(format!("reading {shown}"), now, move |ctl| {
+                    let bytes = read_bounded_in(&path, DOCUMENT_LIMIT, ctl);
+                    TablesDone::Read {
+                        path,
+                        format,
+                        bytes,
+                    }
+                })
+            }
+            TablesFile::Export => {
+                let text = pendant.export_tables(format);
+                Job::spawn_opening(format!("writing {shown}"), now, move |ctl| {
+                    let result = write_file(&path, text.as_bytes(), overwrite, ctl);
+                    TablesDone::Written { path, result }
+                })
+            }
+        };
+        match job {
+            Ok(job) => self.job = Some(job),
+            Err(e) => ask(Intent::Coords(CoordsIntent::FileRefused(e))),
+        }
     }
-}
 
-fn import(path: &str) -> CoordsIntent {
-    let path = path.trim();
-    let Some(format) = TableFormat::of_path(path) else {
-        return CoordsIntent::FileNotNamed;
-    };
-    CoordsIntent::Import {
-        path: path.to_owned(),
-        format,
-        bytes: crate::files::read_bounded(std::path::Path::new(path), crate::files::DOCUMENT_LIMIT),
+    /// Hands a finished job to the pendant, or asks before replacing a file.
+    fn poll_job(&mut self, now: Instant, ask: &mut impl FnMut(Intent)) {
+        let Some(job) = &self.job else { return };
+        let done = match job.poll(now) {
+            JobPoll::Running => return,
+            JobPoll::Done(done) => done,
+            lost => {
+                if let Some(text) = job_lost(&lost, job.what()) {
+                    ask(Intent::Coords(CoordsIntent::FileRefused(text)));
+                }
+                self.job = None;
+                return;
+            }
+        };
+        self.job = None;
+        match done {
+            TablesDone::Read {
+                path,
+                format,
+                bytes,
+            } => {
+                if bytes.is_ok() {
+                    ask(Intent::FileUsed(path.clone()));
+                }
+                ask(Intent::Coords(CoordsIntent::Import {
+                    path: path.display().to_string(),
+                    format,
+                    bytes,
+                }));
+            }
+            TablesDone::Written { path, result } => {
+                let result = match result {
+                    Err(WriteError::Exists(what)) => {
+                        return self.file.exists(TablesFile::Export, path, what);
+                    }
+                    Err(e) => Err(e.sentence(&path)),
+                    Ok(()) => {
+                        ask(Intent::FileUsed(path.clone()));
+                        Ok(())
+                    }
+                };
+                ask(Intent::Coords(CoordsIntent::Exported {
+                    path: format!("{} at {}", path.display(), clock_utc()),
+                    result,
+                }));
+            }
+        }
     }
 }

@@ -114,6 +114,8 @@ pub struct Tabs<'a> {
     pub coords: &'a mut CoordsPanel,
     pub frame_log: &'a mut FrameLogPanel,
     pub simulator: &'a mut SimulatorPanel,
+    /// The folder a file name typed without one is in.
+    pub folder: &'a std::path::Path,
     /// The built-in simulator's operator states, when the line is the built-in one.
     pub sim_state: Option<SimState>,
     /// The simulator action clicked, applied after drawing.
@@ -131,7 +133,9 @@ impl Behavior<Tab> for Tabs<'_> {
         let mut ui = ui.new_child(egui::UiBuilder::new().max_rect(ui.max_rect().shrink(6.0)));
         let ui = &mut ui;
         match pane {
-            Tab::Arm => self.arm.show(ui, self.pendant, self.now, self.intents),
+            Tab::Arm => self
+                .arm
+                .show(ui, self.pendant, self.folder, self.now, self.intents),
             Tab::Position => readout::show(ui, self.pendant, self.now),
             Tab::Status => {
                 egui::ScrollArea::vertical().show(ui, |ui| {
@@ -140,12 +144,18 @@ impl Behavior<Tab> for Tabs<'_> {
             }
             Tab::Teach => {
                 egui::ScrollArea::vertical().show(ui, |ui| {
-                    self.teach.show(ui, self.pendant, self.now, self.intents)
+                    self.teach
+                        .show(ui, self.pendant, self.folder, self.now, self.intents)
                 });
             }
             Tab::Messages => messages::show(ui, self.pendant, self.started),
-            Tab::Coords => self.coords.show(ui, self.pendant, self.now, self.intents),
-            Tab::FrameLog => self.frame_log.show(ui, self.pendant, self.intents),
+            Tab::Coords => self
+                .coords
+                .show(ui, self.pendant, self.folder, self.now, self.intents),
+            Tab::FrameLog => {
+                self.frame_log
+                    .show(ui, self.pendant, self.folder, self.now, self.intents)
+            }
             Tab::Simulator => match &self.sim_state {
                 Some(state) => {
                     if let Some(action) = self.simulator.show(ui, state) {

@@ -9,6 +9,7 @@ mod connection;
 mod coords;
 mod coords_table;
 mod detect;
+mod file_field;
 pub mod frame_log;
 mod jog;
 mod keys;

@@ -1,25 +1,84 @@
 //! The teach list: record the current pose under a name, go there (2D4H), rename,
 //! reorder, delete, and save or load the list as CSV or JSON.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use egui::{Button, RichText, TextEdit, Ui};
+use egui_extras::{Column as Col, TableBuilder};
 
-use super::widgets::{AMBER, RED, reserved_line};
+use super::file_field::{Browse, FieldSpec, FileAsk, FileField, Purpose, job_line, job_lost};
+use super::widgets::{AMBER, RED, clock_utc, reserved_line};
+use crate::files::job::{Job, JobPoll};
+use crate::files::{DOCUMENT_LIMIT, WriteError, read_bounded_in, write_file};
 use crate::pendant::teach::{TeachList, arm_word};
 use crate::pendant::{Intent, Level, Pendant};
 
-/// The panel's own state: the name being typed, the selected row, the file path.
-#[derive(Default)]
+const ROW_HEIGHT: f32 = 22.0;
+
+/// What the file field is for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum TeachFile {
+    Save,
+    Load,
+}
+
+static FILE_FIELD: FieldSpec<TeachFile> = FieldSpec {
+    label: "File",
+    hint: "points.csv or .json",
+    width: 170.0,
+    browse: &[
+        Browse {
+            label: "Load a list...",
+            action: TeachFile::Load,
+            purpose: Purpose::Open,
+        },
+        Browse {
+            label: "Save the list as...",
+            action: TeachFile::Save,
+            purpose: Purpose::Save,
+        },
+    ],
+    filters: &[("Teach list", &["csv", "json"])],
+};
+
+/// A finished file job: what was asked and what came of it.
+enum TeachDone {
+    Saved {
+        path: PathBuf,
+        points: usize,
+        result: Result<(), WriteError>,
+    },
+    Read {
+        path: PathBuf,
+        read: Result<TeachList, String>,
+    },
+}
+
+/// The panel's own state: the name being typed, the selected row, the file and its job.
 pub struct TeachPanel {
     name: String,
     selected: Option<usize>,
     rename: String,
-    path: String,
+    file: FileField<TeachFile>,
+    job: Option<Job<TeachDone>>,
     file_message: Option<(bool, String)>,
     /// The row whose Go is under the pointer (the arm view shows its ghost).
     pub hovered_go: Option<usize>,
+}
+
+impl Default for TeachPanel {
+    fn default() -> Self {
+        Self {
+            name: String::new(),
+            selected: None,
+            rename: String::new(),
+            file: FileField::new(&FILE_FIELD, ""),
+            job: None,
+            file_message: None,
+            hovered_go: None,
+        }
+    }
 }
 
 impl TeachPanel {
@@ -28,6 +87,7 @@ impl TeachPanel {
         &mut self,
         ui: &mut Ui,
         pendant: &Pendant,
+        folder: &Path,
         now: Instant,
         intents: &mut Vec<Intent>,
     ) {
@@ -52,7 +112,7 @@ impl TeachPanel {
         self.rows(ui, pendant, now, intents);
         self.actions(ui, pendant, intents);
         ui.separator();
-        self.files(ui, pendant, intents);
+        self.files(ui, pendant, folder, now, intents);
     }
 
     fn rows(&mut self, ui: &mut Ui, pendant: &Pendant, now: Instant, intents: &mut Vec<Intent>) {
@@ -70,41 +130,68 @@ impl TeachPanel {
             ui.label("No points taught yet.");
             return;
         }
-        egui::ScrollArea::vertical()
-            .max_height(220.0)
+        // Only the rows in sight are laid out: 10,000 points cost what 10 do. A pane too
+        // narrow for every column scrolls sideways, header and rows together.
+        // Solid scroll bars here: a floating one would lie over the last row.
+        let scroll = ui.spacing().scroll.clone();
+        ui.spacing_mut().scroll = egui::style::ScrollStyle::solid();
+        egui::ScrollArea::horizontal()
+            .id_salt("teach-list-x")
             .show(ui, |ui| {
-                egui::Grid::new("teach-list")
+                TableBuilder::new(ui)
+                    .id_salt("teach-list")
                     .striped(true)
-                    .num_columns(5)
-                    .show(ui, |ui| {
-                        for h in ["", "Name", "X / Y / Z / R (work)", "Arm", "Work / Tool"] {
-                            ui.label(RichText::new(h).strong());
+                    .max_scroll_height(220.0)
+                    .cell_layout(egui::Layout::left_to_right(egui::Align::Center))
+                    .column(Col::exact(34.0))
+                    .column(Col::initial(90.0).at_least(60.0))
+                    .column(Col::initial(190.0).at_least(150.0))
+                    .column(Col::initial(44.0))
+                    .column(Col::remainder().at_least(60.0))
+                    .header(ROW_HEIGHT, |mut h| {
+                        for title in ["", "Name", "X / Y / Z / R (work)", "Arm", "Work / Tool"] {
+                            h.col(|ui| {
+                                ui.strong(title);
+                            });
                         }
-                        ui.end_row();
-                        for (i, p) in list.iter().enumerate() {
-                            let b = ui
-                                .add_enabled(ready.is_ok(), Button::new("Go"))
-                                .on_hover_text(format!("Go to \"{}\": {how}", p.name))
-                                .on_disabled_hover_text(&why);
-                            if b.hovered() {
-                                self.hovered_go = Some(i);
-                            }
-                            if b.clicked() {
-                                go = Some(i);
-                            }
-                            let selected = self.selected == Some(i);
-                            if ui.selectable_label(selected, &p.name).clicked() {
-                                self.selected = Some(i);
-                                self.rename = p.name.clone();
-                            }
-                            let [x, y, z, r] = p.pose.map(|v| f64::from(v) / 1000.0);
-                            ui.monospace(format!("{x:.3} / {y:.3} / {z:.3} / {r:.3}"));
-                            ui.label(arm_word(p.arm));
-                            ui.label(format!("{} / {}", p.work, p.tool));
-                            ui.end_row();
-                        }
+                    })
+                    .body(|body| {
+                        body.rows(ROW_HEIGHT, list.len(), |mut row| {
+                            let i = row.index();
+                            let Some(p) = list.get(i) else { return };
+                            row.col(|ui| {
+                                let b = ui
+                                    .add_enabled(ready.is_ok(), Button::new("Go"))
+                                    .on_hover_text(format!("Go to \"{}\": {how}", p.name))
+                                    .on_disabled_hover_text(&why);
+                                if b.hovered() {
+                                    self.hovered_go = Some(i);
+                                }
+                                if b.clicked() {
+                                    go = Some(i);
+                                }
+                            });
+                            row.col(|ui| {
+                                let selected = self.selected == Some(i);
+                                if ui.selectable_label(selected, &p.name).clicked() {
+                                    self.selected = Some(i);
+                                    self.rename = p.name.clone();
+                                }
+                            });
+                            row.col(|ui| {
+                                let [x, y, z, r] = p.pose.map(|v| f64::from(v) / 1000.0);
+                                ui.monospace(format!("{x:.3} / {y:.3} / {z:.3} / {r:.3}"));
+                            });
+                            row.col(|ui| {
+                                ui.label(arm_word(p.arm));
+                            });
+                            row.col(|ui| {
+                                ui.label(format!("{} / {}", p.work, p.tool));
+                            });
+                        });
                     });
             });
+        ui.spacing_mut().scroll = scroll;
         if let Some(i) = go {
             intents.push(Intent::TeachGo(i));
         }
@@ -152,31 +239,33 @@ impl TeachPanel {
         });
     }
 
-    fn files(&mut self, ui: &mut Ui, pendant: &Pendant, intents: &mut Vec<Intent>) {
-        ui.horizontal(|ui| {
-            let label = ui.label("File");
-            ui.add(
-                TextEdit::singleline(&mut self.path)
-                    .desired_width(170.0)
-                    .hint_text("points.csv or .json"),
-            )
-            .labelled_by(label.id);
+    fn files(
+        &mut self,
+        ui: &mut Ui,
+        pendant: &Pendant,
+        folder: &Path,
+        now: Instant,
+        intents: &mut Vec<Intent>,
+    ) {
+        self.poll_job(now, intents);
+        let idle = self.job.is_none();
+        ui.horizontal_wrapped(|ui| {
+            ui.add_enabled_ui(idle, |ui| self.file.show(ui, folder, now));
         });
         ui.horizontal(|ui| {
-            if ui.button("Save").clicked() {
-                self.file_message = Some(save(&self.path, pendant));
+            if ui.add_enabled(idle, Button::new("Save")).clicked() {
+                self.file.ask(TeachFile::Save, folder);
             }
             let waiting = pendant.teach.pending().is_some();
             if ui
-                .add_enabled(!waiting, Button::new("Load"))
+                .add_enabled(idle && !waiting, Button::new("Load"))
                 .on_hover_text(
                     "Reads a list; it replaces this one only when you say so. A file with \
                      an error or no points changes nothing",
                 )
                 .clicked()
             {
-                self.file_message = None;
-                intents.push(load(&self.path));
+                self.file.ask(TeachFile::Load, folder);
             }
             if let Some((path, n)) = pendant.teach.undoable_load()
                 && ui
@@ -190,6 +279,20 @@ impl TeachPanel {
                 self.selected = None;
             }
         });
+        match self.file.take() {
+            Some(Ok(ask)) => self.start_job(ask, pendant, now),
+            Some(Err(why)) => self.file_message = Some((false, why)),
+            None => {}
+        }
+        self.file.confirm_line(ui);
+        if let Some(job) = &self.job
+            && job_line(ui, job)
+        {
+            job.cancel();
+            self.file_message =
+                Some((false, format!("cancelled: {}; nothing changed", job.what())));
+            self.job = None;
+        }
         if let Some(p) = pendant.teach.pending() {
             ui.label(
                 RichText::new(format!(
@@ -221,49 +324,103 @@ impl TeachPanel {
     }
 }
 
-fn is_json(path: &str) -> bool {
-    Path::new(path)
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("json"))
-}
-
-/// Writes the list; the message says where, or why not.
-fn save(path: &str, pendant: &Pendant) -> (bool, String) {
-    let path = path.trim();
-    if path.is_empty() {
-        return (false, "enter a file name first".into());
+impl TeachPanel {
+    /// Starts the job a file action asks for: the list written (as CSV or JSON by the
+    /// name's extension) or a file read and parsed, off the UI thread.
+    fn start_job(&mut self, ask: FileAsk<TeachFile>, pendant: &Pendant, now: Instant) {
+        self.file_message = None;
+        let FileAsk {
+            action,
+            path,
+            overwrite,
+        } = ask;
+        let shown = path.display().to_string();
+        let job = match action {
+            TeachFile::Save => {
+                let list = pendant.teach.list().clone();
+                Job::spawn_opening(format!("saving {shown}"), now, move |ctl| {
+                    let text = if is_json(&path) {
+                        list.to_json()
+                    } else {
+                        list.to_csv()
+                    };
+                    let result = write_file(&path, text.as_bytes(), overwrite, ctl);
+                    TeachDone::Saved {
+                        path,
+                        points: list.len(),
+                        result,
+                    }
+                })
+            }
+            TeachFile::Load => Job::spawn_opening(format!("reading {shown}"), now, move |ctl| {
+                let read = read_bounded_in(&path, DOCUMENT_LIMIT, ctl).and_then(|bytes| {
+                    let list = if is_json(&path) {
+                        TeachList::from_json_bytes(&bytes)
+                    } else {
+                        TeachList::from_csv_bytes(&bytes)
+                    };
+                    list.map_err(|e| format!("{}: {e}", path.display()))
+                });
+                TeachDone::Read { path, read }
+            }),
+        };
+        match job {
+            Ok(job) => self.job = Some(job),
+            Err(e) => self.file_message = Some((false, e)),
+        }
     }
-    let list = pendant.teach.list();
-    let text = if is_json(path) {
-        list.to_json()
-    } else {
-        list.to_csv()
-    };
-    match crate::files::write_whole(Path::new(path), text.as_bytes()) {
-        Ok(()) => (true, format!("saved {} points to {path}", list.len())),
-        Err(e) => (false, e),
-    }
-}
 
-/// Reads a list (a regular file, bounded in size; still on the UI thread, bounded) and
-/// hands the pendant its points or why not.
-fn load(path: &str) -> Intent {
-    let path = path.trim().to_owned();
-    let read = if path.is_empty() {
-        Err("enter a file name first".to_owned())
-    } else {
-        crate::files::read_bounded(Path::new(&path), crate::files::DOCUMENT_LIMIT).and_then(
-            |bytes| {
-                let list = if is_json(&path) {
-                    TeachList::from_json_bytes(&bytes)
-                } else {
-                    TeachList::from_csv_bytes(&bytes)
-                };
-                list.map_err(|e| format!("{path}: {e}"))
+    /// Takes a finished job's result: a save said (or asked to replace), a read handed
+    /// to the pendant.
+    fn poll_job(&mut self, now: Instant, intents: &mut Vec<Intent>) {
+        let Some(job) = &self.job else { return };
+        let done = match job.poll(now) {
+            JobPoll::Running => return,
+            JobPoll::Done(done) => done,
+            lost => {
+                self.file_message = job_lost(&lost, job.what()).map(|t| (false, t));
+                self.job = None;
+                return;
+            }
+        };
+        self.job = None;
+        match done {
+            TeachDone::Saved {
+                path,
+                points,
+                result,
+            } => match result {
+                Ok(()) => {
+                    let points = if points == 1 {
+                        "1 point".to_owned()
+                    } else {
+                        format!("{points} points")
+                    };
+                    self.file_message = Some((
+                        true,
+                        format!("saved {points} to {} at {}", path.display(), clock_utc()),
+                    ));
+                    intents.push(Intent::FileUsed(path));
+                }
+                Err(WriteError::Exists(what)) => self.file.exists(TeachFile::Save, path, what),
+                Err(e) => self.file_message = Some((false, e.sentence(&path))),
             },
-        )
-    };
-    Intent::TeachLoaded { path, read }
+            TeachDone::Read { path, read } => {
+                if read.is_ok() {
+                    intents.push(Intent::FileUsed(path.clone()));
+                }
+                intents.push(Intent::TeachLoaded {
+                    path: path.display().to_string(),
+                    read,
+                });
+            }
+        }
+    }
+}
+
+fn is_json(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"))
 }
 
 /// How a Go moves, said before it is pressed: 2D4H, PTP or CP, the speed sent.

@@ -53,3 +53,22 @@ pub fn reserved_line(ui: &mut Ui, text: Option<(Color32, &str)>, hover: Option<&
         resp.on_hover_text(hover);
     }
 }
+
+/// `HH:MM:SS UTC` of a wall-clock time (the window has no time-zone table).
+pub fn utc_time(t: std::time::SystemTime) -> String {
+    let secs = t
+        .duration_since(std::time::SystemTime::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    let day = secs % 86_400;
+    format!(
+        "{:02}:{:02}:{:02} UTC",
+        day / 3600,
+        day % 3600 / 60,
+        day % 60
+    )
+}
+
+/// Now, as `HH:MM:SS UTC`: when a file was written.
+pub fn clock_utc() -> String {
+    utc_time(std::time::SystemTime::now())
+}

@@ -1,6 +1,7 @@
 //! The settings and the operator's work in files of their own: the settings, the teach
 //! list and the coordinate-table drafts, read back at start and written after every
-//! change (see `files::saved`); what happens is said in Messages.
+//! change as jobs off the UI thread (see `files::saved`), and flushed at exit; what
+//! happens is said in Messages.
 
 use std::path::Path;
 use std::time::Instant;
@@ -113,23 +114,8 @@ impl WorkFiles {
     /// Writes what changed since it was last written (or retries a failed write).
     pub fn autosave(&mut self, pendant: &mut Pendant, now: Instant) {
         let mut news = Vec::new();
-        if let Some(file) = &mut self.drafts {
-            let coords = &pendant.coords;
-            news.extend(file.save(coords.revision(), now, || {
-                serde_json::to_vec(&coords.saved()).unwrap_or_default()
-            }));
-        }
-        if let Some(file) = &mut self.teach {
-            let teach = &pendant.teach;
-            news.extend(file.save(teach.revision(), now, || {
-                teach.list().to_json().into_bytes()
-            }));
-        }
-        if let Some(file) = &mut self.settings {
-            let settings = &pendant.settings;
-            news.extend(file.save(settings_revision(settings), now, || {
-                serde_json::to_vec_pretty(settings).unwrap_or_default()
-            }));
+        for (file, revision, contents) in self.with_contents(pendant) {
+            news.extend(file.save(revision, now, contents));
         }
         for n in news {
             match n {
@@ -138,7 +124,43 @@ impl WorkFiles {
             }
         }
     }
+
+    /// At exit: waits a moment for writes under way and writes what is still unsaved,
+    /// so nothing the operator did is left in memory only.
+    pub fn flush(&mut self, pendant: &Pendant) {
+        const LIMIT: std::time::Duration = std::time::Duration::from_secs(2);
+        for (file, revision, contents) in self.with_contents(pendant) {
+            file.flush(revision, LIMIT, contents);
+        }
+    }
+
+    /// Each file with the revision it should hold and how to write that revision.
+    fn with_contents<'a>(
+        &'a mut self,
+        pendant: &'a Pendant,
+    ) -> impl Iterator<Item = (&'a mut SavedFile, u64, Contents<'a>)> {
+        let coords = &pendant.coords;
+        let teach = &pendant.teach;
+        let settings = &pendant.settings;
+        let drafts: Contents<'a> =
+            Box::new(move || serde_json::to_vec(&coords.saved()).unwrap_or_default());
+        let list: Contents<'a> = Box::new(move || teach.list().to_json().into_bytes());
+        let prefs: Contents<'a> =
+            Box::new(move || serde_json::to_vec_pretty(settings).unwrap_or_default());
+        [
+            self.drafts.as_mut().map(|f| (f, coords.revision(), drafts)),
+            self.teach.as_mut().map(|f| (f, teach.revision(), list)),
+            self.settings
+                .as_mut()
+                .map(|f| (f, settings_revision(settings), prefs)),
+        ]
+        .into_iter()
+        .flatten()
+    }
 }
+
+/// How to put a file's contents together (only when it is to be written).
+type Contents<'a> = Box<dyn FnOnce() -> Vec<u8> + 'a>;
 
 /// The settings' revision: a hash of their saved form (they are small; a change of any
 /// field changes it).

@@ -66,22 +66,27 @@ pub fn show_tab(h: &mut Harness<'_, PendantApp>, title: &str) {
     h.step();
 }
 
+/// The text field with this label (a column header may have the same words).
+fn field<'h>(h: &'h Harness<'_, PendantApp>, label: &'h str) -> egui_kittest::Node<'h> {
+    h.get_by_role_and_label(egui::accesskit::Role::TextInput, label)
+}
+
 /// Focuses the field with this label and types `text` after what it holds.
 pub fn type_into(h: &mut Harness<'_, PendantApp>, label: &str, text: &str) {
-    h.get_by_label(label).focus();
+    field(h, label).focus();
     h.step();
-    h.get_by_label(label).type_text(text);
+    field(h, label).type_text(text);
     h.step();
     h.step();
 }
 
 /// Selects all of a field's text and types `text` over it.
 pub fn replace_text(h: &mut Harness<'_, PendantApp>, label: &str, text: &str) {
-    h.get_by_label(label).focus();
+    field(h, label).focus();
     h.step();
     h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::A);
     h.step();
-    h.get_by_label(label).type_text(text);
+    field(h, label).type_text(text);
     h.step();
     h.step();
 }

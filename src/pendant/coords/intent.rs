@@ -52,6 +52,9 @@ pub enum CoordsIntent {
     },
     /// Import or Export with a path that names no format the editor knows.
     FileNotNamed,
+    /// A file could not be asked for (nothing typed, a dialog that failed, a job
+    /// cancelled or given up): the sentence says why, and nothing changed.
+    FileRefused(String),
     /// The built-in simulator answers 2A4H with the drafts from now on.
     TryOnSimulator,
 }
@@ -156,6 +159,9 @@ impl Pendant {
                     // The writer's sentence names the file.
                     Err(e) => FileOutcome { ok: false, text: e },
                 });
+            }
+            CoordsIntent::FileRefused(text) => {
+                self.coords.file_result = Some(FileOutcome { ok: false, text });
             }
             CoordsIntent::FileNotNamed => {
                 self.coords.file_result = Some(FileOutcome {

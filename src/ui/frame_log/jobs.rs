@@ -1,39 +1,15 @@
-//! Work the frame log pane runs off the UI thread: filtering a whole log, saving and
-//! opening files. Each job reports once over a channel; the pane polls it every frame.
+//! Work the frame log pane runs off the UI thread as jobs (`files::job`): filtering a
+//! whole log, saving and opening files. The pane polls each job every frame.
 
-use std::fs::File;
-use std::io::{BufReader, BufWriter};
+use std::io::BufReader;
 use std::path::PathBuf;
-use std::thread;
+use std::time::Instant;
 
-use crossbeam_channel::{Receiver, bounded};
-
+use crate::files::job::{Ctl, Job};
+use crate::files::{Overwrite, Watched, WriteError, open_regular, write_file};
 use crate::pendant::frame_log::file::{read_jsonl, write_jsonl, write_text};
 use crate::pendant::frame_log::filter::Matcher;
 use crate::pendant::frame_log::{FrameLog, Snapshot};
-
-/// A job running on its own thread.
-pub struct Job<T> {
-    rx: Receiver<T>,
-}
-
-impl<T: Send + 'static> Job<T> {
-    fn spawn(name: &str, work: impl FnOnce() -> T + Send + 'static) -> Result<Job<T>, String> {
-        let (tx, rx) = bounded(1);
-        thread::Builder::new()
-            .name(name.into())
-            .spawn(move || {
-                let _ = tx.send(work());
-            })
-            .map_err(|e| format!("cannot start the {name} thread: {e}"))?;
-        Ok(Job { rx })
-    }
-
-    /// The result, once there is one.
-    pub fn poll(&self) -> Option<T> {
-        self.rx.try_recv().ok()
-    }
-}
 
 /// The rows of a snapshot that pass a filter, and where the scan ended.
 pub struct Filtered {
@@ -42,8 +18,10 @@ pub struct Filtered {
 }
 
 /// Filters a snapshot on another thread.
-pub fn filter(snapshot: Snapshot, matcher: Matcher) -> Result<Job<Filtered>, String> {
-    Job::spawn("frame-log filter", move || filter_now(&snapshot, &matcher))
+pub fn filter(snapshot: Snapshot, matcher: Matcher, now: Instant) -> Result<Job<Filtered>, String> {
+    Job::spawn("filter the frame log", now, move |_| {
+        filter_now(&snapshot, &matcher)
+    })
 }
 
 /// Filters a snapshot here (the thread's work; benches time it).
@@ -66,45 +44,75 @@ pub enum Format {
     JsonLines,
 }
 
-/// Saves rows (all of the snapshot, or only `only`) to `path`; says how many.
+/// A finished save: the path, and how many rows were written or why none were.
+pub struct Saved {
+    pub path: PathBuf,
+    pub format: Format,
+    pub result: Result<u64, WriteError>,
+}
+
+/// Saves rows (all of the snapshot, or only `only`) to `path`, whole (a new file renamed
+/// into place: a full disk leaves the old file as it was), asking first before replacing.
 pub fn save(
     snapshot: Snapshot,
     only: Option<Vec<u64>>,
     format: Format,
     path: PathBuf,
-) -> Result<Job<Result<String, String>>, String> {
-    // A pipe or a device would block the job for good: refused before it starts.
-    crate::files::check_target(&path)?;
-    Job::spawn("frame-log save", move || {
-        let file =
-            File::create(&path).map_err(|e| format!("cannot create {}: {e}", path.display()))?;
-        let mut out = BufWriter::new(file);
-        let rows: Box<dyn Iterator<Item = _>> = match &only {
-            Some(seqs) => Box::new(seqs.iter().filter_map(|&s| snapshot.row(s))),
-            None => Box::new(snapshot.rows()),
-        };
-        let written = match format {
-            Format::Text => write_text(&mut out, snapshot.origin_wall, rows),
-            Format::JsonLines => write_jsonl(&mut out, snapshot.origin_wall, rows),
+    overwrite: Overwrite,
+    now: Instant,
+) -> Result<Job<Saved>, String> {
+    let what = format!("saving {}", path.display());
+    Job::spawn_opening(what, now, move |ctl| {
+        let result = save_now(&snapshot, only.as_deref(), format, &path, overwrite, ctl);
+        Saved {
+            path,
+            format,
+            result,
         }
-        .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-        Ok(format!("saved {written} rows to {}", path.display()))
     })
 }
 
-/// Opens a JSON Lines log.
-pub fn open(path: PathBuf, cap: usize) -> Result<Job<Result<FrameLog, String>>, String> {
-    // A pipe or a device would block the open, or never end: refused before the job.
-    let meta =
-        std::fs::metadata(&path).map_err(|e| format!("cannot open {}: {e}", path.display()))?;
-    if !meta.is_file() {
-        return Err(format!(
-            "{} is not a regular file (a folder, pipe or device): it is not read",
-            path.display()
-        ));
+fn save_now(
+    snapshot: &Snapshot,
+    only: Option<&[u64]>,
+    format: Format,
+    path: &std::path::Path,
+    overwrite: Overwrite,
+    ctl: &Ctl,
+) -> Result<u64, WriteError> {
+    let rows: Box<dyn Iterator<Item = _>> = match only {
+        Some(seqs) => Box::new(seqs.iter().filter_map(|&s| snapshot.row(s))),
+        None => Box::new(snapshot.rows()),
+    };
+    // The log is bounded by its cap: it is put together in memory, then written whole.
+    let mut bytes = Vec::new();
+    let written = match format {
+        Format::Text => write_text(&mut bytes, snapshot.origin_wall, rows),
+        Format::JsonLines => write_jsonl(&mut bytes, snapshot.origin_wall, rows),
     }
-    Job::spawn("frame-log open", move || {
-        let file = File::open(&path).map_err(|e| format!("cannot open {}: {e}", path.display()))?;
-        read_jsonl(BufReader::new(file), cap).map_err(|e| format!("{}: {e}", path.display()))
+    .map_err(|e| WriteError::Failed(format!("cannot write {}: {e}", path.display())))?;
+    write_file(path, &bytes, overwrite, ctl)?;
+    Ok(written)
+}
+
+/// An opened log, or why it could not be read, with its path.
+pub type Opened = (PathBuf, Result<FrameLog, String>);
+
+/// Opens a JSON Lines log (a regular file only, read with a bound per line and the
+/// log's cap), with progress and Cancel.
+pub fn open(path: PathBuf, cap: usize, now: Instant) -> Result<Job<Opened>, String> {
+    let what = format!("reading {}", path.display());
+    Job::spawn_opening(what, now, move |ctl| {
+        let read = open_regular(&path, ctl).and_then(|(file, _)| {
+            let read = read_jsonl(BufReader::new(Watched { inner: file, ctl }), cap);
+            if ctl.cancelled() {
+                return Err(format!(
+                    "reading {} was cancelled: nothing changed",
+                    path.display()
+                ));
+            }
+            read.map_err(|e| format!("{}: {e}", path.display()))
+        });
+        (path, read)
     })
 }

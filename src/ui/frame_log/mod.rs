@@ -16,7 +16,10 @@ use crate::pendant::frame_log::FrameLog;
 use crate::pendant::frame_log::filter::{DirFilter, Filter};
 use crate::pendant::{Intent, Level, Pendant};
 use crate::protocol::Columns;
-use jobs::{Filtered, Job};
+use jobs::{Filtered, Saved};
+
+use crate::files::job::{Job, JobPoll};
+use crate::ui::file_field::{FileField, job_lost};
 
 /// Rows matched per frame as new rows arrive under a filter (the rest wait a frame).
 const INCREMENT: u64 = 20_000;
@@ -80,10 +83,10 @@ pub struct FrameLogPanel {
     hovered: Option<Columns>,
     /// Rows drawn in the last frame, where (on screen) and which.
     drawn: Vec<(egui::Rect, u64)>,
-    path: String,
+    file: FileField<tools::LogFile>,
     only_filtered: bool,
-    save_job: Option<Job<Result<String, String>>>,
-    open_job: Option<Job<Result<FrameLog, String>>>,
+    save_job: Option<Job<Saved>>,
+    open_job: Option<Job<jobs::Opened>>,
     status: Option<(Level, String)>,
     raw_body: String,
     /// The filter, file and raw-frame rows: as the user chose, else shown only when the
@@ -111,7 +114,7 @@ impl Default for FrameLogPanel {
             scroll_to: None,
             hovered: None,
             drawn: Vec::new(),
-            path: "frame-log.jsonl".into(),
+            file: FileField::new(&tools::FILE_FIELD, "frame-log.jsonl"),
             only_filtered: false,
             save_job: None,
             open_job: None,
@@ -195,7 +198,7 @@ impl FrameLogPanel {
     }
 
     /// Starts, finishes and extends the filtering of the log shown.
-    fn update_filter(&mut self, pendant: &Pendant) {
+    fn update_filter(&mut self, pendant: &Pendant, now: std::time::Instant) {
         let log = self.opened.as_ref().map_or(&pendant.frame_log, |o| &o.log);
         match self.inputs.parse() {
             Ok(f) => {
@@ -210,7 +213,7 @@ impl FrameLogPanel {
             return;
         };
         if let Some((job, filter)) = &self.job
-            && let Some(done) = job.poll()
+            && let JobPoll::Done(done) = job.poll(now)
         {
             if *filter == wanted {
                 self.rows = Some(FilteredRows {
@@ -224,7 +227,7 @@ impl FrameLogPanel {
         let current = self.rows.as_ref().is_some_and(|r| r.filter == wanted);
         let running = self.job.as_ref().is_some_and(|(_, f)| *f == wanted);
         if !current && !running {
-            match jobs::filter(log.snapshot(), wanted.matcher()) {
+            match jobs::filter(log.snapshot(), wanted.matcher(), now) {
                 Ok(job) => self.job = Some((job, wanted.clone())),
                 Err(e) => self.filter_error = Some(e),
             }
@@ -257,9 +260,16 @@ impl FrameLogPanel {
         self.paused_at = None;
     }
 
-    pub fn show(&mut self, ui: &mut Ui, pendant: &Pendant, out: &mut Vec<Intent>) {
-        self.poll_files();
-        self.update_filter(pendant);
+    pub fn show(
+        &mut self,
+        ui: &mut Ui,
+        pendant: &Pendant,
+        folder: &std::path::Path,
+        now: std::time::Instant,
+        out: &mut Vec<Intent>,
+    ) {
+        self.poll_files(now, out);
+        self.update_filter(pendant, now);
         if self.job.is_some() {
             ui.ctx().request_repaint();
         }
@@ -269,7 +279,7 @@ impl FrameLogPanel {
         tools::header(self, ui, pendant, out);
         if self.tools_shown {
             tools::filter_bar(self, ui);
-            tools::file_bar(self, ui, pendant);
+            tools::file_bar(self, ui, pendant, folder, now);
             tools::raw_bar(self, ui, pendant, out);
         }
         ui.separator();
@@ -284,31 +294,80 @@ impl FrameLogPanel {
         }
     }
 
-    fn poll_files(&mut self) {
-        if let Some(done) = self.save_job.as_ref().and_then(Job::poll) {
-            self.save_job = None;
-            match done {
-                Ok(m) => self.say(Level::Info, m),
-                Err(e) => self.say(Level::Error, e),
+    /// The user cancelled the file job `what` (one runs at a time): dropped, and said.
+    fn cancel_file_job(&mut self, what: &str) {
+        if let Some(j) = self.save_job.take() {
+            j.cancel();
+        }
+        if let Some(j) = self.open_job.take() {
+            j.cancel();
+        }
+        self.say(
+            Level::Warning,
+            format!("cancelled: {what}; nothing changed"),
+        );
+    }
+
+    fn poll_files(&mut self, now: std::time::Instant, out: &mut Vec<Intent>) {
+        if let Some(job) = &self.save_job {
+            match job.poll(now) {
+                JobPoll::Running => {}
+                JobPoll::Done(Saved {
+                    path,
+                    format,
+                    result,
+                }) => {
+                    self.save_job = None;
+                    match result {
+                        Ok(n) => {
+                            let at = crate::ui::widgets::clock_utc();
+                            self.say(
+                                Level::Info,
+                                format!("saved {n} rows to {} at {at}", path.display()),
+                            );
+                            out.push(Intent::FileUsed(path));
+                        }
+                        Err(jobs_error) => match jobs_error {
+                            crate::files::WriteError::Exists(what) => {
+                                self.file.exists(tools::LogFile::Save(format), path, what);
+                            }
+                            e => self.say(Level::Error, e.sentence(&path)),
+                        },
+                    }
+                }
+                lost => {
+                    let text = job_lost(&lost, job.what()).unwrap_or_default();
+                    self.save_job = None;
+                    self.say(Level::Error, text);
+                }
             }
         }
-        if let Some(done) = self.open_job.as_ref().and_then(Job::poll) {
-            self.open_job = None;
-            match done {
-                Ok(log) => {
-                    let n = log.len();
-                    self.opened = Some(Opened {
-                        log,
-                        name: self.path.clone(),
-                    });
-                    self.reset_view();
-                    self.follow = false;
-                    self.say(
-                        Level::Info,
-                        format!("opened {} ({n} rows, read-only)", self.path),
-                    );
+        if let Some(job) = &self.open_job {
+            match job.poll(now) {
+                JobPoll::Running => {}
+                JobPoll::Done((path, read)) => {
+                    self.open_job = None;
+                    match read {
+                        Ok(log) => {
+                            let n = log.len();
+                            let name = path.display().to_string();
+                            self.opened = Some(Opened {
+                                log,
+                                name: name.clone(),
+                            });
+                            self.reset_view();
+                            self.follow = false;
+                            self.say(Level::Info, format!("opened {name} ({n} rows, read-only)"));
+                            out.push(Intent::FileUsed(path));
+                        }
+                        Err(e) => self.say(Level::Error, e),
+                    }
                 }
-                Err(e) => self.say(Level::Error, e),
+                lost => {
+                    let text = job_lost(&lost, job.what()).unwrap_or_default();
+                    self.open_job = None;
+                    self.say(Level::Error, text);
+                }
             }
         }
     }

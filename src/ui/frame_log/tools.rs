@@ -1,14 +1,17 @@
 //! The frame log pane's tool rows: counts and view switches, the filter, files, and the
 //! raw frame to send.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 use egui::{RichText, Ui};
 
 use super::FrameLogPanel;
 use super::jobs::{self, Format};
+use crate::files::Overwrite;
 use crate::pendant::frame_log::filter::DirFilter;
 use crate::pendant::{Intent, Level, Pendant};
+use crate::ui::file_field::{Browse, FieldSpec, FileAsk, Purpose, job_line};
 use crate::ui::widgets::{AMBER, level_color, reserved_line};
 
 /// Counts, pause, follow, clock, clear, and the way back from an opened file.
@@ -137,50 +140,104 @@ fn dir_name(d: DirFilter) -> &'static str {
     }
 }
 
+/// What the file field is for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LogFile {
+    Save(Format),
+    Open,
+}
+
+pub static FILE_FIELD: FieldSpec<LogFile> = FieldSpec {
+    label: "File",
+    hint: "frame-log.jsonl",
+    width: 180.0,
+    browse: &[
+        Browse {
+            label: "Open a JSON Lines log...",
+            action: LogFile::Open,
+            purpose: Purpose::Open,
+        },
+        Browse {
+            label: "Save as text...",
+            action: LogFile::Save(Format::Text),
+            purpose: Purpose::Save,
+        },
+        Browse {
+            label: "Save as JSON Lines...",
+            action: LogFile::Save(Format::JsonLines),
+            purpose: Purpose::Save,
+        },
+    ],
+    filters: &[("Frame log", &["jsonl", "txt", "log"])],
+};
+
 /// Save as text or JSON Lines (all, or the filtered rows); open a JSON Lines log.
-pub fn file_bar(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant) {
+pub fn file_bar(
+    p: &mut FrameLogPanel,
+    ui: &mut Ui,
+    pendant: &Pendant,
+    folder: &Path,
+    now: Instant,
+) {
+    let busy = p.save_job.is_some() || p.open_job.is_some();
     ui.horizontal_wrapped(|ui| {
-        let l = ui.label("File");
-        ui.add(egui::TextEdit::singleline(&mut p.path).desired_width(180.0))
-            .labelled_by(l.id);
+        ui.add_enabled_ui(!busy, |ui| p.file.show(ui, folder, now));
         ui.checkbox(&mut p.only_filtered, "filtered rows only");
-        let busy = p.save_job.is_some() || p.open_job.is_some();
-        let mut save = None;
-        if ui
-            .add_enabled(!busy, egui::Button::new("Save text"))
-            .clicked()
-        {
-            save = Some(Format::Text);
-        }
-        if ui
-            .add_enabled(!busy, egui::Button::new("Save JSONL"))
-            .clicked()
-        {
-            save = Some(Format::JsonLines);
-        }
-        if let Some(format) = save {
-            start_save(p, pendant, format);
-        }
-        if ui
-            .add_enabled(!busy, egui::Button::new("Open JSONL"))
-            .clicked()
-        {
-            let cap = pendant.frame_log.cap();
-            match jobs::open(PathBuf::from(p.path.trim()), cap) {
-                Ok(job) => p.open_job = Some(job),
-                Err(e) => p.say(Level::Error, e),
+        for (label, action) in [
+            ("Save text", LogFile::Save(Format::Text)),
+            ("Save JSONL", LogFile::Save(Format::JsonLines)),
+            ("Open JSONL", LogFile::Open),
+        ] {
+            if ui.add_enabled(!busy, egui::Button::new(label)).clicked() {
+                p.file.ask(action, folder);
             }
         }
     });
+    match p.file.take() {
+        Some(Ok(ask)) => start(p, pendant, ask, now),
+        Some(Err(why)) => p.say(Level::Warning, why),
+        None => {}
+    }
+    p.file.confirm_line(ui);
+    let cancelled = match (&p.save_job, &p.open_job) {
+        (Some(job), _) => job_line(ui, job).then(|| job.what().to_owned()),
+        (None, Some(job)) => job_line(ui, job).then(|| job.what().to_owned()),
+        (None, None) => None,
+    };
+    if let Some(what) = cancelled {
+        p.cancel_file_job(&what);
+    }
     if let Some((level, text)) = &p.status {
         ui.label(RichText::new(text).color(level_color(*level)));
     }
 }
 
-fn start_save(p: &mut FrameLogPanel, pendant: &Pendant, format: Format) {
-    if p.path.trim().is_empty() {
-        return p.say(Level::Warning, "type a file name first");
+fn start(p: &mut FrameLogPanel, pendant: &Pendant, ask: FileAsk<LogFile>, now: Instant) {
+    let FileAsk {
+        action,
+        path,
+        overwrite,
+    } = ask;
+    match action {
+        LogFile::Open => {
+            let cap = pendant.frame_log.cap();
+            match jobs::open(path, cap, now) {
+                Ok(job) => p.open_job = Some(job),
+                Err(e) => p.say(Level::Error, e),
+            }
+        }
+        LogFile::Save(format) => start_save(p, pendant, format, path, overwrite, now),
     }
+}
+
+fn start_save(
+    p: &mut FrameLogPanel,
+    pendant: &Pendant,
+    format: Format,
+    path: PathBuf,
+    overwrite: Overwrite,
+    now: Instant,
+) {
     let log = p.log(pendant);
     let only = if p.only_filtered {
         match &p.rows {
@@ -196,7 +253,7 @@ fn start_save(p: &mut FrameLogPanel, pendant: &Pendant, format: Format) {
     } else {
         None
     };
-    match jobs::save(log.snapshot(), only, format, PathBuf::from(p.path.trim())) {
+    match jobs::save(log.snapshot(), only, format, path, overwrite, now) {
         Ok(job) => p.save_job = Some(job),
         Err(e) => p.say(Level::Error, e),
     }
