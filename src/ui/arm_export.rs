@@ -7,9 +7,9 @@ use std::time::Instant;
 
 use egui::{ComboBox, RichText, Ui};
 
-use super::file_field::{Browse, FieldSpec, FileAsk, FileField, Purpose, job_line, job_lost};
+use super::file_field::{Browse, FieldSpec, FileAsk, FileField, Purpose, job_line, take_done};
 use super::widgets::clock_utc;
-use crate::files::job::{Job, JobPoll};
+use crate::files::job::Job;
 use crate::files::{WriteError, write_file};
 use crate::pendant::Intent;
 use crate::render::paint_png::PngPainter;
@@ -133,33 +133,22 @@ impl Export {
     /// Picks up a finished export and shows its outcome, or the job's line while it runs.
     pub fn poll(&mut self, ui: &mut Ui, now: Instant, intents: &mut Vec<Intent>) {
         self.file.confirm_line(ui);
-        if let Some(job) = &self.job {
-            match job.poll(now) {
-                JobPoll::Running => {
-                    if job_line(ui, job) {
-                        job.cancel();
-                        self.message = Some((false, format!("cancelled: {}", job.what())));
-                        self.job = None;
-                    }
+        if let Some(said) = job_line(ui, &mut self.job) {
+            self.message = Some((false, said));
+        }
+        match take_done(&mut self.job, now) {
+            None => {}
+            Some(Err(why)) => self.message = Some((false, why)),
+            Some(Ok((path, [w, h], result))) => match result {
+                Ok(()) => {
+                    let at = clock_utc();
+                    self.message =
+                        Some((true, format!("saved {} ({w}x{h}) at {at}", path.display())));
+                    intents.push(Intent::FileUsed(path));
                 }
-                JobPoll::Done((path, [w, h], result)) => {
-                    self.job = None;
-                    match result {
-                        Ok(()) => {
-                            let at = clock_utc();
-                            self.message =
-                                Some((true, format!("saved {} ({w}x{h}) at {at}", path.display())));
-                            intents.push(Intent::FileUsed(path));
-                        }
-                        Err(WriteError::Exists(what)) => self.file.exists(SavePng, path, what),
-                        Err(e) => self.message = Some((false, e.sentence(&path))),
-                    }
-                }
-                lost => {
-                    self.message = job_lost(&lost, job.what()).map(|t| (false, t));
-                    self.job = None;
-                }
-            }
+                Err(WriteError::Exists(what)) => self.file.exists(SavePng, path, what),
+                Err(e) => self.message = Some((false, e.sentence(&path))),
+            },
         }
         if let Some((ok, text)) = &self.message {
             let colour = if *ok {

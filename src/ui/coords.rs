@@ -8,9 +8,9 @@ use std::time::{Instant, SystemTime};
 use egui::{Button, ProgressBar, RichText, Ui};
 
 use super::coords_table::{CellEdit, table};
-use super::file_field::{Browse, FieldSpec, FileAsk, FileField, Purpose, job_line, job_lost};
+use super::file_field::{Browse, FieldSpec, FileAsk, FileField, Purpose, job_line, take_done};
 use super::widgets::{AMBER, GREEN, RED, clock_utc, reserved_line};
-use crate::files::job::{Job, JobPoll};
+use crate::files::job::Job;
 use crate::files::{DOCUMENT_LIMIT, WriteError, read_bounded_in, write_file};
 use crate::pendant::coords::file::TableFormat;
 use crate::pendant::coords::intent::coord_kind;
@@ -290,13 +290,8 @@ impl CoordsPanel {
             None => {}
         }
         self.file.confirm_line(ui);
-        if let Some(job) = &self.job
-            && job_line(ui, job)
-        {
-            job.cancel();
-            let text = format!("cancelled: {}; nothing changed", job.what());
-            ask(Intent::Coords(CoordsIntent::FileRefused(text)));
-            self.job = None;
+        if let Some(said) = job_line(ui, &mut self.job) {
+            ask(Intent::Coords(CoordsIntent::FileRefused(said)));
         }
         if self.write_note {
             ui.label(
@@ -365,19 +360,11 @@ impl CoordsPanel {
 
     /// Hands a finished job to the pendant, or asks before replacing a file.
     fn poll_job(&mut self, now: Instant, ask: &mut impl FnMut(Intent)) {
-        let Some(job) = &self.job else { return };
-        let done = match job.poll(now) {
-            JobPoll::Running => return,
-            JobPoll::Done(done) => done,
-            lost => {
-                if let Some(text) = job_lost(&lost, job.what()) {
-                    ask(Intent::Coords(CoordsIntent::FileRefused(text)));
-                }
-                self.job = None;
-                return;
-            }
+        let done = match take_done(&mut self.job, now) {
+            None => return,
+            Some(Ok(done)) => done,
+            Some(Err(why)) => return ask(Intent::Coords(CoordsIntent::FileRefused(why))),
         };
-        self.job = None;
         match done {
             TablesDone::Read {
                 path,

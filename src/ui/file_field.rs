@@ -247,8 +247,10 @@ impl FolderCache {
     }
 }
 
-/// A running job's line: what it does, how far, and Cancel (true when pressed).
-pub fn job_line<T: Send + 'static>(ui: &mut Ui, job: &Job<T>) -> bool {
+/// A running job's line: what it does, how far, and Cancel. A cancelled job is taken
+/// out of `slot`, and the sentence to say is returned.
+pub fn job_line<T: Send + 'static>(ui: &mut Ui, slot: &mut Option<Job<T>>) -> Option<String> {
+    let job = slot.as_ref()?;
     ui.ctx().request_repaint_after(Duration::from_millis(100));
     let mut cancel = false;
     ui.horizontal_wrapped(|ui| {
@@ -263,20 +265,36 @@ pub fn job_line<T: Send + 'static>(ui: &mut Ui, job: &Job<T>) -> bool {
         ui.label(format!("{}{how_far}", job.what()));
         cancel = ui.button("Cancel").clicked();
     });
-    cancel
+    if !cancel {
+        return None;
+    }
+    job.cancel();
+    let said = format!("cancelled: {}; nothing changed", job.what());
+    *slot = None;
+    Some(said)
 }
 
-/// The sentence for a job that ended without its result.
-pub fn job_lost<T>(poll: &JobPoll<T>, what: &str) -> Option<String> {
-    match poll {
-        JobPoll::OpenTimedOut => Some(format!(
-            "{what}: the file did not open within {} s (a network share or device not \
+/// A finished job's result, taken out of `slot` (which is then empty): `None` while it
+/// runs, else the result or the sentence saying why there is none.
+pub fn take_done<T: Send + 'static>(
+    slot: &mut Option<Job<T>>,
+    now: Instant,
+) -> Option<Result<T, String>> {
+    let job = slot.as_ref()?;
+    let done = match job.poll(now) {
+        JobPoll::Running => return None,
+        JobPoll::Done(done) => Ok(done),
+        JobPoll::OpenTimedOut => Err(format!(
+            "{}: the file did not open within {} s (a network share or device not \
              answering?); given up, nothing changed",
+            job.what(),
             crate::files::job::OPEN_LIMIT.as_secs()
         )),
-        JobPoll::Lost => Some(format!(
-            "{what}: the job stopped unexpectedly; nothing changed"
+        JobPoll::Lost => Err(format!(
+            "{}: the job stopped unexpectedly; nothing changed",
+            job.what()
         )),
-        _ => None,
-    }
+    };
+    *slot = None;
+    Some(done)
 }

@@ -7,9 +7,9 @@ use std::time::Instant;
 use egui::{Button, RichText, TextEdit, Ui};
 use egui_extras::{Column as Col, TableBuilder};
 
-use super::file_field::{Browse, FieldSpec, FileAsk, FileField, Purpose, job_line, job_lost};
+use super::file_field::{Browse, FieldSpec, FileAsk, FileField, Purpose, job_line, take_done};
 use super::widgets::{AMBER, RED, clock_utc, reserved_line};
-use crate::files::job::{Job, JobPoll};
+use crate::files::job::Job;
 use crate::files::{DOCUMENT_LIMIT, WriteError, read_bounded_in, write_file};
 use crate::pendant::teach::{TeachList, arm_word};
 use crate::pendant::{Intent, Level, Pendant};
@@ -133,7 +133,7 @@ impl TeachPanel {
         // Only the rows in sight are laid out: 10,000 points cost what 10 do. A pane too
         // narrow for every column scrolls sideways, header and rows together.
         // Solid scroll bars here: a floating one would lie over the last row.
-        let scroll = ui.spacing().scroll.clone();
+        let scroll = ui.spacing().scroll;
         ui.spacing_mut().scroll = egui::style::ScrollStyle::solid();
         egui::ScrollArea::horizontal()
             .id_salt("teach-list-x")
@@ -285,13 +285,8 @@ impl TeachPanel {
             None => {}
         }
         self.file.confirm_line(ui);
-        if let Some(job) = &self.job
-            && job_line(ui, job)
-        {
-            job.cancel();
-            self.file_message =
-                Some((false, format!("cancelled: {}; nothing changed", job.what())));
-            self.job = None;
+        if let Some(said) = job_line(ui, &mut self.job) {
+            self.file_message = Some((false, said));
         }
         if let Some(p) = pendant.teach.pending() {
             ui.label(
@@ -373,17 +368,11 @@ impl TeachPanel {
     /// Takes a finished job's result: a save said (or asked to replace), a read handed
     /// to the pendant.
     fn poll_job(&mut self, now: Instant, intents: &mut Vec<Intent>) {
-        let Some(job) = &self.job else { return };
-        let done = match job.poll(now) {
-            JobPoll::Running => return,
-            JobPoll::Done(done) => done,
-            lost => {
-                self.file_message = job_lost(&lost, job.what()).map(|t| (false, t));
-                self.job = None;
-                return;
-            }
+        let done = match take_done(&mut self.job, now) {
+            None => return,
+            Some(Ok(done)) => done,
+            Some(Err(why)) => return self.file_message = Some((false, why)),
         };
-        self.job = None;
         match done {
             TeachDone::Saved {
                 path,

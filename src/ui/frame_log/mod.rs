@@ -19,7 +19,7 @@ use crate::protocol::Columns;
 use jobs::{Filtered, Saved};
 
 use crate::files::job::{Job, JobPoll};
-use crate::ui::file_field::{FileField, job_lost};
+use crate::ui::file_field::{FileField, take_done};
 
 /// Rows matched per frame as new rows arrive under a filter (the rest wait a frame).
 const INCREMENT: u64 = 20_000;
@@ -294,80 +294,44 @@ impl FrameLogPanel {
         }
     }
 
-    /// The user cancelled the file job `what` (one runs at a time): dropped, and said.
-    fn cancel_file_job(&mut self, what: &str) {
-        if let Some(j) = self.save_job.take() {
-            j.cancel();
-        }
-        if let Some(j) = self.open_job.take() {
-            j.cancel();
-        }
-        self.say(
-            Level::Warning,
-            format!("cancelled: {what}; nothing changed"),
-        );
-    }
-
     fn poll_files(&mut self, now: std::time::Instant, out: &mut Vec<Intent>) {
-        if let Some(job) = &self.save_job {
-            match job.poll(now) {
-                JobPoll::Running => {}
-                JobPoll::Done(Saved {
-                    path,
-                    format,
-                    result,
-                }) => {
-                    self.save_job = None;
-                    match result {
-                        Ok(n) => {
-                            let at = crate::ui::widgets::clock_utc();
-                            self.say(
-                                Level::Info,
-                                format!("saved {n} rows to {} at {at}", path.display()),
-                            );
-                            out.push(Intent::FileUsed(path));
-                        }
-                        Err(jobs_error) => match jobs_error {
-                            crate::files::WriteError::Exists(what) => {
-                                self.file.exists(tools::LogFile::Save(format), path, what);
-                            }
-                            e => self.say(Level::Error, e.sentence(&path)),
-                        },
-                    }
+        match take_done(&mut self.save_job, now) {
+            None => {}
+            Some(Err(why)) => self.say(Level::Error, why),
+            Some(Ok(Saved {
+                path,
+                format,
+                result,
+            })) => match result {
+                Ok(n) => {
+                    let at = crate::ui::widgets::clock_utc();
+                    self.say(
+                        Level::Info,
+                        format!("saved {n} rows to {} at {at}", path.display()),
+                    );
+                    out.push(Intent::FileUsed(path));
                 }
-                lost => {
-                    let text = job_lost(&lost, job.what()).unwrap_or_default();
-                    self.save_job = None;
-                    self.say(Level::Error, text);
+                Err(crate::files::WriteError::Exists(what)) => {
+                    self.file.exists(tools::LogFile::Save(format), path, what);
                 }
-            }
+                Err(e) => self.say(Level::Error, e.sentence(&path)),
+            },
         }
-        if let Some(job) = &self.open_job {
-            match job.poll(now) {
-                JobPoll::Running => {}
-                JobPoll::Done((path, read)) => {
-                    self.open_job = None;
-                    match read {
-                        Ok(log) => {
-                            let n = log.len();
-                            let name = path.display().to_string();
-                            self.opened = Some(Opened {
-                                log,
-                                name: name.clone(),
-                            });
-                            self.reset_view();
-                            self.follow = false;
-                            self.say(Level::Info, format!("opened {name} ({n} rows, read-only)"));
-                            out.push(Intent::FileUsed(path));
-                        }
-                        Err(e) => self.say(Level::Error, e),
-                    }
-                }
-                lost => {
-                    let text = job_lost(&lost, job.what()).unwrap_or_default();
-                    self.open_job = None;
-                    self.say(Level::Error, text);
-                }
+        match take_done(&mut self.open_job, now) {
+            None => {}
+            Some(Err(why)) => self.say(Level::Error, why),
+            Some(Ok((_, Err(e)))) => self.say(Level::Error, e),
+            Some(Ok((path, Ok(log)))) => {
+                let n = log.len();
+                let name = path.display().to_string();
+                self.opened = Some(Opened {
+                    log,
+                    name: name.clone(),
+                });
+                self.reset_view();
+                self.follow = false;
+                self.say(Level::Info, format!("opened {name} ({n} rows, read-only)"));
+                out.push(Intent::FileUsed(path));
             }
         }
     }

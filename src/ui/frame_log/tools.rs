@@ -199,13 +199,9 @@ pub fn file_bar(
         None => {}
     }
     p.file.confirm_line(ui);
-    let cancelled = match (&p.save_job, &p.open_job) {
-        (Some(job), _) => job_line(ui, job).then(|| job.what().to_owned()),
-        (None, Some(job)) => job_line(ui, job).then(|| job.what().to_owned()),
-        (None, None) => None,
-    };
-    if let Some(what) = cancelled {
-        p.cancel_file_job(&what);
+    let cancelled = job_line(ui, &mut p.save_job).or_else(|| job_line(ui, &mut p.open_job));
+    if let Some(said) = cancelled {
+        p.say(Level::Warning, said);
     }
     if let Some((level, text)) = &p.status {
         ui.label(RichText::new(text).color(level_color(*level)));
