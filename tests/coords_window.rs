@@ -546,3 +546,85 @@ fn a_list_of_ten_thousand_points_loads_off_the_ui_thread_and_draws_only_what_is_
     step_until_shown(&mut h, "the list is full");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn hostile_files_for_import_change_nothing_and_say_why() {
+    let dir = std::env::temp_dir().join(format!("xsel-pendant-import-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut h = app();
+    step_until(&mut h, "both tables read", both_read);
+    open_pane(&mut h);
+    let draft = |h: &Harness<'_, PendantApp>| h.state().pendant().coords.saved();
+    let before = draft(&h);
+    let import = |h: &mut Harness<'_, PendantApp>, file: &std::path::Path| {
+        let shown = h.state().pendant().coords.file_result.clone();
+        replace_text(h, "File", &file.display().to_string());
+        click(h, "Import");
+        step_until(h, "the import answered", |a| {
+            a.pendant().coords.file_result != shown
+        });
+        let out = h.state().pendant().coords.file_result.clone().unwrap();
+        assert!(!out.ok, "{}", out.text);
+        out.text
+    };
+    let huge = dir.join("huge.csv");
+    std::fs::write(&huge, vec![b','; 9 * 1024 * 1024]).unwrap();
+    let said = import(&mut h, &huge);
+    assert!(
+        said.contains("huge.csv") && said.contains("not read"),
+        "{said}"
+    );
+    let binary = dir.join("picture.csv");
+    std::fs::write(&binary, b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR\xff\xfe").unwrap();
+    let said = import(&mut h, &binary);
+    assert!(said.contains("picture.csv"), "{said}");
+    #[cfg(unix)]
+    {
+        let fifo = dir.join("tables.csv");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        assert!(made.is_ok_and(|s| s.success()), "mkfifo");
+        let said = import(&mut h, &fifo);
+        assert!(said.contains("not a regular file"), "{said}");
+    }
+    assert_eq!(draft(&h), before, "a refused import changed the draft");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_save_that_fails_is_said_in_red_retried_and_its_recovery_said() {
+    let dir = std::env::temp_dir().join(format!("xsel-pendant-full-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    // A folder where the new file must go: every write of the list fails, as on a full
+    // disk, and the last good copy stays.
+    let mut h = start_in(&dir, true);
+    record(&mut h, "FIRST");
+    let file = dir.join("teach-list.json");
+    step_until(&mut h, "the first point saved", |_| {
+        std::fs::read_to_string(&file).is_ok_and(|t| t.contains("FIRST"))
+    });
+    let blocker = dir.join("teach-list.json.new");
+    std::fs::create_dir_all(&blocker).unwrap();
+    record(&mut h, "SECOND");
+    let said = |a: &PendantApp, words: &str| {
+        a.pendant()
+            .messages
+            .iter()
+            .any(|m| m.level == xsel_pendant::pendant::Level::Error && m.text.contains(words))
+    };
+    step_until(&mut h, "the failed save said", |a| {
+        said(a, "could not be saved")
+    });
+    let kept = std::fs::read_to_string(&file).unwrap();
+    assert!(kept.contains("FIRST") && !kept.contains("SECOND"), "{kept}");
+    std::fs::remove_dir(&blocker).unwrap();
+    step_until(&mut h, "the retry that works", |a| {
+        a.pendant()
+            .messages
+            .iter()
+            .any(|m| m.text.contains("saved again"))
+    });
+    assert!(std::fs::read_to_string(&file).unwrap().contains("SECOND"));
+    let _ = std::fs::remove_dir_all(&dir);
+}

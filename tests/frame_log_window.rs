@@ -327,3 +327,38 @@ fn a_million_rows_scroll_to_any_row_and_filter() {
         !a.frame_log_panel().filtering() && a.frame_log_panel().shown(a.pendant()) == 0
     });
 }
+
+#[test]
+fn open_refuses_a_fifo_and_an_endless_line_and_the_live_log_goes_on() {
+    let dir = std::env::temp_dir().join(format!("xsel-frame-log-bad-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut h = app();
+    step_until(&mut h, "connected and polled", |a| {
+        a.pendant().controller_ready(Instant::now()).is_ok()
+    });
+    click(&mut h, "Frame log");
+    let open = |h: &mut Harness<'_, PendantApp>, file: &std::path::Path, why: &str| {
+        replace_text(h, "File", &file.display().to_string());
+        click(h, "Open JSONL");
+        step_until_shown(h, why);
+        assert!(shows(h, "Live"), "the live log was replaced");
+    };
+    // A header, then one line of 4 MB with no end: refused at the bound, not read whole.
+    let long = dir.join("long.jsonl");
+    let mut text = b"{\"xsel_pendant_frame_log\":1,\"start_unix_us\":0}\n".to_vec();
+    text.extend(std::iter::repeat_n(b'x', 4 << 20));
+    std::fs::write(&long, text).unwrap();
+    open(&mut h, &long, "a line longer than any this program writes");
+    #[cfg(unix)]
+    {
+        let fifo = dir.join("pipe.jsonl");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        assert!(made.is_ok_and(|s| s.success()), "mkfifo");
+        open(&mut h, &fifo, "not a regular file");
+    }
+    // The live log keeps growing (and Open answered twice: it is never greyed out).
+    let rows = log(h.state()).len();
+    step_until(&mut h, "more live rows", |a| log(a).len() > rows);
+    let _ = std::fs::remove_dir_all(&dir);
+}
