@@ -88,7 +88,8 @@ fn settings(sim: &TcpServer) -> ConnectionSettings {
 
 fn open(sim: &TcpServer, owner: &LineOwner) -> Session {
     let model = RobotModel::default_model();
-    let session = Session::open(&settings(sim), &model, Arc::new(|| {}), owner).expect("a session");
+    let session =
+        Session::open(&settings(sim), &model, Arc::new(|_| {}), owner).expect("a session");
     wait(&session, |e| matches!(e, LinkEvent::Connected { .. }));
     session
 }
@@ -271,7 +272,7 @@ fn window(addr: &str) {
     };
     let session = loop {
         // The previous guardian may still hold the simulator for a moment.
-        let s = Session::open(&settings, &model, Arc::new(|| {}), &guardian()).expect("a session");
+        let s = Session::open(&settings, &model, Arc::new(|_| {}), &guardian()).expect("a session");
         let e = wait(&s, |e| {
             matches!(
                 e,

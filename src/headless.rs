@@ -152,7 +152,7 @@ impl Session {
             ..LinkConfig::default()
         };
         config.timing.line = line;
-        let (link, events) = spawn(connector, config, Arc::new(|| {}))
+        let (link, events) = spawn(connector, config, Arc::new(|_| {}))
             .map_err(|e| Stop::Failed(format!("cannot start the link thread: {e}")))?;
         let stop = Arc::new(AtomicBool::new(false));
         if args.watch {

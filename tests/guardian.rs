@@ -59,7 +59,7 @@ fn window_process() {
         return;
     };
     let model = RobotModel::default_model();
-    let session = Session::open(&tcp_settings(&addr), &model, Arc::new(|| {}), &guardian())
+    let session = Session::open(&tcp_settings(&addr), &model, Arc::new(|_| {}), &guardian())
         .expect("a session");
     let mut seen = Vec::new();
     let connected = wait_for(&session.events, LONG, &mut seen, |e| {
@@ -223,7 +223,7 @@ fn hundreds_of_queries_through_the_guardian_are_all_answered_in_order() {
     let session = Session::open(
         &tcp_settings(&sim.addr.to_string()),
         &model,
-        Arc::new(|| {}),
+        Arc::new(|_| {}),
         &guardian(),
     )
     .expect("a session");

@@ -298,7 +298,7 @@ fn a_tcp_bridge_that_comes_back_is_reconnected_automatically() {
         ..LinkConfig::default()
     };
     let (_link, events) =
-        xsel_pendant::link::spawn(connector, config, std::sync::Arc::new(|| {})).expect("link");
+        xsel_pendant::link::spawn(connector, config, std::sync::Arc::new(|_| {})).expect("link");
     let mut seen = Vec::new();
     wait_for(&events, LONG, &mut seen, |e| {
         matches!(e, LinkEvent::Reply { .. })

@@ -568,3 +568,61 @@ fn pgup_raises_the_tool_and_pgdn_lowers_it() {
         (sim_z(a) - z0).abs() < 0.0015 && step_ended(2)(a)
     });
 }
+
+#[test]
+fn an_idle_connected_window_is_woken_by_a_handful_of_events_in_5_s_of_polling() {
+    let mut h = app();
+    ready(&mut h);
+    // Let the move of homing settle and every first answer arrive.
+    let settled = Instant::now() + Duration::from_secs(1);
+    while Instant::now() < settled {
+        h.step();
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let (wakes, polls) = (h.state().link_wakes(), sim_polls(h.state()));
+    let end = Instant::now() + Duration::from_secs(5);
+    while Instant::now() < end {
+        h.step();
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let polled = sim_polls(h.state()) - polls;
+    let woke = h.state().link_wakes() - wakes;
+    assert!(polled >= 20, "the link polled only {polled} times in 5 s");
+    assert!(
+        woke <= 5,
+        "{woke} wakes for {polled} polls that answered the same as before"
+    );
+    // A change is still drawn at once: a step moves the arm, and its replies wake.
+    click(&mut h, "X+");
+    step_until(&mut h, "the step's replies to wake the window", |a| {
+        a.link_wakes() > woke + wakes + 2
+    });
+}
+
+/// Frames the simulator has received (polls, on an idle window).
+fn sim_polls(app: &PendantApp) -> u64 {
+    app.sim().map_or(0, |s| s.counters().frames)
+}
+
+#[test]
+fn ctrl_q_asks_the_window_to_close() {
+    let mut h = app();
+    h.run_steps(2);
+    let closes = |h: &Harness<'_, PendantApp>| {
+        h.output()
+            .viewport_output
+            .get(&egui::ViewportId::ROOT)
+            .is_some_and(|v| v.commands.contains(&egui::ViewportCommand::Close))
+    };
+    assert!(!closes(&h));
+    // One event, one frame: that frame's output holds what the app asked of the window.
+    h.event(egui::Event::Key {
+        key: egui::Key::Q,
+        physical_key: None,
+        pressed: true,
+        repeat: false,
+        modifiers: egui::Modifiers::COMMAND,
+    });
+    h.step();
+    assert!(closes(&h), "Ctrl+Q did not close the window");
+}

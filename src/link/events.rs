@@ -58,8 +58,9 @@ impl EventOut {
         } else {
             self.report_dropped();
         }
+        // Told before it is queued: a UI wakes for it a moment later, when it is there.
+        (self.repaint)(&event);
         let _ = self.tx.send(event);
-        (self.repaint)();
     }
 
     /// Sends the `Dropped` count still unreported, whatever the backlog (at shutdown).

@@ -22,8 +22,9 @@ use crate::protocol::{AxisPattern, Command, ScMode, Station, Stop};
 
 /// Opens (and re-opens) the line.
 pub type Connector = Box<dyn FnMut() -> io::Result<Box<dyn Transport>> + Send>;
-/// Called after events were sent, so a UI can wake up and draw them.
-pub type Repaint = Arc<dyn Fn() + Send + Sync>;
+/// Called with each event as it is sent (on the link thread), so a UI can wake up and
+/// draw what changed; it should return at once.
+pub type Repaint = Arc<dyn Fn(&LinkEvent) + Send + Sync>;
 
 /// How the link behaves.
 #[derive(Clone, Debug, PartialEq)]

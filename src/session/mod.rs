@@ -260,6 +260,6 @@ impl Session {
         settings: &ConnectionSettings,
         model: &RobotModel,
     ) -> Result<Session, String> {
-        Self::open(settings, model, Arc::new(|| {}), &LineOwner::InProcess)
+        Self::open(settings, model, Arc::new(|_| {}), &LineOwner::InProcess)
     }
 }

@@ -17,6 +17,7 @@ use super::layout::{self, Tab, Tabs};
 use super::pad::PadOutput;
 use super::simulator::{SimState, SimulatorPanel};
 use super::teach::TeachPanel;
+use super::wake::{IDLE_WAKE, LINK_REPAINT, Wake, WakeFilter};
 use super::work_files::WorkFiles;
 use super::{safety_band, top_bar};
 use crate::link::{Priority, TableRequest};
@@ -34,10 +35,6 @@ const SETTINGS_KEY: &str = "settings";
 const LAYOUT_KEY: &str = "layout";
 /// Most time spent applying link events in one frame.
 const EVENT_BUDGET: Duration = Duration::from_millis(4);
-/// The window repaints at least this often while connected (polls arrive at 10 Hz).
-const REFRESH: Duration = Duration::from_millis(100);
-/// The longest a link event waits to be drawn.
-const LINK_REPAINT: Duration = Duration::from_millis(100);
 /// While a continuous jog is held the window runs at least this often, renewing the
 /// link's jog lease (250 ms) several times over.
 const HELD_REFRESH: Duration = Duration::from_millis(40);
@@ -99,6 +96,10 @@ pub struct PendantApp {
     frame_log: FrameLogPanel,
     /// Where a file name typed without a folder goes.
     folder: FolderCache,
+    /// Whether a live frame log was drawn in the last frame (its rows are worth a wake).
+    live_log_shown: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    /// Link events that woke the window so far.
+    link_wakes: std::sync::Arc<std::sync::atomic::AtomicU64>,
     dock: egui_tiles::Tree<Tab>,
     started: Instant,
     help_open: bool,
@@ -172,6 +173,8 @@ impl PendantApp {
             arm: ArmView::default(),
             frame_log: FrameLogPanel::default(),
             folder: FolderCache::default(),
+            live_log_shown: Default::default(),
+            link_wakes: Default::default(),
             dock: layout::checked_layout(saved_layout),
             started: now,
             help_open: false,
@@ -213,6 +216,11 @@ impl PendantApp {
     }
 
     /// The embedded simulator, when the line is the built-in one.
+    /// How many link events so far changed what the window shows (and so woke it).
+    pub fn link_wakes(&self) -> u64 {
+        self.link_wakes.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
     pub fn sim(&self) -> Option<&SimHandle> {
         self.session.as_ref().and_then(|s| s.sim.as_ref())
     }
@@ -326,10 +334,19 @@ impl PendantApp {
             Err(e) => return self.pendant.connect_failed(e, now),
         };
         self.pendant.set_model(model.clone());
-        // Link events wake the window at most every LINK_REPAINT: polls alone bring ~40
-        // events a second, and a repaint each would keep a software renderer busy.
+        // A link event wakes the window only when it changes what is shown, and then at
+        // most every LINK_REPAINT: polls alone bring ~40 events a second, and a repaint
+        // each would keep a software renderer busy (see `wake`).
         let repaint_ctx = ctx.clone();
-        let repaint = std::sync::Arc::new(move || repaint_ctx.request_repaint_after(LINK_REPAINT));
+        let filter = std::sync::Mutex::new(WakeFilter::new(self.live_log_shown.clone()));
+        let wakes = self.link_wakes.clone();
+        let repaint = std::sync::Arc::new(move |event: &crate::link::LinkEvent| {
+            let wake = filter.lock().map_or(Wake::Soon, |mut f| f.on_event(event));
+            if wake == Wake::Soon {
+                wakes.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                repaint_ctx.request_repaint_after(LINK_REPAINT);
+            }
+        });
         match Session::open(&settings, &model, repaint, &self.line_owner) {
             Ok(session) => self.session = Some(session),
             Err(e) => self.pendant.connect_failed(e, now),
@@ -358,7 +375,7 @@ impl eframe::App for PendantApp {
         if self.pendant.held_jog().is_some() {
             ctx.request_repaint_after(HELD_REFRESH);
         } else if self.session.is_some() {
-            ctx.request_repaint_after(REFRESH);
+            ctx.request_repaint_after(IDLE_WAKE);
         }
     }
 
@@ -368,6 +385,9 @@ impl eframe::App for PendantApp {
         let now = Instant::now();
         let mut intents = Vec::new();
         let keys = self.keys.handle(&ctx, &self.pendant, now, &mut intents);
+        if keys.quit {
+            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+        }
         if keys.toggle_help {
             self.help_open = !self.help_open;
         }
@@ -406,6 +426,7 @@ impl eframe::App for PendantApp {
         self.arm.hovered_step = pad.hovered.map(|t| (t.axis, t.direction));
         self.arm.hovered_point = self.teach.hovered_go;
         let sim_state = self.sim_state();
+        self.frame_log.live_in_sight = false;
         egui::CentralPanel::default().show(ui, |ui| {
             let mut tabs = Tabs {
                 pendant: &self.pendant,
@@ -425,6 +446,10 @@ impl eframe::App for PendantApp {
             };
             layout::show(ui, &mut self.dock, &mut tabs);
         });
+        self.live_log_shown.store(
+            self.frame_log.live_in_sight,
+            std::sync::atomic::Ordering::Relaxed,
+        );
         keys::help(&ctx, &self.pendant, &mut self.help_open);
         // The pointer's jog input: on the pad button it was pressed on, aside, or up.
         if let Some(target) = pad.tapped {

@@ -1,5 +1,5 @@
 //! The keyboard map: arrows, PgUp/PgDn and , . jog by the physical direction; + and -
-//! walk the step ladder; Esc is STOP; F1 the help. The keys only report what is down:
+//! walk the step ladder; Esc is STOP; F1 the help; Ctrl+Q closes the window. The keys only report what is down:
 //! the pendant's hold-to-run machine decides what a press does.
 
 use std::time::{Duration, Instant};
@@ -37,6 +37,8 @@ pub struct Keys {
 pub struct KeyOutput {
     /// F1: show or hide the help overlay.
     pub toggle_help: bool,
+    /// Ctrl+Q (Cmd+Q on a Mac): close the window (motion is stopped on the way out).
+    pub quit: bool,
 }
 
 impl Keys {
@@ -65,10 +67,12 @@ impl Keys {
                     key,
                     pressed: true,
                     repeat,
+                    modifiers,
                     ..
                 } => match key {
                     Key::Escape => intents.push(Intent::Stop(StopCause::Esc)),
                     Key::F1 => out.toggle_help = true,
+                    Key::Q if modifiers.command => out.quit = true,
                     _ if typing || *repeat => {}
                     Key::Plus | Key::Equals => jog.step_ladder(true),
                     Key::Minus => jog.step_ladder(false),
@@ -129,6 +133,9 @@ pub fn help(ctx: &Context, pendant: &Pendant, open: &mut bool) {
                     ui.end_row();
                     ui.label("F1");
                     ui.label("this help");
+                    ui.end_row();
+                    ui.label("Ctrl+Q");
+                    ui.label("close the window (motion stops first)");
                     ui.end_row();
                 });
             ui.label("Continuous mode: the jog runs while the key is held and stops on release.");

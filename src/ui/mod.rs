@@ -24,6 +24,7 @@ mod simulator;
 mod status;
 mod teach;
 mod top_bar;
+mod wake;
 mod widgets;
 mod work_files;
 

@@ -52,7 +52,7 @@ pub fn embedded_link(
         log: None,
     });
     let (link, events) =
-        spawn(pipe_connector(pipe), config, std::sync::Arc::new(|| {})).expect("link thread");
+        spawn(pipe_connector(pipe), config, std::sync::Arc::new(|_| {})).expect("link thread");
     (link, events, sim)
 }
 
@@ -77,7 +77,7 @@ pub fn serial_link(path: &str, config: LinkConfig) -> (LinkHandle, Receiver<Link
         )
         .map(|t| Box::new(t) as Box<dyn xsel_pendant::link::Transport>)
     });
-    spawn(connector, config, std::sync::Arc::new(|| {})).expect("link thread")
+    spawn(connector, config, std::sync::Arc::new(|_| {})).expect("link thread")
 }
 
 /// A simulator serving a pseudo-terminal (its path in `.path`).

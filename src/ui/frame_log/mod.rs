@@ -93,6 +93,8 @@ pub struct FrameLogPanel {
     /// pane has room for them and rows below (the default layout at 1280x800 has not).
     tools_open: Option<bool>,
     pub(super) tools_shown: bool,
+    /// Drawn this frame showing the live log (new rows are worth waking the window for).
+    pub(crate) live_in_sight: bool,
 }
 
 /// A pane at least this tall shows the tools rows until the user hides them (px).
@@ -122,6 +124,7 @@ impl Default for FrameLogPanel {
             raw_body: String::new(),
             tools_open: None,
             tools_shown: true,
+            live_in_sight: false,
         }
     }
 }
@@ -270,6 +273,7 @@ impl FrameLogPanel {
     ) {
         self.poll_files(now, out);
         self.update_filter(pendant, now);
+        self.live_in_sight = self.opened.is_none() && self.paused_at.is_none();
         if self.job.is_some() {
             ui.ctx().request_repaint();
         }
