@@ -5,7 +5,10 @@ use std::time::{Duration, Instant};
 
 use super::Line;
 
-/// Sleeps until `deadline` with sub-100 µs precision: a coarse sleep, then a yielding spin.
+/// Sleeps until `deadline` with about 100 µs precision: a coarse sleep to 100 µs before
+/// it (Linux wakes a sleeper some 50-60 µs late), then a yielding spin. The spin is kept
+/// short: every reply of a simulator waits here, and a 400 µs spin for each was most of
+/// an idle simulator's CPU.
 pub fn sleep_until(deadline: Instant) {
     loop {
         let now = Instant::now();
@@ -13,8 +16,8 @@ pub fn sleep_until(deadline: Instant) {
             return;
         }
         let left = deadline - now;
-        if left > Duration::from_micros(400) {
-            std::thread::sleep(left - Duration::from_micros(250));
+        if left > Duration::from_micros(150) {
+            std::thread::sleep(left - Duration::from_micros(100));
         } else {
             std::thread::yield_now();
         }

@@ -27,6 +27,13 @@ impl Default for PipeConfig {
     }
 }
 
+/// How long a paced byte may wait for the ones behind it before it is handed over: a
+/// paced chunk is read when it has all arrived (its last byte exactly on time) or when its
+/// oldest unread byte has waited this long, as a UART's FIFO and its driver batch bytes
+/// (inferred: USB serial adapters hand bytes over after a latency timer of 1-16 ms). One
+/// wake-up per frame of up to 4 ms on the wire, not one per byte.
+const GATHER: Duration = Duration::from_millis(4);
+
 /// Bytes written in one call, the first readable at `first_ready`, each next one a byte
 /// time later.
 struct Chunk {
@@ -117,6 +124,16 @@ impl PipeEnd {
     }
 }
 
+/// Until when the front paced chunk is held for the bytes behind its next one (see
+/// [`GATHER`]); `None` when what has arrived is to be read now.
+fn gathering(chunk: Option<&Chunk>, now: Instant, byte_time: Option<Duration>) -> Option<Instant> {
+    let (chunk, t) = (chunk?, byte_time.filter(|t| !t.is_zero())?);
+    let next_due = chunk.first_ready + t.saturating_mul(chunk.taken as u32);
+    let last_due = chunk.first_ready + t.saturating_mul(chunk.data.len().saturating_sub(1) as u32);
+    let hold = (next_due + GATHER).min(last_due);
+    (now < hold).then_some(hold)
+}
+
 /// How many bytes of `chunk` have finished arriving at `now`.
 fn ready_count(chunk: &Chunk, now: Instant, byte_time: Option<Duration>) -> usize {
     match byte_time {
@@ -154,6 +171,18 @@ impl Read for PipeEnd {
         let mut lane = self.incoming.lock();
         loop {
             let now = Instant::now();
+            if let Some(hold) = gathering(lane.chunks.front(), now, self.config.byte_time)
+                && hold < deadline
+            {
+                let wait = hold.saturating_duration_since(now);
+                lane = self
+                    .incoming
+                    .signal
+                    .wait_timeout(lane, wait)
+                    .unwrap_or_else(|poisoned| poisoned.into_inner())
+                    .0;
+                continue;
+            }
             let mut copied = 0;
             while let Some(chunk) = lane.chunks.front_mut() {
                 let ready = ready_count(chunk, now, self.config.byte_time);
@@ -294,6 +323,33 @@ mod tests {
         }
         let took = start.elapsed();
         assert!(took >= byte_time * 20, "20 paced bytes arrived in {took:?}");
+    }
+
+    #[test]
+    fn paced_bytes_come_in_batches_and_the_last_one_never_early() {
+        // 9600 baud: a 20-byte frame is on the wire ~21 ms, so it comes in a few
+        // batches of about GATHER each, not in 20 reads; a frame shorter than GATHER
+        // comes in one read, when its last byte is due.
+        let byte_time = Duration::from_nanos(1_000_000_000 * 10 / 9600);
+        let config = PipeConfig {
+            byte_time: Some(byte_time),
+            read_timeout: Duration::from_millis(500),
+        };
+        let (mut a, mut b) = duplex(config);
+        let mut buf = [0u8; 64];
+        let start = Instant::now();
+        a.write_all(&[b'x'; 20]).unwrap();
+        let (mut got, mut reads) = (0, 0);
+        while got < 20 {
+            got += b.read(&mut buf).unwrap();
+            reads += 1;
+        }
+        assert!(start.elapsed() >= byte_time * 20);
+        assert!(reads <= 8, "20 bytes in {reads} reads");
+        let start = Instant::now();
+        a.write_all(&[b'y'; 3]).unwrap();
+        assert_eq!(b.read(&mut buf).unwrap(), 3, "a short frame was split");
+        assert!(start.elapsed() >= byte_time * 3);
     }
 
     #[test]

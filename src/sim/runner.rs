@@ -111,7 +111,9 @@ impl Default for RunOptions {
     fn default() -> Self {
         Self {
             pacing: None,
-            tick: Duration::from_millis(2),
+            // Replies advance the world themselves; the tick only moves it (and looks
+            // for a stop) while the line is quiet: 50 wake-ups a second, not 500.
+            tick: Duration::from_millis(20),
             log: None,
             notice: None,
             coalesce: false,
