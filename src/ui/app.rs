@@ -116,6 +116,12 @@ impl PendantApp {
             None if !options.fresh => eframe::storage_dir(APP_ID),
             None => None,
         };
+        // Fields and buttons with a visible edge on the light theme's near-white (its
+        // default draws input fields as white on white).
+        cc.egui_ctx.style_mut_of(Theme::Light, |style| {
+            style.visuals.widgets.inactive.bg_stroke =
+                egui::Stroke::new(1.0, egui::Color32::from_gray(150));
+        });
         let mut work_files = WorkFiles::in_folder(data_dir.as_deref(), !options.fresh);
         let (from_file, mut notes) = work_files.restore_settings();
         let saved: Option<Settings> = if options.fresh {

@@ -211,15 +211,19 @@ fn value_cell(
         ui.visuals().text_color()
     };
     let read_only = cell::read_only(kind, n);
+    // The base frame's row is drawn as text, not as fields: it cannot be typed into.
+    let color = if read_only { GREY } else { color };
     let label = cell_label(kind, n, column);
-    let r = ui.add(
-        TextEdit::singleline(&mut text)
-            .id_salt(("coord-cell", kind, n, column.index()))
-            .desired_width(f32::INFINITY)
-            .text_color(color)
-            .interactive(!read_only)
-            .hint_text(RichText::new("unread").color(GREY)),
-    );
+    let mut field = TextEdit::singleline(&mut text)
+        .id_salt(("coord-cell", kind, n, column.index()))
+        .desired_width(f32::INFINITY)
+        .text_color(color)
+        .interactive(!read_only)
+        .hint_text(RichText::new("unread").color(GREY));
+    if read_only {
+        field = field.frame(egui::Frame::NONE);
+    }
+    let r = ui.add(field);
     // The tooltip is also the cell's accessible name (screen readers, tests).
     let r = if read_only {
         r.on_hover_text(format!("{label}: {}", cell::READ_ONLY))

@@ -19,10 +19,19 @@ pub struct SimState {
 }
 
 /// The panel's own input: the alarm code being typed and what was last done.
-#[derive(Default)]
 pub struct SimulatorPanel {
     code: String,
     feedback: Option<(bool, String)>,
+}
+
+impl Default for SimulatorPanel {
+    fn default() -> Self {
+        Self {
+            // A real code to start from (a hint would look filled in and raise nothing).
+            code: "C74".into(),
+            feedback: None,
+        }
+    }
 }
 
 impl SimulatorPanel {
@@ -83,7 +92,7 @@ impl SimulatorPanel {
             ui.add(
                 egui::TextEdit::singleline(&mut self.code)
                     .desired_width(40.0)
-                    .hint_text("C74"),
+                    .hint_text("3 hex digits"),
             )
             .labelled_by(label.id);
             if ui
