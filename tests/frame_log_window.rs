@@ -362,3 +362,34 @@ fn open_refuses_a_fifo_and_an_endless_line_and_the_live_log_goes_on() {
     step_until(&mut h, "more live rows", |a| log(a).len() > rows);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_filter_with_follow_tail_on_fills_the_view_with_matching_rows() {
+    // More matching rows than the pane holds: the view is full of them, down to the
+    // newest (it once showed the last two, and the wheel did nothing).
+    let mut h = Harness::builder()
+        .with_size([1280.0, 900.0])
+        .build_eframe(|cc| PendantApp::new(cc, StartOptions::fresh_offline()));
+    synthetic(h.state_mut(), 60_000);
+    click(&mut h, "Frame log");
+    h.get_by_label("Filter, files, raw").click();
+    h.run_steps(2);
+    type_into(&mut h, "Filter text", "&99C1F");
+    step_until(&mut h, "the text filter", |a| {
+        !a.frame_log_panel().filtering() && a.frame_log_panel().shown(a.pendant()) == 30
+    });
+    h.run_steps(3);
+    let drawn = |h: &Harness<'_, PendantApp>| {
+        h.query_all(
+            egui_kittest::kittest::By::new()
+                .role(egui::accesskit::Role::Button)
+                .label_contains("&99C1F"),
+        )
+        .count()
+    };
+    assert!(
+        drawn(&h) >= 4,
+        "30 rows pass the filter, {} drawn",
+        drawn(&h)
+    );
+}

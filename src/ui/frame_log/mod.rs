@@ -93,6 +93,8 @@ pub struct FrameLogPanel {
     /// pane has room for them and rows below (the default layout at 1280x800 has not).
     tools_open: Option<bool>,
     pub(super) tools_shown: bool,
+    /// How far the rows are scrolled sideways (the header follows).
+    rows_x: f32,
     /// Drawn this frame showing the live log (new rows are worth waking the window for).
     pub(crate) live_in_sight: bool,
 }
@@ -124,6 +126,7 @@ impl Default for FrameLogPanel {
             raw_body: String::new(),
             tools_open: None,
             tools_shown: true,
+            rows_x: 0.0,
             live_in_sight: false,
         }
     }

@@ -14,21 +14,30 @@ pub fn show(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant) {
     let log = p.opened.as_ref().map_or(&pendant.frame_log, |o| &o.log);
     let total = p.view_len(log);
     let row_height = ui.text_style_height(&TextStyle::Monospace) + 4.0;
-    egui::Label::new(
-        RichText::new(format!(
-            "{:>10} {:>8}  {:<5} {:<3} {:>6}  {:<36}  message",
-            if p.wall_clock { "UTC" } else { "s" },
-            "+prev ms",
-            "dir",
-            "sc",
-            "lat ms",
-            "bytes"
-        ))
-        .monospace()
-        .weak(),
-    )
-    .extend()
-    .ui(ui);
+    // The header scrolls sideways with the rows (their offset of the last frame), and
+    // never by itself.
+    egui::ScrollArea::horizontal()
+        .id_salt("frame-log-header")
+        .horizontal_scroll_offset(p.rows_x)
+        .scroll_bar_visibility(egui::scroll_area::ScrollBarVisibility::AlwaysHidden)
+        .scroll_source(egui::scroll_area::ScrollSource::NONE)
+        .show(ui, |ui| {
+            egui::Label::new(
+                RichText::new(format!(
+                    "{:>10} {:>8}  {:<5} {:<3} {:>6}  {:<NAME_WIDTH$}  bytes",
+                    if p.wall_clock { "UTC" } else { "s" },
+                    "+prev ms",
+                    "dir",
+                    "sc",
+                    "lat ms",
+                    "message",
+                ))
+                .monospace()
+                .weak(),
+            )
+            .extend()
+            .ui(ui);
+        });
     let mut area = egui::ScrollArea::both()
         .id_salt("frame-log-rows")
         .auto_shrink([false, false]);
@@ -37,7 +46,10 @@ pub fn show(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant) {
         let half = ui.available_height() / 2.0;
         area = area.vertical_scroll_offset((i as f32 * row_height - half).max(0.0));
     } else if p.follow && p.paused_at.is_none() {
-        area = area.vertical_scroll_offset(total as f32 * row_height);
+        // The last row at the bottom of the view: an offset past the end would leave
+        // the view showing the last row or two of a short (filtered) list.
+        let bottom = total as f32 * row_height - ui.available_height();
+        area = area.vertical_scroll_offset(bottom.max(0.0));
     }
     // While the tail is followed the rows move under the pointer between frames, and
     // a click (press and release on one widget) may never land: a press selects the row
@@ -72,6 +84,7 @@ pub fn show(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant) {
         }
     });
     p.drawn = drawn;
+    p.rows_x = out.state.clamped_offset().x;
     if ui.rect_contains_pointer(out.inner_rect) && ui.input(|i| i.smooth_scroll_delta.y > 0.0) {
         scrolled_by_user = true;
     }
@@ -109,7 +122,11 @@ fn row_ui(ui: &mut Ui, text: String, color: Color32, selected: bool, height: f32
     response
 }
 
-/// One row as text, in the header's columns; the bytes last (they vary in length).
+/// The message name's column (longer names are cut; the decode has them whole).
+const NAME_WIDTH: usize = 28;
+
+/// One row as text, in the header's columns: the message name before the bytes (so it
+/// is always in sight), the bytes, then the link's note (why garbage, what timed out).
 fn line(log: &FrameLog, row: &Row<'_>, wall: bool) -> String {
     let t = row.t_ns();
     let time = if wall {
@@ -123,14 +140,15 @@ fn line(log: &FrameLog, row: &Row<'_>, wall: bool) -> String {
     let latency = row
         .latency_us()
         .map_or(String::new(), |us| format!("{:.2}", us as f64 / 1000.0));
-    let mut name = row.name();
-    // The bytes come before the name: they are what this log is for, and a short frame
-    // (every command) keeps the names in one column.
-    if !row.note().is_empty() {
-        name = format!("{name}: {}", row.note());
-    }
+    let name = row.name();
+    let note = row.note();
+    let note = if note.is_empty() {
+        String::new()
+    } else {
+        format!("  {note}")
+    };
     format!(
-        "{time:>10} {:>8.3}  {:<5} {:<3} {latency:>6}  {:<36}  {name}",
+        "{time:>10} {:>8.3}  {:<5} {:<3} {latency:>6}  {name:<NAME_WIDTH$.NAME_WIDTH$}  {}{note}",
         prev as f64 * 1e-6,
         row.dir().arrow(),
         row.verdict().label(),
