@@ -12,7 +12,7 @@ use xsel_pendant::sim::runner::Dir;
 use xsel_pendant::ui::{PendantApp, StartOptions};
 
 mod kittest_common;
-use kittest_common::{DEADLINE, alarm_code, click, replace_text, show_tab, step_until, type_into};
+use kittest_common::{DEADLINE, alarm_code, click, replace_text, show_tab, step_until};
 
 fn app<'a>() -> Harness<'a, PendantApp> {
     Harness::builder()
@@ -625,4 +625,40 @@ fn ctrl_q_asks_the_window_to_close() {
     });
     h.step();
     assert!(closes(&h), "Ctrl+Q did not close the window");
+}
+
+#[test]
+fn ctrl_plus_enlarges_the_window_keeps_the_size_and_leaves_the_step_alone() {
+    let mut h = app();
+    h.run_steps(2);
+    let step = h.state().pendant().settings.jog.step;
+    h.event(egui::Event::Key {
+        key: egui::Key::Plus,
+        physical_key: None,
+        pressed: true,
+        repeat: false,
+        modifiers: egui::Modifiers::COMMAND,
+    });
+    h.run_steps(3);
+    assert!(
+        h.ctx.zoom_factor() > 1.0,
+        "Ctrl + did not enlarge the window"
+    );
+    let kept = h.state().pendant().settings.ui_scale;
+    assert!(
+        kept.is_some_and(|s| s > 1.0),
+        "the size is not kept: {kept:?}"
+    );
+    assert_eq!(
+        h.state().pendant().settings.jog.step,
+        step,
+        "Ctrl + changed the step"
+    );
+    // Plain + is still the step ladder.
+    h.key_press(egui::Key::Plus);
+    h.run_steps(2);
+    assert!(
+        h.state().pendant().settings.jog.step > step,
+        "+ did not take a larger step"
+    );
 }

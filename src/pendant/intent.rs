@@ -72,9 +72,14 @@ pub enum Intent {
     ClearFrameLog,
     /// A frame typed as its body, to send through the link.
     SendRaw(String),
+    /// Everything in the window this size (1.0: 100%), kept for the next start.
+    UiScale(f32),
     /// A file was read or written here: its folder is the one names are taken in next.
     FileUsed(std::path::PathBuf),
 }
+
+/// The smallest and largest window scale kept (egui's own zoom keys stay in this range).
+pub const UI_SCALES: (f32, f32) = (0.5, 3.0);
 
 impl Pendant {
     /// Applies one intent.
@@ -110,6 +115,10 @@ impl Pendant {
                 self.settings.frame_log_cap = Some(cap);
             }
             Intent::ClearFrameLog => self.frame_log.clear(),
+            Intent::UiScale(scale) => {
+                self.settings.ui_scale = (scale.is_finite() && (scale - 1.0).abs() > 1e-3)
+                    .then(|| scale.clamp(UI_SCALES.0, UI_SCALES.1));
+            }
             Intent::FileUsed(path) => {
                 self.settings.last_folder = path.parent().map(std::path::Path::to_path_buf);
             }

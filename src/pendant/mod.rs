@@ -62,6 +62,8 @@ pub struct Settings {
     pub light_theme: bool,
     /// Rows the frame log keeps (None: [`frame_log::DEFAULT_CAP`]).
     pub frame_log_cap: Option<usize>,
+    /// The size of everything in the window (Ctrl + / Ctrl - / Ctrl 0; None: 100%).
+    pub ui_scale: Option<f32>,
     /// The folder of the last file read or written: a name typed without a folder goes
     /// there (None: the user's documents).
     pub last_folder: Option<std::path::PathBuf>,

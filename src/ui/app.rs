@@ -145,6 +145,9 @@ impl PendantApp {
             Ok(m) => (m, None),
             Err(e) => (RobotModel::default_model(), Some(e)),
         };
+        if let Some(scale) = settings.ui_scale {
+            cc.egui_ctx.set_zoom_factor(scale);
+        }
         let mut pendant = Pendant::new(settings, model);
         // Frame log times count from the window's start.
         pendant
@@ -391,6 +394,11 @@ impl eframe::App for PendantApp {
         let now = Instant::now();
         let mut intents = Vec::new();
         let keys = self.keys.handle(&ctx, &self.pendant, now, &mut intents);
+        // egui zooms on Ctrl + / Ctrl - / Ctrl 0; the size chosen is kept.
+        let zoom = ctx.zoom_factor();
+        if (zoom - self.pendant.settings.ui_scale.unwrap_or(1.0)).abs() > 1e-3 {
+            intents.push(Intent::UiScale(zoom));
+        }
         if keys.quit {
             ctx.send_viewport_cmd(egui::ViewportCommand::Close);
         }

@@ -74,8 +74,9 @@ impl Keys {
                     Key::F1 => out.toggle_help = true,
                     Key::Q if modifiers.command => out.quit = true,
                     _ if typing || *repeat => {}
-                    Key::Plus | Key::Equals => jog.step_ladder(true),
-                    Key::Minus => jog.step_ladder(false),
+                    // Ctrl + and Ctrl - are the window's zoom (egui's), not the step.
+                    Key::Plus | Key::Equals if !modifiers.command => jog.step_ladder(true),
+                    Key::Minus if !modifiers.command => jog.step_ladder(false),
                     _ => {
                         let fresh = self
                             .focus_gained
@@ -133,6 +134,9 @@ pub fn help(ctx: &Context, pendant: &Pendant, open: &mut bool) {
                     ui.end_row();
                     ui.label("F1");
                     ui.label("this help");
+                    ui.end_row();
+                    ui.label("Ctrl + / Ctrl - / Ctrl 0");
+                    ui.label("larger / smaller / normal size (kept)");
                     ui.end_row();
                     ui.label("Ctrl+Q");
                     ui.label("close the window (motion stops first)");
