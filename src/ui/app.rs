@@ -15,7 +15,7 @@ use super::jog::JogPanel;
 use super::keys::{self, Keys};
 use super::layout::{self, Tab, Tabs};
 use super::pad::PadOutput;
-use super::simulator::{SimState, SimulatorPanel};
+use super::simulator::SimulatorPanel;
 use super::teach::TeachPanel;
 use super::wake::{IDLE_WAKE, LINK_REPAINT, Wake, WakeFilter};
 use super::work_files::WorkFiles;
@@ -234,21 +234,6 @@ impl PendantApp {
         self.session.as_ref().and_then(|s| s.sim.as_ref())
     }
 
-    /// The operator states of the embedded simulator, when the line is the built-in one.
-    fn sim_state(&self) -> Option<SimState> {
-        self.sim().map(|sim| {
-            sim.with(|c| {
-                let s = c.snapshot();
-                SimState {
-                    emergency_stop: s.emergency_stop,
-                    mode: s.mode,
-                    drive_cut_off: s.drive_cut_off,
-                    alarm: s.alarm.map(|a| a.code),
-                }
-            })
-        })
-    }
-
     /// Closes the session as the window does on exit: the link stops any jog or move.
     pub fn close(&mut self) {
         if self.pendant.held_jog().is_some() {
@@ -439,7 +424,6 @@ impl eframe::App for PendantApp {
             });
         self.arm.hovered_step = pad.hovered.map(|t| (t.axis, t.direction));
         self.arm.hovered_point = self.teach.hovered_go;
-        let sim_state = self.sim_state();
         self.frame_log.live_in_sight = false;
         egui::CentralPanel::default().show(ui, |ui| {
             let mut tabs = Tabs {
@@ -453,7 +437,7 @@ impl eframe::App for PendantApp {
                 folder: self
                     .folder
                     .get(self.pendant.settings.last_folder.as_deref()),
-                sim_state,
+                sim: self.session.as_ref().and_then(|s| s.sim.as_ref()),
                 sim_action: &mut sim_action,
                 now,
                 started: self.started,

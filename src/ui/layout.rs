@@ -116,8 +116,8 @@ pub struct Tabs<'a> {
     pub simulator: &'a mut SimulatorPanel,
     /// The folder a file name typed without one is in.
     pub folder: &'a std::path::Path,
-    /// The built-in simulator's operator states, when the line is the built-in one.
-    pub sim_state: Option<SimState>,
+    /// The built-in simulator, when the line is the built-in one (read when its pane shows).
+    pub sim: Option<&'a crate::sim::SimHandle>,
     /// The simulator action clicked, applied after drawing.
     pub sim_action: &'a mut Option<crate::sim::console::OperatorAction>,
     pub now: Instant,
@@ -156,9 +156,10 @@ impl Behavior<Tab> for Tabs<'_> {
                 self.frame_log
                     .show(ui, self.pendant, self.folder, self.now, self.intents)
             }
-            Tab::Simulator => match &self.sim_state {
+            // The simulator's states are read only while this pane is in sight.
+            Tab::Simulator => match self.sim.map(SimState::of) {
                 Some(state) => {
-                    if let Some(action) = self.simulator.show(ui, state) {
+                    if let Some(action) = self.simulator.show(ui, &state) {
                         *self.sim_action = Some(action);
                     }
                 }

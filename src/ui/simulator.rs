@@ -18,6 +18,21 @@ pub struct SimState {
     pub alarm: Option<u16>,
 }
 
+impl SimState {
+    /// The operator states of a running simulator (a short lock of its controller).
+    pub fn of(sim: &crate::sim::SimHandle) -> Self {
+        sim.with(|c| {
+            let s = c.snapshot();
+            SimState {
+                emergency_stop: s.emergency_stop,
+                mode: s.mode,
+                drive_cut_off: s.drive_cut_off,
+                alarm: s.alarm.map(|a| a.code),
+            }
+        })
+    }
+}
+
 /// The panel's own input: the alarm code being typed and what was last done.
 pub struct SimulatorPanel {
     code: String,
