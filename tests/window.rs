@@ -632,14 +632,17 @@ fn ctrl_plus_enlarges_the_window_keeps_the_size_and_leaves_the_step_alone() {
     let mut h = app();
     h.run_steps(2);
     let step = h.state().pendant().settings.jog.step;
-    h.event(egui::Event::Key {
-        key: egui::Key::Plus,
-        physical_key: None,
-        pressed: true,
-        repeat: false,
-        modifiers: egui::Modifiers::COMMAND,
-    });
-    h.run_steps(3);
+    for pressed in [true, false] {
+        h.event(egui::Event::Key {
+            key: egui::Key::Plus,
+            physical_key: None,
+            pressed,
+            repeat: false,
+            modifiers: egui::Modifiers::COMMAND,
+        });
+        h.step();
+    }
+    h.run_steps(2);
     assert!(
         h.ctx.zoom_factor() > 1.0,
         "Ctrl + did not enlarge the window"
