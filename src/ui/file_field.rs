@@ -15,8 +15,12 @@ use crate::files::job::{Job, JobPoll};
 
 /// A dialog that ends sooner than this was never shown.
 const NO_DIALOG_WITHIN: Duration = Duration::from_millis(400);
-const NO_DIALOG: &str = "no file dialog could be shown (this desktop has neither \
-    xdg-desktop-portal nor zenity): type the file's path instead";
+const NO_DIALOG: &str = if cfg!(any(target_os = "windows", target_os = "macos")) {
+    "no file dialog could be shown: type the file's path instead"
+} else {
+    "no file dialog could be shown (this desktop has neither xdg-desktop-portal nor \
+     zenity): type the file's path instead"
+};
 
 /// Which dialog a way of browsing opens.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
