@@ -67,6 +67,18 @@ pub enum JobPoll<T> {
     Lost,
 }
 
+/// Why a job ended without its result.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum JobLost {
+    #[error(
+        "the file did not open within {} s (a network share or device not answering?)",
+        OPEN_LIMIT.as_secs()
+    )]
+    OpenTimedOut,
+    #[error("the job stopped unexpectedly")]
+    Lost,
+}
+
 /// How far a job got: `done` of `total` (`None` while not known).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Progress {
@@ -143,6 +155,19 @@ impl<T: Send + 'static> Job<T> {
                 }
             }
         }
+    }
+
+    /// A finished job's result taken out of `slot` (which is then empty): `None` while
+    /// it runs (or there is none), else the result or why there is none.
+    pub fn take(slot: &mut Option<Self>, now: Instant) -> Option<Result<T, JobLost>> {
+        let done = match slot.as_ref()?.poll(now) {
+            JobPoll::Running => return None,
+            JobPoll::Done(done) => Ok(done),
+            JobPoll::OpenTimedOut => Err(JobLost::OpenTimedOut),
+            JobPoll::Lost => Err(JobLost::Lost),
+        };
+        *slot = None;
+        Some(done)
     }
 
     /// Waits at most `limit` for the result (at exit, and in tests).

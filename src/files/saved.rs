@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant, SystemTime};
 
-use super::job::{Job, JobPoll};
+use super::job::Job;
 use super::{DOCUMENT_LIMIT, read_bounded};
 
 /// How long after a failed write it is tried again (a full disk, a share gone away).
@@ -41,7 +41,9 @@ pub struct SavedFile {
     failing: bool,
     retry_at: Option<Instant>,
     /// The write under way: the revision it writes.
-    writing: Option<(u64, Job<std::io::Result<()>>)>,
+    writing: Option<Job<std::io::Result<()>>>,
+    /// The revision the write under way writes.
+    writing_revision: u64,
 }
 
 impl SavedFile {
@@ -53,6 +55,7 @@ impl SavedFile {
             failing: false,
             retry_at: None,
             writing: None,
+            writing_revision: 0,
         }
     }
 
@@ -147,7 +150,10 @@ impl SavedFile {
             ctl.opened();
             written
         }) {
-            Ok(job) => self.writing = Some((revision, job)),
+            Ok(job) => {
+                self.writing = Some(job);
+                self.writing_revision = revision;
+            }
             Err(e) => return news.or(self.failed(&e, now)),
         }
         news
@@ -178,25 +184,19 @@ impl SavedFile {
 
     /// Takes the result of a write that finished.
     fn poll_write(&mut self, now: Instant) -> Option<SaveNews> {
-        let (revision, job) = self.writing.as_ref()?;
-        let revision = *revision;
-        let result = match job.poll(now) {
-            JobPoll::Running => return None,
-            JobPoll::Done(result) => result.map_err(|e| e.to_string()),
-            JobPoll::OpenTimedOut => Err(format!(
-                "not done within {} s",
-                super::job::OPEN_LIMIT.as_secs()
-            )),
-            JobPoll::Lost => Err("the writing thread stopped".into()),
+        let done = Job::take(&mut self.writing, now)?;
+        let result = match done {
+            Ok(written) => written.map_err(|e| e.to_string()),
+            Err(lost) => Err(lost.to_string()),
         };
-        self.writing = None;
-        self.finish(revision, result, now)
+        self.finish(self.writing_revision, result, now)
     }
 
     /// Waits at most `limit` for the write under way and takes its result (at exit; in
     /// tests).
     pub fn settle(&mut self, limit: std::time::Duration, now: Instant) -> Option<SaveNews> {
-        let (revision, job) = self.writing.take()?;
+        let job = self.writing.take()?;
+        let revision = self.writing_revision;
         let result = job
             .wait(limit)
             .unwrap_or_else(|| Err(std::io::Error::other("not done in time")))

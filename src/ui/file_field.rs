@@ -284,21 +284,7 @@ pub fn take_done<T: Send + 'static>(
     slot: &mut Option<Job<T>>,
     now: Instant,
 ) -> Option<Result<T, String>> {
-    let job = slot.as_ref()?;
-    let done = match job.poll(now) {
-        JobPoll::Running => return None,
-        JobPoll::Done(done) => Ok(done),
-        JobPoll::OpenTimedOut => Err(format!(
-            "{}: the file did not open within {} s (a network share or device not \
-             answering?); given up, nothing changed",
-            job.what(),
-            crate::files::job::OPEN_LIMIT.as_secs()
-        )),
-        JobPoll::Lost => Err(format!(
-            "{}: the job stopped unexpectedly; nothing changed",
-            job.what()
-        )),
-    };
-    *slot = None;
-    Some(done)
+    let what = slot.as_ref()?.what().to_owned();
+    Job::take(slot, now)
+        .map(|done| done.map_err(|lost| format!("{what}: {lost}; given up, nothing changed")))
 }
