@@ -289,7 +289,7 @@ fn a_tcp_bridge_that_comes_back_is_reconnected_automatically() {
     let server = start_tcp(core(), "127.0.0.1:0", RunOptions::default()).expect("tcp");
     let addr = server.addr.to_string();
     let connect_to = addr.clone();
-    let connector: xsel_pendant::link::Connector = Box::new(move || {
+    let connector: xsel_pendant::link::Connector = Box::new(move |_| {
         xsel_pendant::link::TcpTransport::connect(&connect_to, Duration::from_millis(500))
             .map(|t| Box::new(t) as Box<dyn xsel_pendant::link::Transport>)
     });

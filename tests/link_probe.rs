@@ -4,11 +4,10 @@
 #![cfg(unix)]
 
 use std::sync::Arc;
-use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
 use xsel_pendant::link::probe::{
-    Outcome, ProbeEnd, ProbeError, ProbeEvent, ProbePlan, ProbeReport, probe_port, spawn_probe,
+    Outcome, ProbeEnd, ProbeError, ProbeEvent, ProbePlan, ProbeReport, spawn_probe,
 };
 use xsel_pendant::protocol::{Station, SystemMode};
 use xsel_pendant::sim::runner::{PtyServer, RunOptions, SimCore, start_pty};
@@ -25,12 +24,23 @@ fn sim_at_station(station: u8) -> PtyServer {
     .expect("pty")
 }
 
+/// Runs a probe on its thread to the end; its report and every event.
 fn probe(path: &str, plan: &ProbePlan) -> (ProbeReport, Vec<ProbeEvent>) {
+    let handle = spawn_probe(path.to_owned(), plan.clone(), Arc::new(|| {})).expect("thread");
+    let deadline = Instant::now() + Duration::from_secs(30);
     let mut events = Vec::new();
-    let report = probe_port(path, plan, &AtomicBool::new(false), &mut |ev| {
-        events.push(ev)
-    });
-    (report, events)
+    loop {
+        let left = deadline.saturating_duration_since(Instant::now());
+        let event = handle.events.recv_timeout(left).expect("the probe ends");
+        events.push(event.clone());
+        if let ProbeEvent::Finished(report) = event {
+            assert!(
+                handle.join().is_some_and(|r| r == report),
+                "the thread ends with the same report"
+            );
+            return (report, events);
+        }
+    }
 }
 
 #[test]

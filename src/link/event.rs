@@ -3,10 +3,10 @@
 use std::ops::Range;
 use std::time::{Duration, Instant};
 
+use super::format_b::ShutdownReport;
 use super::health::LinkHealth;
 use super::reason::{BadInput, LineDownReason, NotSentReason};
 use super::request::{Origin, RequestId};
-use super::shutdown::ShutdownReport;
 use crate::protocol::{
     AxisPattern, Command, CoordKind, DecodeError, ErrorCode, PerAxis, Reply, Thou,
 };

@@ -1,27 +1,21 @@
 //! Starting the link thread, and the handle the application talks to it through.
 
-use std::io;
 use std::sync::Arc;
 use std::sync::atomic::AtomicU64;
-use std::thread::JoinHandle;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
-use crossbeam_channel::{Receiver, Sender, unbounded};
+use crossbeam_channel::Receiver;
 
-use super::engine::Engine;
+use super::core::Input;
+use super::driver::{self, Connector, DriverHandle};
 use super::event::LinkEvent;
-use super::events::EventOut;
-use super::lease::{JogLease, LeaseClock, is_continuous_jog};
+use super::format_b::{Control, FormatB, ShutdownReport};
 use super::request::{Origin, Pending, Priority, RequestId};
 use super::schedule::Polling;
-use super::shutdown::ShutdownReport;
 use super::table::TableRequest;
 use super::timing::Timing;
-use super::transport::Transport;
 use crate::protocol::{AxisPattern, Command, ScMode, Station, Stop};
 
-/// Opens (and re-opens) the line.
-pub type Connector = Box<dyn FnMut() -> io::Result<Box<dyn Transport>> + Send>;
 /// Called with each event as it is sent (on the link thread), so a UI can wake up and
 /// draw what changed; it should return at once.
 pub type Repaint = Arc<dyn Fn(&LinkEvent) + Send + Sync>;
@@ -72,28 +66,11 @@ impl Default for LinkConfig {
     }
 }
 
-/// Messages from the handle to the thread.
-pub(crate) enum Control {
-    Submit(Pending),
-    SetPolling(Polling),
-    DownloadTable(TableRequest),
-    CancelTable,
-    Reconnect,
-    SetAutoReconnect(bool),
-    Shutdown,
-}
-
 /// The application's side of the link. Dropping it does what [`LinkHandle::shutdown`]
 /// does (the report then arrives as the last event, if anyone still listens).
 pub struct LinkHandle {
-    control: Sender<Control>,
-    /// STOPs only: a channel of their own, so a STOP never waits behind other messages
-    /// (a burst of submissions, a table request) and the engine can look for one first,
-    /// between any two control messages and within 20 ms during a transaction.
-    stops: Sender<Pending>,
+    driver: DriverHandle<FormatB>,
     ids: Arc<AtomicU64>,
-    lease: Arc<LeaseClock>,
-    thread: Option<JoinHandle<ShutdownReport>>,
 }
 
 /// Starts the link thread. Events arrive on the returned receiver; `repaint` is called
@@ -103,34 +80,11 @@ pub fn spawn(
     config: LinkConfig,
     repaint: Repaint,
 ) -> std::io::Result<(LinkHandle, Receiver<LinkEvent>)> {
-    let (control_tx, control_rx) = unbounded();
-    let (stop_tx, stop_rx) = unbounded();
-    // Unbounded, but kept short: see `events.rs`.
-    let (event_tx, event_rx) = unbounded();
     let ids = Arc::new(AtomicU64::new(1));
-    let clock = Arc::new(LeaseClock::new());
-    let events = EventOut::new(event_tx, repaint, config.event_backlog);
-    let lease = JogLease::new(clock.clone(), config.jog_lease);
-    let engine = Engine::new(
-        connector,
-        config,
-        control_rx,
-        stop_rx,
-        events,
-        lease,
-        ids.clone(),
-    );
-    let thread = std::thread::Builder::new()
-        .name("xsel-link".into())
-        .spawn(move || engine.run())?;
-    let handle = LinkHandle {
-        control: control_tx,
-        stops: stop_tx,
-        ids,
-        lease: clock,
-        thread: Some(thread),
-    };
-    Ok((handle, event_rx))
+    let backlog = config.event_backlog;
+    let core = FormatB::new(config, ids.clone(), Instant::now());
+    let (driver, events) = driver::spawn("xsel-link", core, connector, repaint, backlog)?;
+    Ok((LinkHandle { driver, ids }, events))
 }
 
 impl LinkHandle {
@@ -140,13 +94,14 @@ impl LinkHandle {
     pub fn submit(&self, command: Command, priority: Priority) -> RequestId {
         let id = RequestId::next(&self.ids);
         let pending = Pending::new(id, command, Origin::User, priority);
+        let input = Input::App(Control::Submit(pending));
         if command.is_stop() {
-            let _ = self.stops.send(pending);
+            let _ = self.driver.stops.send(input);
         } else {
-            if is_continuous_jog(&command) {
-                self.lease.renew();
+            if command.is_continuous_jog() {
+                self.driver.lease.renew();
             }
-            let _ = self.control.send(Control::Submit(pending));
+            let _ = self.driver.control.send(input);
         }
         id
     }
@@ -156,7 +111,7 @@ impl LinkHandle {
     /// stop, the link sends 238H by itself, so a frozen, minimised or crashed window
     /// cannot leave the arm jogging. Cheap: one atomic store, no message.
     pub fn renew_jog_lease(&self) {
-        self.lease.renew();
+        self.driver.lease.renew();
     }
 
     /// 238H for all axes, at the head of the queue.
@@ -170,30 +125,34 @@ impl LinkHandle {
         )
     }
 
+    fn control(&self, control: Control) {
+        let _ = self.driver.control.send(Input::App(control));
+    }
+
     pub fn set_polling(&self, polling: Polling) {
-        let _ = self.control.send(Control::SetPolling(polling));
+        self.control(Control::SetPolling(polling));
     }
 
     pub fn download_table(&self, request: TableRequest) {
-        let _ = self.control.send(Control::DownloadTable(request));
+        self.control(Control::DownloadTable(request));
     }
 
     pub fn cancel_table(&self) {
-        let _ = self.control.send(Control::CancelTable);
+        self.control(Control::CancelTable);
     }
 
     /// Closes and reopens the line now (or opens it, if it is down).
     pub fn reconnect(&self) {
-        let _ = self.control.send(Control::Reconnect);
+        self.control(Control::Reconnect);
     }
 
     pub fn set_auto_reconnect(&self, on: bool) {
-        let _ = self.control.send(Control::SetAutoReconnect(on));
+        self.control(Control::SetAutoReconnect(on));
     }
 
     /// Whether the thread is still running.
     pub fn is_running(&self) -> bool {
-        self.thread.as_ref().is_some_and(|t| !t.is_finished())
+        self.driver.is_running()
     }
 
     /// Shuts the link down and says what was done: the transaction in flight ends
@@ -205,15 +164,9 @@ impl LinkHandle {
     }
 
     fn finish(&mut self) -> ShutdownReport {
-        let _ = self.control.send(Control::Shutdown);
-        match self.thread.take() {
-            Some(thread) => thread.join().unwrap_or_else(|_| ShutdownReport {
-                motion_may_run: true,
-                thread_failed: true,
-                ..ShutdownReport::default()
-            }),
-            None => ShutdownReport::default(),
-        }
+        self.driver
+            .close()
+            .map_or_else(ShutdownReport::thread_failed, |core| core.shutdown_report())
     }
 }
 

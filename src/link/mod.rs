@@ -1,8 +1,12 @@
-//! The IO engine: one thread owns the transport; queue, priorities, timeouts, polling.
+//! The link: one driver thread per line (`driver`) running a sans-IO protocol core
+//! (`core`'s face; Format B in `format_b`), and the handle the application talks to it
+//! through. Queue, priorities, time-outs, polling and the safety STOPs live in the core.
 
-mod engine;
+pub mod core;
+mod driver;
 pub mod event;
-mod events;
+mod event_out;
+pub mod format_b;
 pub mod handle;
 pub mod health;
 mod lease;
@@ -11,20 +15,19 @@ pub mod probe;
 pub mod reason;
 pub mod request;
 pub mod schedule;
-pub mod shutdown;
 pub mod sync;
 pub mod table;
 pub mod timing;
-mod transaction;
 pub mod transport;
 
+pub use driver::Connector;
 pub use event::LinkEvent;
-pub use handle::{Connector, LinkConfig, LinkHandle, Repaint, spawn};
+pub use format_b::{ShutdownReport, StopOutcome};
+pub use handle::{LinkConfig, LinkHandle, Repaint, spawn};
 // The line settings moved below `link` and `sim`; `link::line` keeps naming them.
 pub use crate::line::{self, LineSettings, Parity};
 pub use reason::{BadInput, IoFailure, LineDownReason, NotSentReason};
 pub use request::{Origin, Priority, RequestId};
 pub use schedule::Polling;
-pub use shutdown::{ShutdownReport, StopOutcome};
 pub use table::TableRequest;
 pub use transport::{SerialTransport, StreamTransport, TcpTransport, Transport};

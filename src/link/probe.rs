@@ -6,15 +6,14 @@ mod plan;
 
 use std::io;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::thread::JoinHandle;
-use std::time::{Duration, Instant};
 
-use crossbeam_channel::{Receiver, unbounded};
+use crossbeam_channel::Receiver;
 
+use super::core::{CoreEvent, Input, LineChange, LinkCore, Transmit};
+use super::driver::{self, Connector, DriverHandle};
 use super::line::LineSettings;
 use super::timing::Timing;
-use super::transport::{SerialTransport, Transport, is_timeout};
+use super::transport::{SerialTransport, Transport};
 use crate::protocol::Command;
 
 pub use classify::{Attempt, Outcome, classify};
@@ -22,9 +21,6 @@ pub use error::ProbeError;
 pub use plan::{
     Candidate, Framing, LIKELY_BAUDS, MORE_FRAMINGS, ProbePlan, estimate_duration, station_sweep,
 };
-
-/// Longest single read, so a cancel is seen within about this time.
-const READ_SLICE: Duration = Duration::from_millis(20);
 
 /// One candidate tried and what it got.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -121,178 +117,262 @@ pub enum ProbeEvent {
     Finished(ProbeReport),
 }
 
-/// Opens a line with the given settings (a serial port, or a stand-in in tests).
-pub type Opener<'a> = dyn FnMut(LineSettings) -> io::Result<Box<dyn Transport>> + 'a;
-
-/// Probes the serial port `port` with `plan` on the calling thread (run it on a worker
-/// thread). Reports through `on_event` and returns the same report as `Finished`.
-/// Stops within about 20 ms (plus an open in progress) once `cancel` is set.
-pub fn probe_port(
-    port: &str,
-    plan: &ProbePlan,
-    cancel: &AtomicBool,
-    on_event: &mut dyn FnMut(ProbeEvent),
-) -> ProbeReport {
-    let mut open = |line: LineSettings| {
-        SerialTransport::open(port, line).map(|t| Box::new(t) as Box<dyn Transport>)
-    };
-    probe_with(&mut open, port, plan, cancel, on_event)
+/// The probe as a sans-IO core for the link driver: each candidate's line opened (closed
+/// first when the setting changes: the port is opened exclusively), one 215H written,
+/// what comes back classified until it settles or its time-out, the 1 ms gap, the next.
+/// A close (the cancel) ends it before the next candidate; `Finished` is the last event
+/// and goes out as the line is closed.
+pub struct ProbeCore {
+    port: String,
+    plan: ProbePlan,
+    candidates: Vec<Candidate>,
+    /// The candidate being tried (or next to try).
+    next: usize,
+    /// The setting the line is open at, if it is open.
+    open: Option<LineSettings>,
+    opening: bool,
+    /// The 215H on the line and its deadline.
+    waiting: Option<(Attempt, std::time::Instant)>,
+    /// No command before this (the gap after an answer or time-out).
+    quiet_until: Option<std::time::Instant>,
+    report: ProbeReport,
+    /// Set when the probe has ended: `Finished` goes out with the close.
+    end: Option<ProbeEnd>,
+    closed: bool,
+    events: std::collections::VecDeque<ProbeEvent>,
 }
 
-/// As [`probe_port`], opening each setting with `open` (`name` is the port's name in
-/// messages). The line is dropped before the next setting is opened, and before
-/// `Finished` is reported.
-pub fn probe_with(
-    open: &mut Opener<'_>,
-    name: &str,
-    plan: &ProbePlan,
-    cancel: &AtomicBool,
-    on_event: &mut dyn FnMut(ProbeEvent),
-) -> ProbeReport {
-    let candidates = plan.candidates();
-    let mut report = ProbeReport {
-        port: name.to_owned(),
-        results: Vec::new(),
-        total: candidates.len(),
-        end: ProbeEnd::Exhausted,
-    };
-    if let Err(e) = plan.validate() {
-        report.end = ProbeEnd::Failed(e);
-    } else {
-        report.end = run(open, name, plan, &candidates, cancel, &mut |ev| {
-            if let ProbeEvent::Tried { result, .. } = &ev {
-                report.results.push(result.clone());
-            }
-            on_event(ev);
-        });
+impl ProbeCore {
+    /// A probe of `port` (its name in messages) with `plan`.
+    pub fn new(port: &str, plan: ProbePlan) -> Self {
+        let candidates = plan.candidates();
+        let end = plan.validate().err().map(ProbeEnd::Failed);
+        Self {
+            port: port.to_owned(),
+            report: ProbeReport {
+                port: port.to_owned(),
+                results: Vec::new(),
+                total: candidates.len(),
+                end: ProbeEnd::Exhausted,
+            },
+            plan,
+            candidates,
+            next: 0,
+            open: None,
+            opening: false,
+            waiting: None,
+            quiet_until: None,
+            end,
+            closed: false,
+            events: std::collections::VecDeque::new(),
+        }
     }
-    on_event(ProbeEvent::Finished(report.clone()));
-    report
+
+    /// The report so far (whole once the probe is closed).
+    pub fn report(&self) -> &ProbeReport {
+        &self.report
+    }
+
+    fn ended(&mut self, end: ProbeEnd) {
+        self.waiting = None;
+        self.end.get_or_insert(end);
+    }
+
+    /// The 215H on the line has settled (or timed out) at `now`.
+    fn tried(&mut self, now: std::time::Instant) {
+        let Some((attempt, _)) = self.waiting.take() else {
+            return;
+        };
+        let Some(&candidate) = self.candidates.get(self.next) else {
+            return;
+        };
+        let outcome = attempt.finish();
+        let found = outcome.is_controller();
+        let result = ProbeResult { candidate, outcome };
+        self.report.results.push(result.clone());
+        self.next += 1;
+        self.events.push_back(ProbeEvent::Tried {
+            tried: self.next,
+            total: self.candidates.len(),
+            result,
+        });
+        // At least 1 ms between a reply and the next command (PROTOCOL.md 1.5).
+        self.quiet_until = Some(now + Timing::default().gap);
+        if found && !self.plan.probe_all {
+            self.ended(ProbeEnd::Found);
+        } else if self.next >= self.candidates.len() {
+            self.ended(ProbeEnd::Exhausted);
+        }
+    }
+
+    /// Ends the probe: the report is whole, `Finished` goes out, the line is closed.
+    fn finish(&mut self) -> Option<Transmit> {
+        let end = self.end.clone()?;
+        self.report.end = end;
+        self.events
+            .push_back(ProbeEvent::Finished(self.report.clone()));
+        self.closed = true;
+        self.open.take().map(|_| Transmit::Close)
+    }
 }
 
-/// The candidate loop; the open line lives only inside it.
-fn run(
-    open: &mut Opener<'_>,
-    name: &str,
-    plan: &ProbePlan,
-    candidates: &[Candidate],
-    cancel: &AtomicBool,
-    emit: &mut dyn FnMut(ProbeEvent),
-) -> ProbeEnd {
-    let total = candidates.len();
-    let mut line: Option<(LineSettings, Box<dyn Transport>)> = None;
-    for (tried, &candidate) in candidates.iter().enumerate() {
-        if cancel.load(Ordering::Relaxed) {
-            return ProbeEnd::Cancelled;
+impl LinkCore for ProbeCore {
+    type Request = std::convert::Infallible;
+    type Event = ProbeEvent;
+
+    fn handle_request(&mut self, _now: std::time::Instant, input: Input<Self::Request>) {
+        if let Input::Close = input {
+            self.ended(ProbeEnd::Cancelled);
         }
-        if line.as_ref().map(|(s, _)| *s) != Some(candidate.line) {
-            // Close first: the port is opened exclusively.
-            drop(line.take());
-            match open(candidate.line) {
-                Ok(t) => line = Some((candidate.line, t)),
-                Err(e) => return ProbeEnd::Failed(ProbeError::from_open(name, candidate.line, e)),
+    }
+
+    fn handle_line(&mut self, _now: std::time::Instant, change: LineChange) {
+        let line = self
+            .candidates
+            .get(self.next)
+            .map_or_else(LineSettings::default, |c| c.line);
+        match change {
+            LineChange::Opened { .. } => {
+                self.opening = false;
+                self.open = Some(line);
             }
+            LineChange::OpenFailed(failure) => {
+                self.opening = false;
+                let error = io::Error::new(failure.kind, failure.detail);
+                self.ended(ProbeEnd::Failed(ProbeError::from_open(
+                    &self.port, line, error,
+                )));
+            }
+            LineChange::Lost(reason) => {
+                self.open = None;
+                let error = io::Error::other(reason.to_string());
+                self.ended(ProbeEnd::Failed(ProbeError::from_line(
+                    &self.port, line, error,
+                )));
+            }
+            LineChange::GuardianStopped(_) => {}
         }
-        let Some((_, transport)) = line.as_mut() else {
-            return ProbeEnd::Exhausted;
+    }
+
+    fn handle_bytes(&mut self, now: std::time::Instant, bytes: &[u8]) {
+        // Leftovers of an earlier candidate (or noise from opening) count for nobody.
+        let Some((attempt, _)) = self.waiting.as_mut() else {
+            return;
         };
-        emit(ProbeEvent::Trying {
-            tried,
-            total,
+        attempt.push(bytes);
+        if attempt.is_settled() {
+            self.tried(now);
+        }
+    }
+
+    fn handle_timeout(&mut self, now: std::time::Instant) {
+        if self
+            .waiting
+            .as_ref()
+            .is_some_and(|(_, deadline)| now >= *deadline)
+        {
+            self.tried(now);
+        }
+        if self.quiet_until.is_some_and(|t| now >= t) {
+            self.quiet_until = None;
+        }
+    }
+
+    fn poll_transmit(&mut self, now: std::time::Instant) -> Option<Transmit> {
+        if self.closed || self.opening || self.waiting.is_some() {
+            return None;
+        }
+        if self.end.is_some() {
+            return self.finish();
+        }
+        let &candidate = self.candidates.get(self.next)?;
+        if self.open != Some(candidate.line) {
+            // Close first: the port is opened exclusively.
+            if self.open.take().is_some() {
+                return Some(Transmit::Close);
+            }
+            self.opening = true;
+            return Some(Transmit::Open(candidate.line));
+        }
+        if self.quiet_until.is_some_and(|t| t > now) {
+            return None;
+        }
+        self.quiet_until = None;
+        let attempt = Attempt::new(candidate.station);
+        let timing = Timing {
+            line: candidate.line,
+            margin: self.plan.margin,
+            ..Timing::default()
+        };
+        let timeout = timing.reply_timeout(
+            attempt.command().len(),
+            Command::SystemStatus.max_reply_len(),
+        );
+        let bytes = attempt.command().to_vec();
+        self.events.push_back(ProbeEvent::Trying {
+            tried: self.next,
+            total: self.candidates.len(),
             candidate,
         });
-        let outcome = match probe_one(transport.as_mut(), candidate, plan.margin, cancel) {
-            Ok(Some(outcome)) => outcome,
-            Ok(None) => return ProbeEnd::Cancelled,
-            Err(e) => return ProbeEnd::Failed(ProbeError::from_line(name, candidate.line, e)),
-        };
-        let found = outcome.is_controller();
-        emit(ProbeEvent::Tried {
-            tried: tried + 1,
-            total,
-            result: ProbeResult { candidate, outcome },
-        });
-        if found && !plan.probe_all {
-            return ProbeEnd::Found;
-        }
+        self.waiting = Some((attempt, now + timeout));
+        Some(Transmit::Write(bytes))
     }
-    ProbeEnd::Exhausted
+
+    fn poll_event(&mut self) -> Option<ProbeEvent> {
+        self.events.pop_front()
+    }
+
+    fn poll_timeout(&self) -> Option<std::time::Instant> {
+        if self.closed {
+            return None;
+        }
+        self.waiting
+            .as_ref()
+            .map(|(_, deadline)| *deadline)
+            .or(self.quiet_until)
+    }
+
+    fn awaits_bytes(&self) -> bool {
+        self.waiting.is_some()
+    }
+
+    fn is_closed(&self) -> bool {
+        self.closed
+    }
 }
 
-/// Sends one 215H and classifies what comes back before the reply time-out; `None` when
-/// cancelled.
-fn probe_one(
-    t: &mut dyn Transport,
-    candidate: Candidate,
-    margin: Duration,
-    cancel: &AtomicBool,
-) -> io::Result<Option<Outcome>> {
-    // Leftovers of an earlier candidate (or noise from opening) must not count here.
-    t.discard_input()?;
-    let mut attempt = Attempt::new(candidate.station);
-    t.write_all_bytes(attempt.command())?;
-    let timing = Timing {
-        line: candidate.line,
-        margin,
-        ..Timing::default()
-    };
-    let timeout = timing.reply_timeout(
-        attempt.command().len(),
-        Command::SystemStatus.max_reply_len(),
-    );
-    let deadline = Instant::now() + timeout;
-    let mut buf = [0u8; 256];
-    while !attempt.is_settled() {
-        if cancel.load(Ordering::Relaxed) {
-            return Ok(None);
-        }
-        let left = deadline.saturating_duration_since(Instant::now());
-        if left.is_zero() {
-            break;
-        }
-        match t.read_timeout(&mut buf, left.min(READ_SLICE)) {
-            Ok(0) => {
-                return Err(io::Error::new(
-                    io::ErrorKind::UnexpectedEof,
-                    "the line closed",
-                ));
-            }
-            Ok(n) => {
-                attempt.push(buf.get(..n).unwrap_or(&buf));
-            }
-            Err(e) if is_timeout(&e) => {}
-            Err(e) => return Err(e),
-        }
+impl CoreEvent for ProbeEvent {
+    fn is_traffic(&self) -> bool {
+        false
     }
-    // At least 1 ms between a reply and the next command (PROTOCOL.md 1.5).
-    std::thread::sleep(timing.gap);
-    Ok(Some(attempt.finish()))
+
+    fn dropped(_frames: u64) -> Option<Self> {
+        None
+    }
 }
 
-/// A probe running on its own thread: read `events` (the last is `Finished`), cancel
-/// with [`ProbeHandle::cancel`]. Dropping the handle cancels the probe without waiting.
+/// A probe running on the link driver's thread: read `events` (the last is `Finished`),
+/// cancel with [`ProbeHandle::cancel`]. Dropping the handle cancels the probe without
+/// waiting.
 pub struct ProbeHandle {
     pub events: Receiver<ProbeEvent>,
-    cancel: Arc<AtomicBool>,
-    thread: Option<JoinHandle<()>>,
+    driver: DriverHandle<ProbeCore>,
 }
 
 impl ProbeHandle {
     /// Asks the probe to stop; `Finished` (with `ProbeEnd::Cancelled`) follows shortly.
     pub fn cancel(&self) {
-        self.cancel.store(true, Ordering::Relaxed);
+        let _ = self.driver.control.send(Input::Close);
     }
 
     /// Whether the thread has ended (the port is closed then).
     pub fn is_finished(&self) -> bool {
-        self.thread.as_ref().is_none_or(|t| t.is_finished())
+        !self.driver.is_running()
     }
 
-    /// Waits for the thread to end (blocks: not for the UI thread).
-    pub fn join(mut self) {
-        if let Some(t) = self.thread.take() {
-            let _ = t.join();
-        }
+    /// Waits for the probe to end and gives its report (blocks: not for the UI thread).
+    pub fn join(mut self) -> Option<ProbeReport> {
+        self.driver.wait().map(|core| core.report().clone())
     }
 }
 
@@ -302,125 +382,146 @@ impl Drop for ProbeHandle {
     }
 }
 
-/// Starts [`probe_port`] on a new thread; `repaint` is called after every event so the
-/// window wakes up to show it.
+/// Probes the serial port `port` with `plan` on the link driver's thread; `repaint` is
+/// called after every event so the window wakes up to show it.
 pub fn spawn_probe(
     port: String,
     plan: ProbePlan,
     repaint: Arc<dyn Fn() + Send + Sync>,
 ) -> io::Result<ProbeHandle> {
-    let (tx, events) = unbounded();
-    let cancel = Arc::new(AtomicBool::new(false));
-    let flag = Arc::clone(&cancel);
-    let thread = std::thread::Builder::new()
-        .name("xsel-probe".into())
-        .spawn(move || {
-            probe_port(&port, &plan, &flag, &mut |ev| {
-                // A dropped receiver only means nobody is watching any more.
-                let _ = tx.send(ev);
-                repaint();
-            });
-        })?;
-    Ok(ProbeHandle {
-        events,
-        cancel,
-        thread: Some(thread),
-    })
+    spawn_probe_with(
+        &port.clone(),
+        plan,
+        Box::new(move |line| {
+            SerialTransport::open(&port, line).map(|t| Box::new(t) as Box<dyn Transport>)
+        }),
+        repaint,
+    )
+}
+
+/// As [`spawn_probe`], opening each setting with `connector` (`name` is the port's name
+/// in messages).
+pub fn spawn_probe_with(
+    name: &str,
+    plan: ProbePlan,
+    connector: Connector,
+    repaint: Arc<dyn Fn() + Send + Sync>,
+) -> io::Result<ProbeHandle> {
+    let core = ProbeCore::new(name, plan);
+    let (driver, events) = driver::spawn(
+        "xsel-probe",
+        core,
+        connector,
+        Arc::new(move |_: &ProbeEvent| repaint()),
+        usize::MAX,
+    )?;
+    Ok(ProbeHandle { events, driver })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::link::reason::IoFailure;
     use crate::protocol::{Reply, Station, SystemStatus};
-    use std::sync::Mutex;
+    use std::time::{Duration, Instant};
 
-    /// A stand-in line: a "controller" that answers 215H at one setting and station,
-    /// sends junk at `junk_baud`, and is silent otherwise.
-    struct FakeLine {
-        line: LineSettings,
-        answer_at: Candidate,
-        junk_baud: u32,
-        pending: Vec<u8>,
-    }
-
-    impl Transport for FakeLine {
-        fn read_timeout(&mut self, buf: &mut [u8], timeout: Duration) -> io::Result<usize> {
-            if self.pending.is_empty() {
-                std::thread::sleep(timeout.min(Duration::from_millis(2)));
-                return Err(io::ErrorKind::TimedOut.into());
-            }
-            let n = buf.len().min(self.pending.len());
-            buf[..n].copy_from_slice(&self.pending[..n]);
-            self.pending.drain(..n);
-            Ok(n)
-        }
-
-        fn write_all_bytes(&mut self, bytes: &[u8]) -> io::Result<()> {
-            let asked = Attempt::new(self.answer_at.station);
-            if self.line == self.answer_at.line && bytes == asked.command() {
-                self.pending = Reply::SystemStatus(SystemStatus::default())
-                    .to_bytes(self.answer_at.station)
-                    .unwrap_or_default();
-            } else if self.line.baud == self.junk_baud {
-                self.pending = b"\x80\x00\xe6x\x00\x80".to_vec();
-            }
-            Ok(())
-        }
-
-        fn discard_input(&mut self) -> io::Result<Vec<u8>> {
-            Ok(std::mem::take(&mut self.pending))
-        }
-
-        fn describe(&self) -> String {
-            format!("fake {}", self.line)
-        }
-    }
-
+    /// What the stand-in line does: a "controller" that answers 215H at one setting and
+    /// station, sends junk at 38400 baud, and is silent otherwise.
     struct Run {
         report: ProbeReport,
         events: Vec<ProbeEvent>,
         opened: Vec<u32>,
+        /// Virtual time the probe took.
+        took: Duration,
     }
 
+    /// Drives a probe on a virtual clock against the stand-in line.
     fn run_fake(
         plan: &ProbePlan,
         answer_at: Candidate,
         fail_open_at: Option<u32>,
         cancel_at: Option<usize>,
     ) -> Run {
-        let opened = Arc::new(Mutex::new(Vec::new()));
-        let log = Arc::clone(&opened);
-        let mut open = move |line: LineSettings| -> io::Result<Box<dyn Transport>> {
-            if let Ok(mut l) = log.lock() {
-                l.push(line.baud);
-            }
-            if Some(line.baud) == fail_open_at {
-                return Err(io::Error::other(
-                    "cannot open fake: No such file or directory",
-                ));
-            }
-            Ok(Box::new(FakeLine {
-                line,
-                answer_at,
-                junk_baud: 38_400,
-                pending: Vec::new(),
-            }))
-        };
-        let cancel = AtomicBool::new(false);
+        let t0 = Instant::now();
+        let mut now = t0;
+        let mut core = ProbeCore::new("fake", plan.clone());
+        let mut line: Option<LineSettings> = None;
+        let mut inbound: Option<(Instant, Vec<u8>)> = None;
         let mut events = Vec::new();
-        let report = probe_with(&mut open, "fake", plan, &cancel, &mut |ev| {
-            if let ProbeEvent::Trying { tried, .. } = ev
-                && Some(tried) == cancel_at
-            {
-                cancel.store(true, Ordering::Relaxed);
+        let mut opened = Vec::new();
+        for _ in 0..100_000 {
+            while let Some(transmit) = core.poll_transmit(now) {
+                match transmit {
+                    Transmit::Open(settings) => {
+                        assert!(line.is_none(), "opened twice: the port is exclusive");
+                        opened.push(settings.baud);
+                        let change = if Some(settings.baud) == fail_open_at {
+                            LineChange::OpenFailed(IoFailure {
+                                kind: io::ErrorKind::NotFound,
+                                detail: "cannot open fake: No such file or directory".into(),
+                            })
+                        } else {
+                            line = Some(settings);
+                            LineChange::Opened {
+                                name: "fake".into(),
+                            }
+                        };
+                        core.handle_line(now, change);
+                    }
+                    Transmit::Write(bytes) => {
+                        let at = line.expect("written on an open line");
+                        let asked = Attempt::new(answer_at.station);
+                        let reply = if at == answer_at.line && bytes == asked.command() {
+                            Reply::SystemStatus(SystemStatus::default())
+                                .to_bytes(answer_at.station)
+                                .unwrap_or_default()
+                        } else if at.baud == 38_400 {
+                            b"\x80\x00\xe6x\x00\x80".to_vec()
+                        } else {
+                            Vec::new()
+                        };
+                        inbound =
+                            (!reply.is_empty()).then(|| (now + Duration::from_millis(2), reply));
+                    }
+                    Transmit::Close => {
+                        line = None;
+                        inbound = None;
+                    }
+                }
             }
-            events.push(ev);
-        });
-        let opened = opened.lock().map(|l| l.clone()).unwrap_or_default();
+            while let Some(event) = core.poll_event() {
+                if let ProbeEvent::Trying { tried, .. } = event
+                    && Some(tried) == cancel_at
+                {
+                    core.handle_request(now, Input::Close);
+                }
+                if matches!(event, ProbeEvent::Finished(_)) {
+                    assert!(line.is_none(), "the port is closed before Finished");
+                }
+                events.push(event);
+            }
+            if core.is_closed() {
+                break;
+            }
+            let next = [inbound.as_ref().map(|(t, _)| *t), core.poll_timeout()]
+                .into_iter()
+                .flatten()
+                .min()
+                .expect("a probe that is not closed waits for something");
+            now = now.max(next);
+            if let Some((_, bytes)) = inbound.take_if(|(t, _)| *t <= now) {
+                core.handle_bytes(now, &bytes);
+            }
+            if core.poll_timeout().is_some_and(|t| t <= now) {
+                core.handle_timeout(now);
+            }
+        }
+        assert!(core.is_closed(), "the probe ended");
         Run {
-            report,
+            report: core.report().clone(),
             events,
             opened,
+            took: now - t0,
         }
     }
 
@@ -466,6 +567,25 @@ mod tests {
     }
 
     #[test]
+    fn a_silent_candidate_takes_its_reply_time_out_and_no_longer() {
+        let plan = ProbePlan {
+            bauds: vec![115_200],
+            ..ProbePlan::default()
+        };
+        let run = run_fake(&plan, at(9_600, 0x99), None, None);
+        assert_eq!(run.report.end, ProbeEnd::Exhausted);
+        let timing = Timing {
+            margin: plan.margin,
+            ..Timing::default()
+        };
+        let timeout = timing.reply_timeout(10, Command::SystemStatus.max_reply_len());
+        assert_eq!(
+            run.took, timeout,
+            "the last candidate needs no gap after it"
+        );
+    }
+
+    #[test]
     fn probe_all_goes_on_to_the_end() {
         let plan = ProbePlan {
             probe_all: true,
@@ -479,10 +599,8 @@ mod tests {
 
     #[test]
     fn another_station_is_found_only_by_a_sweep() {
-        // A short margin: the fake answers at once, and 263 silent waits add up.
         let plan = ProbePlan {
             bauds: vec![115_200, 9_600],
-            margin: Duration::from_millis(2),
             ..ProbePlan::default()
         };
         let run = run_fake(&plan, at(9_600, 0x05), None, None);
@@ -514,7 +632,7 @@ mod tests {
     fn a_cancel_stops_before_the_next_candidate() {
         let run = run_fake(&ProbePlan::default(), at(9_600, 0x99), None, Some(1));
         assert_eq!(run.report.end, ProbeEnd::Cancelled);
-        assert!(run.report.results.len() <= 2);
+        assert_eq!(run.report.results.len(), 1);
         assert!(matches!(run.events.last(), Some(ProbeEvent::Finished(_))));
         assert!(run.report.summary().starts_with("cancelled after"));
     }

@@ -109,6 +109,11 @@ impl Command {
         )
     }
 
+    /// Whether this is a 236H jog that runs until stopped ([`Jog::is_continuous`]).
+    pub const fn is_continuous_jog(&self) -> bool {
+        matches!(self, Command::Jog(j) if j.is_continuous())
+    }
+
     /// Whether this is 238H STOP, which goes to the head of the queue.
     pub const fn is_stop(&self) -> bool {
         matches!(self, Command::Stop(_))

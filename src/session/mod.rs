@@ -103,7 +103,7 @@ impl Connection {
                 let address = address.to_owned();
                 let connector = match owner {
                     LineOwner::Guardian { exe } => guardian_connector(settings, exe.clone()),
-                    LineOwner::InProcess => direct_connector(settings.kind, address.clone(), line),
+                    LineOwner::InProcess => direct_connector(settings.kind, address.clone()),
                 };
                 Connection {
                     connector,
@@ -125,7 +125,7 @@ impl Connection {
                 let target = format!("built-in simulator ({}, paced at {line})", settings.robot);
                 let name = target.clone();
                 let mut pipe = Some(pipe);
-                let connector: Connector = Box::new(move || {
+                let connector: Connector = Box::new(move |_paced_by_the_simulator| {
                     pipe.take()
                         .map(|p| {
                             Box::new(StreamTransport::new(p, &name, PipeEnd::set_read_timeout))
@@ -149,14 +149,14 @@ impl Connection {
     /// (the message names the line); the connector then hands out that open line first
     /// and re-opens as before.
     pub fn open_now(&mut self) -> Result<(), String> {
-        let mut connector: Connector = Box::new(|| Err(std::io::Error::other("moved")));
+        let mut connector: Connector = Box::new(|_| Err(std::io::Error::other("moved")));
         std::mem::swap(&mut connector, &mut self.connector);
-        match connector() {
+        match connector(self.line) {
             Ok(line) => {
                 let mut first = Some(line);
-                self.connector = Box::new(move || match first.take() {
+                self.connector = Box::new(move |line| match first.take() {
                     Some(t) => Ok(t),
-                    None => connector(),
+                    None => connector(line),
                 });
                 Ok(())
             }
@@ -181,12 +181,12 @@ impl Connection {
 }
 
 /// Opens a serial port or a TCP bridge in this process.
-fn direct_connector(kind: LineKind, address: String, line: LineSettings) -> Connector {
+fn direct_connector(kind: LineKind, address: String) -> Connector {
     match kind {
-        LineKind::Serial => Box::new(move || {
+        LineKind::Serial => Box::new(move |line| {
             SerialTransport::open(&address, line).map(|t| Box::new(t) as Box<dyn Transport>)
         }),
-        _ => Box::new(move || {
+        _ => Box::new(move |_settings_are_the_bridges| {
             TcpTransport::connect(&address, Duration::from_secs(2))
                 .map(|t| Box::new(t) as Box<dyn Transport>)
         }),
@@ -198,7 +198,7 @@ fn direct_connector(kind: LineKind, address: String, line: LineSettings) -> Conn
 fn guardian_connector(settings: &ConnectionSettings, exe: PathBuf) -> Connector {
     let settings = settings.clone();
     let lease = crate::link::LinkConfig::default().jog_lease;
-    Box::new(move || {
+    Box::new(move |_settings_go_to_the_guardian| {
         guardian::GuardianLine::open(&exe, &settings, lease)
             .map(|t| Box::new(t) as Box<dyn Transport>)
     })

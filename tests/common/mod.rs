@@ -24,7 +24,7 @@ pub fn ready_setup(reply_delay: Duration) -> SimSetup {
 /// missing port.
 pub fn pipe_connector(pipe: PipeEnd) -> Connector {
     let mut pipe = Some(pipe);
-    Box::new(move || match pipe.take() {
+    Box::new(move |_| match pipe.take() {
         Some(p) => Ok(Box::new(StreamTransport::new(
             p,
             "embedded simulator",
@@ -70,12 +70,9 @@ pub fn quiet_config() -> LinkConfig {
 /// Link over a serial port (or pty) path that can be reopened.
 pub fn serial_link(path: &str, config: LinkConfig) -> (LinkHandle, Receiver<LinkEvent>) {
     let path = path.to_owned();
-    let connector: Connector = Box::new(move || {
-        xsel_pendant::link::SerialTransport::open(
-            &path,
-            xsel_pendant::link::LineSettings::default(),
-        )
-        .map(|t| Box::new(t) as Box<dyn xsel_pendant::link::Transport>)
+    let connector: Connector = Box::new(move |line| {
+        xsel_pendant::link::SerialTransport::open(&path, line)
+            .map(|t| Box::new(t) as Box<dyn xsel_pendant::link::Transport>)
     });
     spawn(connector, config, std::sync::Arc::new(|_| {})).expect("link thread")
 }

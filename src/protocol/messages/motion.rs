@@ -208,6 +208,12 @@ const JOG_OP_BITS: &[BitDef] = &[
 ];
 
 impl Jog {
+    /// Whether this jog runs until stopped: distance 0 (PROTOCOL.md 3.10), the one home
+    /// of that rule.
+    pub const fn is_continuous(&self) -> bool {
+        self.distance.0 == 0
+    }
+
     pub(crate) fn read(r: &mut Reader<'_, '_>) -> Result<Self, MessageError> {
         // The operation type (column 29) decides the units of the rates before it.
         let joint = r.peek_hex(22, 1).is_some_and(|t| (t >> 1) & 3 == 3);

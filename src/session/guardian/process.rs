@@ -106,7 +106,7 @@ fn open_line(open: &OpenLine) -> Result<Box<dyn Transport>, String> {
     settings.line().validate().map_err(|e| e.to_string())?;
     let model = crate::robot::RobotModel::default_model();
     let mut connection = Connection::prepare_in_process(settings, model);
-    (connection.connector)().map_err(|e| connection.open_error(&e))
+    (connection.connector)(connection.line).map_err(|e| connection.open_error(&e))
 }
 
 /// A thread that reads the window's messages until the pipe closes.

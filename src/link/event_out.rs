@@ -1,38 +1,36 @@
-//! The link's side of the event stream, kept bounded when the reader falls behind.
+//! The driver's side of the event stream, kept bounded when the reader falls behind.
 //!
 //! The channel stays one ordered stream. Its length is the backlog: while it holds
 //! [`LinkConfig::event_backlog`](super::LinkConfig::event_backlog) events or more, traffic
-//! events (frames, garbage) are left out and counted, and a [`LinkEvent::Dropped`] with
+//! events (frames, garbage) are left out and counted, and the core's "dropped" event with
 //! the count goes out before the next event once the reader has caught up. Everything
 //! else (replies, errors, time-outs, table data, line state) always goes out; to keep
-//! those bounded too, the engine pauses its own status polling while the reader is
-//! behind (see [`EventOut::behind`]) and sends `Health` only when the reader keeps up.
-
-use std::cell::Cell;
+//! those bounded too, the core is told the reader is behind (and the Format B core pauses
+//! its own status polling, and sends health only when the reader keeps up).
 
 use crossbeam_channel::Sender;
 
-use super::event::LinkEvent;
-use super::handle::Repaint;
+use super::core::CoreEvent;
+use super::driver::Notify;
 
-pub(crate) struct EventOut {
-    tx: Sender<LinkEvent>,
-    repaint: Repaint,
+pub(crate) struct EventOut<E> {
+    tx: Sender<E>,
+    repaint: Notify<E>,
     limit: usize,
-    /// Left out since the last `Dropped` event.
-    unreported: Cell<u64>,
+    /// Left out since the last "dropped" event.
+    unreported: u64,
     /// Left out over the link's life.
-    total: Cell<u64>,
+    total: u64,
 }
 
-impl EventOut {
-    pub(crate) fn new(tx: Sender<LinkEvent>, repaint: Repaint, limit: usize) -> Self {
+impl<E: CoreEvent> EventOut<E> {
+    pub(crate) fn new(tx: Sender<E>, repaint: Notify<E>, limit: usize) -> Self {
         Self {
             tx,
             repaint,
             limit: limit.max(1),
-            unreported: Cell::new(0),
-            total: Cell::new(0),
+            unreported: 0,
+            total: 0,
         }
     }
 
@@ -43,16 +41,16 @@ impl EventOut {
 
     /// Traffic events left out so far.
     pub(crate) fn dropped_total(&self) -> u64 {
-        self.total.get()
+        self.total
     }
 
     /// Sends `event`, or leaves it out and counts it if it is traffic and the reader is
     /// behind. A dropped receiver only means nobody listens any more.
-    pub(crate) fn send(&self, event: LinkEvent) {
+    pub(crate) fn send(&mut self, event: E) {
         if self.behind() {
             if event.is_traffic() {
-                self.unreported.set(self.unreported.get() + 1);
-                self.total.set(self.total.get() + 1);
+                self.unreported += 1;
+                self.total += 1;
                 return;
             }
         } else {
@@ -63,11 +61,13 @@ impl EventOut {
         let _ = self.tx.send(event);
     }
 
-    /// Sends the `Dropped` count still unreported, whatever the backlog (at shutdown).
-    pub(crate) fn report_dropped(&self) {
-        let frames = self.unreported.replace(0);
-        if frames > 0 {
-            let _ = self.tx.send(LinkEvent::Dropped { frames });
+    /// Sends the count still unreported, whatever the backlog (at the end).
+    pub(crate) fn report_dropped(&mut self) {
+        let frames = std::mem::take(&mut self.unreported);
+        if frames > 0
+            && let Some(event) = E::dropped(frames)
+        {
+            let _ = self.tx.send(event);
         }
     }
 }
