@@ -18,7 +18,7 @@ use xsel_pendant::link::{LinkEvent, Priority};
 use xsel_pendant::pendant::{ConnectionSettings, LineKind};
 use xsel_pendant::protocol::{
     ArmPolicy, Axis, AxisPattern, CentiG, Command, Direction, Jog, JogFrame, JogMotion, MmPerSec,
-    PerAxis, Percent, ScaraMotion, ScaraMove, Thou,
+    PerAxis, Percent, ScaraMotion, ScaraMove, Milli,
 };
 use xsel_pendant::robot::RobotModel;
 use xsel_pendant::session::{LineOwner, Session};
@@ -125,7 +125,7 @@ fn step(micrometres: i32) -> Command {
             speed: Percent(30),
             arm: ArmPolicy::KeepNoSwitch,
         },
-        targets: PerAxis::new().with(Axis::A1, Thou(micrometres)),
+        targets: PerAxis::new().with(Axis::A1, Milli(micrometres)),
     })
 }
 
@@ -294,7 +294,7 @@ fn window(addr: &str) {
     let jog = Command::Jog(Jog {
         axes: AxisPattern::single(Axis::A1),
         direction,
-        distance: Thou(0),
+        distance: Milli(0),
         motion: JogMotion::Cartesian {
             frame: JogFrame::Work,
             acc: CentiG(10),

@@ -69,14 +69,33 @@ fn line_efficiency(baud: u32, run: Duration) -> (f64, f64) {
     let start = Instant::now();
     let mut replies = 0u32;
     let mut reply_len = 0;
+    // Where a transaction's time goes: written -> reply's last byte, and that -> the next
+    // frame written (the gap).
+    let (mut trips, mut gaps) = (Vec::new(), Vec::new());
+    let (mut sent, mut received) = (None::<Instant>, None::<Instant>);
     while start.elapsed() < run {
-        if let Ok(LinkEvent::FrameReceived { bytes, .. }) =
-            events.recv_timeout(Duration::from_secs(1))
-        {
-            replies += 1;
-            reply_len = bytes.len();
+        match events.recv_timeout(Duration::from_secs(1)) {
+            Ok(LinkEvent::FrameReceived {
+                bytes, last_byte, ..
+            }) => {
+                replies += 1;
+                reply_len = bytes.len();
+                if let Some(at) = sent.take() {
+                    trips.push(last_byte.saturating_duration_since(at));
+                }
+                received = Some(last_byte);
+            }
+            Ok(LinkEvent::FrameSent { at, .. }) => {
+                if let Some(end) = received.take() {
+                    gaps.push(at.saturating_duration_since(end));
+                }
+                sent = Some(at);
+            }
+            _ => {}
         }
     }
+    trips.sort();
+    gaps.sort();
     let achieved = f64::from(replies) / start.elapsed().as_secs_f64();
     let command_len = poll_command()
         .to_bytes(Station::DEFAULT, ScMode::Computed)
@@ -92,6 +111,15 @@ fn line_efficiency(baud: u32, run: Duration) -> (f64, f64) {
         1.0 / per.as_secs_f64(),
         per.as_secs_f64() * 1e3
     );
+    if !trips.is_empty() && !gaps.is_empty() {
+        println!(
+            "  {baud:>6} baud: written -> reply's last byte median {} (wire + delay {}), reply -> next written median {} (gap {})",
+            ms(percentile(&trips, 0.5)),
+            ms(per - timing.gap),
+            ms(percentile(&gaps, 0.5)),
+            ms(timing.gap)
+        );
+    }
     (achieved, 1.0 / per.as_secs_f64())
 }
 

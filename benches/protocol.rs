@@ -10,7 +10,7 @@ fn big_2a4_reply() -> Vec<u8> {
     let records = (0..255)
         .map(|i: i32| {
             PerAxis::from_fn(AxisPattern::ALL, |a| {
-                Thou(i * 1000 - a.index() as i32 * 12_345)
+                Milli(i * 1000 - a.index() as i32 * 12_345)
             })
         })
         .collect();
@@ -33,10 +33,10 @@ fn scara_move() -> Command {
             speed: MmPerSec(50),
         },
         targets: PerAxis::new()
-            .with(Axis::A1, Thou(1000))
-            .with(Axis::A2, Thou(-5000))
-            .with(Axis::A3, Thou(0))
-            .with(Axis::A4, Thou(45_000)),
+            .with(Axis::A1, Milli(1000))
+            .with(Axis::A2, Milli(-5000))
+            .with(Axis::A3, Milli(0))
+            .with(Axis::A4, Milli(45_000)),
     })
 }
 
@@ -47,7 +47,7 @@ fn capture() -> Vec<u8> {
     let mut out = Vec::with_capacity(1 << 20);
     let blk = |p| AxisState {
         status: AxisStatus(0x1C),
-        position: Thou(p),
+        position: Milli(p),
         ..AxisState::default()
     };
     let scara = Reply::ScaraStatus(ScaraStatus {
@@ -65,7 +65,7 @@ fn capture() -> Vec<u8> {
         kind: CoordKind::Tool,
         first: 0,
         records: (0..31)
-            .map(|i| PerAxis::from_fn(AxisPattern::SCARA_1, |_| Thou(i * 7)))
+            .map(|i| PerAxis::from_fn(AxisPattern::SCARA_1, |_| Milli(i * 7)))
             .collect(),
     });
     let mut i = 0u32;

@@ -4,7 +4,7 @@ use clap::Parser;
 
 use crate::link::line::LineSettingsError;
 use crate::link::{LineSettings, Parity};
-use crate::pendant::{ConnectionSettings, LineKind, ParityChoice};
+use crate::pendant::{ConnectionSettings, LineKind};
 use crate::protocol::Station;
 use crate::robot::RobotModel;
 pub use crate::session::Connection;
@@ -164,7 +164,7 @@ impl Args {
         let mut c = ConnectionSettings {
             baud: self.baud,
             data_bits: self.data_bits,
-            parity: ParityChoice::from_link(self.parity),
+            parity: self.parity,
             stop_bits: self.stop_bits,
             station: self.station.0,
             robot: self.robot.clone(),

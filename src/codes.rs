@@ -1,5 +1,6 @@
 //! Wire codes <-> robot types, the one home for both: arm policy (2D4H-2D6H operation
-//! type bits 3-4), jog frame (236H bits 1-2) and arm system (2A1H/2A3H common status).
+//! type bits 3-4), jog frame (236H bits 1-2), arm system (2A1H/2A3H common status) and
+//! table kind (2A0H/2A4H coordinate type).
 //!
 //! Sits above `protocol` (which knows the bits) and `robot` (which knows nothing of the
 //! wire); the simulator uses it, and so will the pendant.
@@ -69,6 +70,24 @@ impl From<robot::ArmSystem> for protocol::ArmSystem {
     }
 }
 
+impl From<protocol::CoordKind> for robot::FrameKind {
+    fn from(k: protocol::CoordKind) -> Self {
+        match k {
+            protocol::CoordKind::Work => robot::FrameKind::Work,
+            protocol::CoordKind::Tool => robot::FrameKind::Tool,
+        }
+    }
+}
+
+impl From<robot::FrameKind> for protocol::CoordKind {
+    fn from(k: robot::FrameKind) -> Self {
+        match k {
+            robot::FrameKind::Work => protocol::CoordKind::Work,
+            robot::FrameKind::Tool => protocol::CoordKind::Tool,
+        }
+    }
+}
+
 /// The frame a 236H jog moves in, or `None` for the each-axis (joint) system.
 pub fn jog_frame(motion: &protocol::JogMotion) -> Option<robot::JogFrame> {
     match *motion {
@@ -128,6 +147,17 @@ mod tests {
             speed: Percent(0),
         };
         assert_eq!(jog_frame(&joint), None, "each-axis system has no frame");
+    }
+
+    #[test]
+    fn both_table_kinds_round_trip() {
+        for (wire, kind) in [
+            (protocol::CoordKind::Work, robot::FrameKind::Work),
+            (protocol::CoordKind::Tool, robot::FrameKind::Tool),
+        ] {
+            assert_eq!(robot::FrameKind::from(wire), kind);
+            assert_eq!(protocol::CoordKind::from(kind), wire);
+        }
     }
 
     #[test]

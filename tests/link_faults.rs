@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 use common::*;
 use xsel_pendant::link::{LinkConfig, LinkEvent, Origin, Priority};
 use xsel_pendant::protocol::{
-    Axis, AxisPattern, CentiG, Command, Direction, Jog, JogFrame, JogMotion, MmPerSec, Reply, Thou,
+    Axis, AxisPattern, CentiG, Command, Direction, Jog, JogFrame, JogMotion, MmPerSec, Reply, Milli,
 };
 use xsel_pendant::sim::runner::{RunOptions, SimCore, start_tcp};
 use xsel_pendant::sim::{Controller, Fault, FaultSpec};
@@ -121,7 +121,7 @@ fn a_stalled_line_stops_a_running_jog() {
     let jog = Command::Jog(Jog {
         axes: AxisPattern::single(Axis::A1),
         direction: Direction::Negative,
-        distance: Thou(0),
+        distance: Milli(0),
         motion: JogMotion::Cartesian {
             frame: JogFrame::Work,
             acc: CentiG(10),

@@ -276,7 +276,7 @@ fn a_whole_tool_table_downloads_in_buffer_sized_chunks() {
 }
 
 fn assert_tool_table_matches(
-    records: &[Option<xsel_pendant::protocol::PerAxis<xsel_pendant::protocol::Thou>>],
+    records: &[Option<xsel_pendant::protocol::PerAxis<xsel_pendant::protocol::Milli>>],
     sim: &xsel_pendant::sim::SimHandle,
 ) {
     let expected = sim.with(|c| c.coords().tool.entries().to_vec());

@@ -55,10 +55,10 @@ fn encoding_a_scara_move_into_a_reused_buffer_does_not_allocate() {
             speed: MmPerSec(50),
         },
         targets: PerAxis::new()
-            .with(Axis::A1, Thou(1000))
-            .with(Axis::A2, Thou(-5000))
-            .with(Axis::A3, Thou(0))
-            .with(Axis::A4, Thou(45_000)),
+            .with(Axis::A1, Milli(1000))
+            .with(Axis::A2, Milli(-5000))
+            .with(Axis::A3, Milli(0))
+            .with(Axis::A4, Milli(45_000)),
     });
     let mut buf = Vec::with_capacity(128);
     let before = ALLOCS.load(Ordering::SeqCst);

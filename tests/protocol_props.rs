@@ -11,8 +11,8 @@ fn pattern() -> impl Strategy<Value = AxisPattern> {
     any::<u8>().prop_map(AxisPattern)
 }
 
-fn thou() -> impl Strategy<Value = Thou> {
-    any::<i32>().prop_map(Thou)
+fn milli() -> impl Strategy<Value = Milli> {
+    any::<i32>().prop_map(Milli)
 }
 
 fn per_axis<T: Copy + Default + std::fmt::Debug>(
@@ -22,8 +22,8 @@ fn per_axis<T: Copy + Default + std::fmt::Debug>(
     vec(s, 8).prop_map(move |v| PerAxis::from_fn(p, |a| v[a.index()]))
 }
 
-fn targets() -> impl Strategy<Value = PerAxis<Thou>> {
-    pattern().prop_flat_map(|p| per_axis(p, thou()))
+fn targets() -> impl Strategy<Value = PerAxis<Milli>> {
+    pattern().prop_flat_map(|p| per_axis(p, milli()))
 }
 
 fn printable(max: usize) -> impl Strategy<Value = Vec<u8>> {
@@ -150,7 +150,7 @@ fn command() -> impl Strategy<Value = Command> {
                     } else {
                         Direction::Negative
                     },
-                    distance: Thou(d),
+                    distance: Milli(d),
                     motion,
                 })
             }
@@ -206,7 +206,7 @@ fn command() -> impl Strategy<Value = Command> {
 }
 
 fn axis_state() -> impl Strategy<Value = AxisState> {
-    (any::<u8>(), 0u8..16, 0u16..0x1000, any::<u8>(), thou()).prop_map(
+    (any::<u8>(), 0u8..16, 0u16..0x1000, any::<u8>(), milli()).prop_map(
         |(s, sensor, e, enc, position)| AxisState {
             status: AxisStatus(s),
             sensor: SensorInput(sensor),
@@ -321,7 +321,7 @@ fn reply() -> impl Strategy<Value = Reply> {
         (
             coord_kind(),
             any::<u8>(),
-            vec((thou(), thou(), thou(), thou()), 0..20)
+            vec((milli(), milli(), milli(), milli()), 0..20)
         )
             .prop_map(|(kind, first, recs)| {
                 Reply::CoordTable(CoordTable {
@@ -358,7 +358,7 @@ fn reply() -> impl Strategy<Value = Reply> {
                 Just(p),
                 Just(kind),
                 Just(first),
-                vec(per_axis(p, thou()), 0..12)
+                vec(per_axis(p, milli()), 0..12)
             ))
             .prop_map(
                 |(axes, kind, first, records)| Reply::CoordTable2(CoordTable2 {
@@ -449,7 +449,7 @@ proptest! {
                 axes: q.axes,
                 kind: q.kind,
                 first: q.first,
-                records: vec![PerAxis::from_fn(q.axes, |_| Thou(0)); usize::from(q.count)],
+                records: vec![PerAxis::from_fn(q.axes, |_| Milli(0)); usize::from(q.count)],
             });
             prop_assert_eq!(full.to_bytes(Station::DEFAULT).unwrap().len(), max);
         }

@@ -521,6 +521,6 @@ fn reserved_codes_in_status_replies_do_not_cost_the_status_poll() {
     assert_eq!(s.common.arm, ArmSystem::Undetermined);
     assert_eq!(
         s.axes.get(Axis::A1).map(|a| a.position),
-        Some(Thou(300_000))
+        Some(Milli(300_000))
     );
 }

@@ -130,6 +130,43 @@ fn ten_thousand_pipelined_frames_over_a_pty_are_all_answered_in_order() {
     assert_eq!((n.replies, n.input_lost_bytes), (FRAMES as u64, 0));
 }
 
+/// A host that writes 3,000 frames with blocking writes before it reads a byte: the
+/// simulator keeps receiving while its replies wait for room, as a controller's UART
+/// does, so every write goes through and every frame is answered in order.
+#[cfg(unix)]
+#[test]
+fn a_host_that_writes_everything_before_it_reads_is_served() {
+    use xsel_pendant::sim::runner::start_pty;
+    const WRITTEN: usize = 3_000;
+    let server = start_pty(core(0), RunOptions::default()).unwrap();
+    let mut port = serialport::new(&server.path, 115_200)
+        .timeout(Duration::from_millis(100))
+        .open_native()
+        .unwrap();
+    let deadline = Instant::now() + Duration::from_secs(30);
+    for i in 0..WRITTEN {
+        let frame = numbered(i);
+        let mut sent = 0;
+        while sent < frame.len() {
+            assert!(
+                Instant::now() < deadline,
+                "frame {i} could not be written: the simulator stopped listening"
+            );
+            match port.write(&frame[sent..]) {
+                Ok(n) => sent += n,
+                Err(e) if e.kind() == std::io::ErrorKind::TimedOut => {}
+                Err(e) => panic!("write failed: {e}"),
+            }
+        }
+    }
+    let lines = read_lines(|b| port.read(b), WRITTEN);
+    for (i, line) in lines.iter().enumerate() {
+        assert!(line.starts_with(&format!("#99200{i:05}")), "reply {i}: {line:?}");
+    }
+    assert_eq!(lines.len(), WRITTEN, "every frame answered");
+    assert_eq!(server.handle.counters().input_lost_bytes, 0);
+}
+
 #[test]
 fn a_frame_sent_a_byte_at_a_time_is_answered() {
     let server = start_tcp(core(1), "127.0.0.1:0", RunOptions::default()).unwrap();

@@ -9,7 +9,7 @@ use std::time::Duration;
 
 use clap::Parser;
 use xsel_pendant::cli::parse_or_exit;
-use xsel_pendant::line::byte_time_8n1;
+use xsel_pendant::line::{BAUD_RANGE, byte_time_8n1};
 use xsel_pendant::protocol::Station;
 use xsel_pendant::robot::RobotModel;
 use xsel_pendant::sim::console::{self, OperatorAction, parse_code};
@@ -79,7 +79,7 @@ struct Args {
     /// assets/coords/example.toml). Default: that example.
     #[arg(long, value_name = "FILE")]
     coords: Option<String>,
-    /// Pace reply bytes at this baud rate (10 bits a character), 1200 to 230400.
+    /// Pace reply bytes at this baud rate (10 bits a character), 9600 to 230400.
     /// Default: no pacing.
     #[arg(long, value_parser = parse_baud)]
     baud: Option<u32>,
@@ -118,7 +118,7 @@ struct Args {
     no_console: bool,
     /// Reply buffer size: 2048, or 1024 for a J/K/TT model setting (the longest command
     /// received is then 2051 or 1023 bytes).
-    #[arg(long, default_value_t = 2048, value_parser = parse_reply_buffer)]
+    #[arg(long, default_value_t = xsel_pendant::protocol::REPLY_BUFFER, value_parser = parse_reply_buffer)]
     reply_buffer: usize,
     /// Do not log frames to stderr.
     #[arg(long)]
@@ -130,17 +130,14 @@ struct Args {
 
 /// The two reply-buffer sizes of the X-SEL family.
 fn parse_reply_buffer(s: &str) -> Result<usize, String> {
-    match s.trim() {
-        "1024" => Ok(1024),
-        "2048" => Ok(2048),
+    use xsel_pendant::protocol::{REPLY_BUFFER, SMALL_REPLY_BUFFER};
+    match s.trim().parse() {
+        Ok(n) if n == REPLY_BUFFER || n == SMALL_REPLY_BUFFER => Ok(n),
         _ => Err(format!(
-            "`{s}` is not a reply buffer size: use 1024 or 2048"
+            "`{s}` is not a reply buffer size: use {SMALL_REPLY_BUFFER} or {REPLY_BUFFER}"
         )),
     }
 }
-
-/// A serial line rate the pacing can honour.
-const BAUD_RANGE: std::ops::RangeInclusive<u32> = 1200..=230_400;
 
 fn parse_baud(s: &str) -> Result<u32, String> {
     let bad = || {
@@ -375,13 +372,13 @@ mod tests {
 
     #[test]
     fn baud_is_a_real_line_rate() {
-        for bad in ["0", "1199", "230401", "-5", "fast"] {
+        for bad in ["0", "1200", "9599", "230401", "-5", "fast"] {
             let e = parses(&[&format!("--baud={bad}")])
                 .err()
                 .unwrap_or_default();
-            assert!(e.contains("1200 to 230400"), "--baud {bad}: {e}");
+            assert!(e.contains("9600 to 230400"), "--baud {bad}: {e}");
         }
-        for good in ["1200", "9600", "115200", "230400"] {
+        for good in ["9600", "115200", "230400"] {
             assert!(parses(&["--baud", good]).is_ok(), "--baud {good}");
         }
     }

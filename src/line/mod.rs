@@ -12,7 +12,7 @@ use std::net::TcpStream;
 use std::time::Duration;
 
 pub use pace::{sleep_until, write_paced};
-pub use settings::{LineSettings, LineSettingsError, Parity, STANDARD_BAUDS};
+pub use settings::{BAUD_RANGE, LineSettings, LineSettingsError, Parity, STANDARD_BAUDS};
 
 /// Shortest read timeout handed to an OS handle (a zero timeout means "block" to some).
 const MIN_TIMEOUT: Duration = Duration::from_micros(100);

@@ -4,12 +4,25 @@ use std::fmt;
 use std::time::Duration;
 
 /// Parity bit of a serial character.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub enum Parity {
     #[default]
     None,
     Odd,
     Even,
+}
+
+impl Parity {
+    pub const ALL: [Parity; 3] = [Parity::None, Parity::Odd, Parity::Even];
+
+    /// "none", "odd", "even".
+    pub fn name(self) -> &'static str {
+        match self {
+            Parity::None => "none",
+            Parity::Odd => "odd",
+            Parity::Even => "even",
+        }
+    }
 }
 
 /// Settings of an RS-232C line as the controller's I/O parameters 92-95 allow them
@@ -39,6 +52,11 @@ impl Default for LineSettings {
 /// serial-to-Ethernet bridges.
 pub const STANDARD_BAUDS: [u32; 6] = [9_600, 19_200, 38_400, 57_600, 115_200, 230_400];
 
+/// The line rates accepted anywhere (the pendant's line, the simulator's pacing): the
+/// X-SEL family's 9600 to 115200 (PROTOCOL.md 1.1) and 230400 for serial-to-Ethernet
+/// bridges.
+pub const BAUD_RANGE: std::ops::RangeInclusive<u32> = 9_600..=230_400;
+
 /// Why a line setting cannot be used.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum LineSettingsError {
@@ -53,7 +71,7 @@ pub enum LineSettingsError {
 impl LineSettings {
     /// Checks the values against what the controller and this program support.
     pub fn validate(&self) -> Result<(), LineSettingsError> {
-        if !(9_600..=230_400).contains(&self.baud) {
+        if !BAUD_RANGE.contains(&self.baud) {
             return Err(LineSettingsError::Baud(self.baud));
         }
         if !matches!(self.data_bits, 7 | 8) {

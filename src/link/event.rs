@@ -8,7 +8,7 @@ use super::health::LinkHealth;
 use super::reason::{BadInput, LineDownReason, NotSentReason};
 use super::request::{Origin, RequestId};
 use crate::protocol::{
-    AxisPattern, Command, CoordKind, DecodeError, ErrorCode, PerAxis, Reply, Thou,
+    AxisPattern, Command, CoordKind, DecodeError, ErrorCode, PerAxis, Reply, Milli,
 };
 
 /// One event from the link thread, in the order things happened on the line.
@@ -93,7 +93,7 @@ pub enum LinkEvent {
         axes: AxisPattern,
         /// The definition number of `records[0]` (0 for a whole table).
         first: u16,
-        records: Vec<Option<PerAxis<Thou>>>,
+        records: Vec<Option<PerAxis<Milli>>>,
         missing: Vec<Range<u16>>,
     },
     /// Figures of the line, about twice a second while connected (fewer while the

@@ -60,7 +60,7 @@ impl Default for LinkConfig {
             auto_reconnect: true,
             reconnect_interval: Duration::from_millis(500),
             recheck,
-            jog_lease: Duration::from_millis(250),
+            jog_lease: super::lease::JOG_LEASE,
             event_backlog: 1024,
         }
     }

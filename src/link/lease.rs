@@ -11,6 +11,14 @@ use std::time::{Duration, Instant};
 
 use super::driver::later;
 
+/// How long a continuous jog lives without a renewal (the window renews it every frame
+/// while a jog is held; [`RENEW_EVERY`]).
+pub const JOG_LEASE: Duration = Duration::from_millis(250);
+
+/// How often a held jog renews its lease: six times a lease, so a frame or two late
+/// never lets it lapse.
+pub const RENEW_EVERY: Duration = Duration::from_millis(JOG_LEASE.as_millis() as u64 / 6);
+
 /// When the lease was last renewed, shared by the handle and the driver.
 #[derive(Debug)]
 pub(crate) struct LeaseClock {

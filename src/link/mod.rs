@@ -9,7 +9,7 @@ mod event_out;
 pub mod format_b;
 pub mod handle;
 pub mod health;
-mod lease;
+pub mod lease;
 pub mod ports;
 pub mod probe;
 pub mod reason;
@@ -24,6 +24,7 @@ pub use driver::Connector;
 pub use event::LinkEvent;
 pub use format_b::{ShutdownReport, StopOutcome};
 pub use handle::{LinkConfig, LinkHandle, Repaint, spawn};
+pub use lease::{JOG_LEASE, RENEW_EVERY};
 // The line settings moved below `link` and `sim`; `link::line` keeps naming them.
 pub use crate::line::{self, LineSettings, Parity};
 pub use reason::{BadInput, IoFailure, LineDownReason, NotSentReason};

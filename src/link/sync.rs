@@ -84,16 +84,6 @@ impl LineSync {
     }
 }
 
-/// The message ID of bytes that start like a normal reply (`#`, station, 3 hex digits),
-/// however damaged the rest is.
-pub fn reply_id(raw: &[u8]) -> Option<MessageId> {
-    if raw.first() != Some(&b'#') {
-        return None;
-    }
-    let digits = std::str::from_utf8(raw.get(3..6)?).ok()?;
-    u16::from_str_radix(digits, 16).ok().map(MessageId)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -121,14 +111,6 @@ mod tests {
         sync.may_answer_late(MessageId::SYSTEM_STATUS, now + Duration::from_secs(1));
         sync.late_reply_arrived(MessageId::SYSTEM_STATUS);
         assert!(sync.in_step(now));
-    }
-
-    #[test]
-    fn reply_ids_are_read_from_damaged_frames() {
-        assert_eq!(reply_id(b"#99215"), Some(MessageId::SYSTEM_STATUS));
-        assert_eq!(reply_id(b"#9921510000XX"), Some(MessageId::SYSTEM_STATUS));
-        assert_eq!(reply_id(b"&99B08"), None);
-        assert_eq!(reply_id(b"#9"), None);
     }
 
     #[test]

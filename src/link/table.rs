@@ -3,7 +3,9 @@
 
 use std::ops::Range;
 
-use crate::protocol::{AxisPattern, Command, CoordKind, CoordQuery2, PerAxis, Thou};
+use crate::protocol::{
+    AxisPattern, Command, CoordKind, CoordQuery2, CoordTable2, PerAxis, Milli,
+};
 
 /// What to download.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -22,15 +24,10 @@ pub struct TableRequest {
     pub reply_buffer: usize,
 }
 
-/// Bytes of a 2A4H reply around its records: `#`, station, ID, pattern, type, first,
-/// count (13) and SC CR LF (4). [inferred] PROTOCOL.md 1.7 counts header to LF.
-const REPLY_OVERHEAD: usize = 17;
-
 impl TableRequest {
     /// Records one reply can carry.
     pub fn records_per_chunk(&self) -> u16 {
-        let record_len = 8 * self.axes.count().max(1);
-        let fit = self.reply_buffer.saturating_sub(REPLY_OVERHEAD) / record_len;
+        let fit = CoordTable2::records_fitting(self.axes, self.reply_buffer);
         fit.clamp(1, 255) as u16
     }
 }
@@ -43,7 +40,7 @@ pub struct TableJob {
     pub generation: u32,
     next_first: u16,
     /// Records `request.first ..`, `None` where not (yet) read.
-    pub records: Vec<Option<PerAxis<Thou>>>,
+    pub records: Vec<Option<PerAxis<Milli>>>,
     pub answered_axes: AxisPattern,
 }
 
@@ -82,7 +79,7 @@ impl TableJob {
     }
 
     /// Stores a chunk's records; returns how many landed.
-    pub fn accept(&mut self, axes: AxisPattern, first: u8, records: &[PerAxis<Thou>]) -> usize {
+    pub fn accept(&mut self, axes: AxisPattern, first: u8, records: &[PerAxis<Milli>]) -> usize {
         self.answered_axes = axes;
         let mut stored = 0;
         let Some(offset) = usize::from(first).checked_sub(usize::from(self.request.first)) else {

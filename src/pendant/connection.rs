@@ -30,40 +30,6 @@ impl LineKind {
     }
 }
 
-/// Parity as persisted.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub enum ParityChoice {
-    #[default]
-    None,
-    Odd,
-    Even,
-}
-
-impl ParityChoice {
-    pub const ALL: [ParityChoice; 3] = [ParityChoice::None, ParityChoice::Odd, ParityChoice::Even];
-    pub fn to_link(self) -> Parity {
-        match self {
-            ParityChoice::None => Parity::None,
-            ParityChoice::Odd => Parity::Odd,
-            ParityChoice::Even => Parity::Even,
-        }
-    }
-    pub fn from_link(p: Parity) -> Self {
-        match p {
-            Parity::None => ParityChoice::None,
-            Parity::Odd => ParityChoice::Odd,
-            Parity::Even => ParityChoice::Even,
-        }
-    }
-    pub fn name(self) -> &'static str {
-        match self {
-            ParityChoice::None => "none",
-            ParityChoice::Odd => "odd",
-            ParityChoice::Even => "even",
-        }
-    }
-}
-
 /// The line the operator chose, persisted between runs.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(default)]
@@ -75,7 +41,7 @@ pub struct ConnectionSettings {
     pub tcp: String,
     pub baud: u32,
     pub data_bits: u8,
-    pub parity: ParityChoice,
+    pub parity: Parity,
     pub stop_bits: u8,
     /// Station number (2 hex digits on the wire).
     pub station: u8,
@@ -95,7 +61,7 @@ impl Default for ConnectionSettings {
             tcp: "127.0.0.1:5099".into(),
             baud: line.baud,
             data_bits: line.data_bits,
-            parity: ParityChoice::from_link(line.parity),
+            parity: line.parity,
             stop_bits: line.stop_bits,
             station: Station::DEFAULT.0,
             robot: "scara-500".into(),
@@ -109,7 +75,7 @@ impl ConnectionSettings {
         LineSettings {
             baud: self.baud,
             data_bits: self.data_bits,
-            parity: self.parity.to_link(),
+            parity: self.parity,
             stop_bits: self.stop_bits,
         }
     }

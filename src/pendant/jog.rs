@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 use super::teach::{TeachPoint, go_command};
 use crate::protocol::{
     ArmPolicy as WirePolicy, Axis, AxisPattern, CentiG, Command, Direction, Jog,
-    JogFrame as WireFrame, JogMotion, MmPerSec, PerAxis, Percent, ScaraMotion, ScaraMove, Thou,
+    JogMotion, MmPerSec, PerAxis, Percent, ScaraMotion, ScaraMove, Milli,
 };
 use crate::robot::{
     ArmSystem, CoordSystem, CpMove, CpParams, DEFAULT_CHECK_SPACING_MM, JogFrame, Joints, Move,
@@ -93,99 +93,6 @@ pub enum Interpolation {
     Cp,
 }
 
-/// The frame a Cartesian step is given in.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub enum StepFrame {
-    #[default]
-    Work,
-    Base,
-    Tool,
-}
-
-impl StepFrame {
-    pub fn name(self) -> &'static str {
-        match self {
-            StepFrame::Work => "work",
-            StepFrame::Base => "base",
-            StepFrame::Tool => "tool",
-        }
-    }
-    pub(crate) fn robot(self) -> JogFrame {
-        self.wire().into()
-    }
-    fn wire(self) -> WireFrame {
-        match self {
-            StepFrame::Work => WireFrame::Work,
-            StepFrame::Base => WireFrame::Base,
-            StepFrame::Tool => WireFrame::Tool,
-        }
-    }
-}
-
-/// Which position a step is added to (DESIGN.md, "relative to").
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub enum StepBase {
-    /// Where the last move ends: chained steps never drift.
-    #[default]
-    Command,
-    /// The polled position.
-    Actual,
-    /// Where the profile is now.
-    Target,
-}
-
-impl StepBase {
-    pub fn name(self) -> &'static str {
-        match self {
-            StepBase::Command => "command",
-            StepBase::Actual => "actual",
-            StepBase::Target => "target",
-        }
-    }
-    fn robot(self) -> RelativeTo {
-        match self {
-            StepBase::Command => RelativeTo::Command,
-            StepBase::Actual => RelativeTo::Actual,
-            StepBase::Target => RelativeTo::Target,
-        }
-    }
-}
-
-/// The four PTP arm policies of 2D5H (operation type bits 3-4).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub enum ArmChoice {
-    #[default]
-    KeepNoSwitch,
-    KeepMaySwitch,
-    Right,
-    Left,
-}
-
-impl ArmChoice {
-    pub const ALL: [ArmChoice; 4] = [
-        ArmChoice::KeepNoSwitch,
-        ArmChoice::KeepMaySwitch,
-        ArmChoice::Right,
-        ArmChoice::Left,
-    ];
-    pub fn name(self) -> &'static str {
-        match self {
-            ArmChoice::KeepNoSwitch => "current arm, no switching",
-            ArmChoice::KeepMaySwitch => "current arm, may switch",
-            ArmChoice::Right => "right arm",
-            ArmChoice::Left => "left arm",
-        }
-    }
-    fn wire(self) -> WirePolicy {
-        match self {
-            ArmChoice::KeepNoSwitch => WirePolicy::KeepNoSwitch,
-            ArmChoice::KeepMaySwitch => WirePolicy::KeepMaySwitch,
-            ArmChoice::Right => WirePolicy::Right,
-            ArmChoice::Left => WirePolicy::Left,
-        }
-    }
-}
-
 /// The jog panel's choices, persisted between runs.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
@@ -194,9 +101,9 @@ pub struct JogSettings {
     /// Step size, mm or deg.
     pub step: f64,
     pub interpolation: Interpolation,
-    pub arm: ArmChoice,
-    pub frame: StepFrame,
-    pub relative_to: StepBase,
+    pub arm: WirePolicy,
+    pub frame: JogFrame,
+    pub relative_to: RelativeTo,
     /// PTP and joint moves: speed, acceleration and deceleration in % (0 = parameter).
     pub ptp_speed_pct: u16,
     pub ptp_accel_pct: u16,
@@ -213,9 +120,9 @@ impl Default for JogSettings {
             mode: JogMode::Step,
             step: 1.0,
             interpolation: Interpolation::Ptp,
-            arm: ArmChoice::KeepNoSwitch,
-            frame: StepFrame::Work,
-            relative_to: StepBase::Command,
+            arm: WirePolicy::KeepNoSwitch,
+            frame: JogFrame::Work,
+            relative_to: RelativeTo::Command,
             ptp_speed_pct: 20,
             ptp_accel_pct: 30,
             ptp_decel_pct: 30,
@@ -382,13 +289,13 @@ pub fn plan_step(
     let flange_r = kin.forward(&now.joints).r;
     let delta_work = jog_delta_to_work(
         &delta,
-        settings.frame.robot(),
+        settings.frame,
         &now.work,
         &now.tool,
         flange_r,
     );
     let (_, end_work) =
-        crate::robot::relative_move(settings.relative_to.robot(), &positions, delta_work);
+        crate::robot::relative_move(settings.relative_to, &positions, delta_work);
     // [inferred] The controller adds a 2D5H distance to its command position (where its
     // last move ends, where the arm stands once in position); PROTOCOL.md 3.20 does not
     // say which of its positions it uses. The pendant's estimate of it is the end of the
@@ -396,26 +303,15 @@ pub fn plan_step(
     // chosen end minus that estimate, so steps relative to the command position carry
     // exactly the step, and a stale or quantised poll never creeps into them.
     let reference = positions.command;
-    let wire = |v: f64| crate::robot::round_wire(v * 1000.0);
-    let distance = [
-        wire(end_work.x - reference.x),
-        wire(end_work.y - reference.y),
-        wire(end_work.z - reference.z),
-        wire(end_work.r - reference.r),
-    ];
+    let distance = (end_work - reference).to_wire();
     let mut targets = PerAxis::new();
     for (i, d) in distance.iter().enumerate() {
         if *d != 0 || i == axis.index() {
-            targets.set(Axis::from_index(i as u8).unwrap_or(Axis::A1), Thou(*d));
+            targets.set(Axis::from_index(i as u8).unwrap_or(Axis::A1), Milli(*d));
         }
     }
-    let end_work = Pose::new(
-        reference.x + f64::from(distance[0]) / 1000.0,
-        reference.y + f64::from(distance[1]) / 1000.0,
-        reference.z + f64::from(distance[2]) / 1000.0,
-        reference.r + f64::from(distance[3]) / 1000.0,
-    );
-    let checked = check_move(model, kin, settings, settings.arm.wire(), &end_work, now)?;
+    let end_work = reference + Pose::from_wire(distance);
+    let checked = check_move(model, kin, settings, settings.arm, &end_work, now)?;
     let motion = checked.motion;
     Ok(checked.into_plan(Command::ScaraMoveRelative(ScaraMove { motion, targets })))
 }
@@ -531,13 +427,13 @@ pub fn plan_to(
     end_work: &Pose,
     now: &ArmNow,
 ) -> Result<PlannedStep, Refusal> {
-    let checked = check_move(model, kin, settings, settings.arm.wire(), end_work, now)?;
+    let checked = check_move(model, kin, settings, settings.arm, end_work, now)?;
     let [x, y, z, r] = end_work.to_wire();
     let targets = PerAxis::from_pairs([
-        (Axis::A1, Thou(x)),
-        (Axis::A2, Thou(y)),
-        (Axis::A3, Thou(z)),
-        (Axis::A4, Thou(r)),
+        (Axis::A1, Milli(x)),
+        (Axis::A2, Milli(y)),
+        (Axis::A3, Milli(z)),
+        (Axis::A4, Milli(r)),
     ]);
     let motion = checked.motion;
     Ok(checked.into_plan(Command::ScaraMoveAbsolute(ScaraMove { motion, targets })))
@@ -580,7 +476,7 @@ fn plan_joint_step(
     let command = Command::Jog(Jog {
         axes: AxisPattern::single(axis.wire_axis()),
         direction: dir,
-        distance: Thou(distance),
+        distance: Milli(distance),
         motion: JogMotion::Joint {
             acc: Percent(settings.ptp_accel_pct),
             dec: Percent(settings.ptp_decel_pct),
@@ -597,8 +493,8 @@ fn plan_joint_step(
     })
 }
 
-/// The 236H of a continuous jog (distance 0: runs until 238H, the workspace edge or the
-/// joint limit): Cartesian axes in the chosen frame at the CP rates, joints at the % rates.
+/// The 236H of a continuous jog ([`Jog::until_stopped`]): Cartesian axes in the chosen
+/// frame at the CP rates, joints at the % rates.
 pub fn continuous_jog(settings: &JogSettings, axis: JogAxis, dir: Direction) -> Command {
     let motion = if axis.is_joint() {
         JogMotion::Joint {
@@ -608,18 +504,17 @@ pub fn continuous_jog(settings: &JogSettings, axis: JogAxis, dir: Direction) -> 
         }
     } else {
         JogMotion::Cartesian {
-            frame: settings.frame.wire(),
+            frame: settings.frame.into(),
             acc: CentiG(settings.cp_accel_cg),
             dec: CentiG(settings.cp_decel_cg),
             speed: MmPerSec(settings.cp_speed_mm_s),
         }
     };
-    Command::Jog(Jog {
-        axes: AxisPattern::single(axis.wire_axis()),
-        direction: dir,
-        distance: Thou(0),
+    Command::Jog(Jog::until_stopped(
+        AxisPattern::single(axis.wire_axis()),
+        dir,
         motion,
-    })
+    ))
 }
 
 /// A jog as the operator's hand means it: the direction in the world, not the sign.

@@ -31,15 +31,16 @@ use crate::link::LinkEvent;
 use crate::link::health::LinkHealth;
 use crate::protocol::{AxisPattern, Command, CoordKind, Direction, Home, MmPerSec, Reply, Servo};
 use crate::robot::{Joints, RobotModel, Scara};
-pub use connection::{ConnectionSettings, LineKind, LineState, ParityChoice};
+pub use connection::{ConnectionSettings, LineKind, LineState};
 pub use hold::{HeldJog, JogInput, JogTarget, Press, StopCause};
 pub use intent::Intent;
 pub use jog::{
-    ArmChoice, Interpolation, JogAxis, JogMode, JogSettings, PhysicalJog, PlannedStep, Refusal,
-    StepBase, StepFrame,
+    Interpolation, JogAxis, JogMode, JogSettings, PhysicalJog, PlannedStep, Refusal,
 };
 pub use readiness::NotReady;
 pub use state::ControllerState;
+/// How often a held jog's lease is renewed (the link's fact).
+pub use crate::link::RENEW_EVERY;
 
 /// How long a "press again to confirm" for an arm flip stays armed.
 const CONFIRM_FOR: Duration = Duration::from_secs(5);
@@ -331,7 +332,7 @@ impl Pendant {
                     command.id(),
                     name(&command)
                 );
-                if is_move(&command) {
+                if command.moves_arm() {
                     self.motion_refused();
                     self.jog_says(Level::Error, text, now);
                 } else {
@@ -344,7 +345,7 @@ impl Pendant {
                 ..
             } => {
                 let text = format!("no reply to {} ({})", command.id(), name(&command));
-                if is_move(&command) {
+                if command.moves_arm() {
                     self.followed = None;
                     self.jog_says(Level::Error, text, now);
                 } else {
@@ -355,7 +356,7 @@ impl Pendant {
                 command, reason, ..
             } => {
                 let text = format!("{} ({}) not sent: {reason}", command.id(), name(&command));
-                if is_move(&command) {
+                if command.moves_arm() {
                     self.motion_refused();
                     self.jog_says(Level::Error, text, now);
                 } else {
@@ -379,7 +380,7 @@ impl Pendant {
                     self.requests.push(Request::ReadTable(CoordKind::Tool));
                 }
             }
-            LinkEvent::Interrupted { command, .. } if is_move(&command) => {
+            LinkEvent::Interrupted { command, .. } if command.moves_arm() => {
                 self.followed = None;
                 self.jog_says(
                     Level::Error,
@@ -531,7 +532,7 @@ impl Pendant {
     pub fn stop_by(&mut self, cause: StopCause, now: Instant) {
         // Motion asked for earlier this frame has not gone out: it never will.
         self.requests
-            .retain(|r| !matches!(r, Request::Submit(c) if is_move(c)));
+            .retain(|r| !matches!(r, Request::Submit(c) if c.moves_arm()));
         self.requests.push(Request::Stop);
         self.hold.stop(cause);
         self.confirm = None;
@@ -605,19 +606,6 @@ impl Pendant {
             self.stop_by(StopCause::NotReady(why), now);
         }
     }
-}
-
-/// A command that moves the arm (not servo or homing).
-fn is_move(command: &Command) -> bool {
-    matches!(
-        command,
-        Command::Jog(_)
-            | Command::MoveAbsolute(_)
-            | Command::MoveRelative(_)
-            | Command::ScaraMoveAbsolute(_)
-            | Command::ScaraMoveRelative(_)
-            | Command::ScaraMovePosition(_)
-    )
 }
 
 /// The message's name for the operator: "SCARA relative move".

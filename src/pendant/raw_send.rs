@@ -4,7 +4,7 @@
 
 use std::time::Instant;
 
-use super::{Level, Pendant, Request, is_move, name};
+use super::{Level, Pendant, Request, name};
 use crate::link::LinkEvent;
 use crate::protocol::{Command, Frame, ScMode, checksum};
 
@@ -87,7 +87,7 @@ impl Pendant {
             ));
         }
         let command = Command::decode(&parsed).map_err(|e| e.to_string())?;
-        if is_move(&command) {
+        if command.moves_arm() {
             self.motion_ready(now)
                 .map_err(|why| format!("{} is motion, and {why}", command.id()))?;
         }

@@ -8,7 +8,7 @@ use super::state;
 use crate::link::{LinkEvent, Origin, RequestId};
 use crate::protocol::{
     Axis, AxisPattern, AxisState, AxisStatus, CommonStatus, CoordKind, HomeState, PerAxis,
-    PositionSystem, Reply, ScaraStatus, SystemMode, SystemStatus, SystemStatus3, Thou, VersionInfo,
+    PositionSystem, Reply, ScaraStatus, SystemMode, SystemStatus, SystemStatus3, Milli, VersionInfo,
 };
 use crate::robot::{Joints, Scara};
 
@@ -37,7 +37,7 @@ pub fn scara_status(
         });
     let axes = PerAxis::from_fn(AxisPattern::SCARA_1, |a: Axis| AxisState {
         status,
-        position: Thou((values[a.index()] * 1000.0).round() as i32),
+        position: Milli::from_units(values[a.index()]).unwrap_or_default(),
         ..AxisState::default()
     });
     ScaraStatus {

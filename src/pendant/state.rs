@@ -5,7 +5,7 @@ use std::time::{Duration, Instant};
 
 use crate::protocol::{
     Axis, AxisPattern, AxisState, Command, CoordKind, PerAxis, PositionSystem, ScaraStatus,
-    ScaraStatusQuery, SystemStatus, Thou, VersionInfo, VersionQuery,
+    ScaraStatusQuery, SystemStatus, Milli, VersionInfo, VersionQuery,
 };
 use crate::robot::{CoordSystem, Joints, Pose};
 
@@ -75,7 +75,7 @@ fn four(s: &ScaraStatus) -> Option<[f64; 4]> {
     let mut out = [0.0; 4];
     for (i, slot) in out.iter_mut().enumerate() {
         let axis = Axis::from_index(i as u8)?;
-        *slot = f64::from(s.axes.get(axis)?.position.0) / 1000.0;
+        *slot = s.axes.get(axis)?.position.units();
     }
     Some(out)
 }
@@ -110,7 +110,7 @@ impl ControllerState {
         kind: CoordKind,
         first: u16,
         size: usize,
-        records: &[Option<PerAxis<Thou>>],
+        records: &[Option<PerAxis<Milli>>],
         at: Instant,
     ) {
         let read: Vec<Option<CoordSystem>> = records

@@ -214,7 +214,7 @@ impl Pendant {
                 let flange_r = self.kin.forward(&arm.joints).r;
                 let d = jog_delta_to_work(
                     &Pose::from_array(delta),
-                    settings.frame.robot(),
+                    settings.frame,
                     &arm.work,
                     &arm.tool,
                     flange_r,

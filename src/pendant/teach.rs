@@ -8,17 +8,17 @@ use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
-use crate::protocol::{ArmPolicy, ArmSystem, Axis, Command, PerAxis, ScaraMotion, ScaraMove, Thou};
+use crate::protocol::{ArmPolicy, ArmSystem, Axis, Command, PerAxis, ScaraMotion, ScaraMove, Milli};
 
 /// The longest name, in characters.
 pub const MAX_NAME_CHARS: usize = 32;
 /// The most points a list holds (a file with more is refused, Record says the list is
 /// full): the list draws only its visible rows, and a file of this many is about 1 MB.
 pub const MAX_POINTS: usize = 10_000;
-/// The highest work coordinate system number.
-pub const MAX_WORK: u8 = 31;
-/// The highest tool coordinate system number.
-pub const MAX_TOOL: u8 = 127;
+/// The highest work or tool coordinate system number a point may name: the last entry of
+/// the largest table a robot model can have. Whether the robot at hand has it is checked
+/// at Go, against the numbers the controller has selected.
+pub const MAX_FRAME_NUMBER: u8 = (crate::robot::MAX_TABLE_SIZE - 1) as u8;
 
 /// What "Record" takes from the arm: the pose in the selected work frame and the frames
 /// and arm system it was taken in.
@@ -123,11 +123,11 @@ pub enum TeachError {
         /// A free name built from it.
         suggestion: String,
     },
-    /// The work coordinate system number is above [`MAX_WORK`].
-    #[error("work coordinate system {0} is out of range (0-31)")]
+    /// The work coordinate system number is above [`MAX_FRAME_NUMBER`].
+    #[error("work coordinate system {0} is out of range (0-{MAX_FRAME_NUMBER})")]
     WorkOutOfRange(u8),
-    /// The tool coordinate system number is above [`MAX_TOOL`].
-    #[error("tool coordinate system {0} is out of range (0-127)")]
+    /// The tool coordinate system number is above [`MAX_FRAME_NUMBER`].
+    #[error("tool coordinate system {0} is out of range (0-{MAX_FRAME_NUMBER})")]
     ToolOutOfRange(u8),
     /// The list already holds [`MAX_POINTS`].
     #[error("the list is full ({MAX_POINTS} points); delete points or save and start a new list")]
@@ -174,10 +174,10 @@ pub fn check_name(name: &str) -> Result<String, TeachError> {
 }
 
 fn check_frames(work: u8, tool: u8) -> Result<(), TeachError> {
-    if work > MAX_WORK {
+    if work > MAX_FRAME_NUMBER {
         return Err(TeachError::WorkOutOfRange(work));
     }
-    if tool > MAX_TOOL {
+    if tool > MAX_FRAME_NUMBER {
         return Err(TeachError::ToolOutOfRange(tool));
     }
     Ok(())
@@ -362,10 +362,10 @@ impl<'a> IntoIterator for &'a TeachList {
 pub fn go_command(point: &TeachPoint, motion: ScaraMotion) -> Command {
     let [x, y, z, r] = point.pose;
     let targets = PerAxis::from_pairs([
-        (Axis::A1, Thou(x)),
-        (Axis::A2, Thou(y)),
-        (Axis::A3, Thou(z)),
-        (Axis::A4, Thou(r)),
+        (Axis::A1, Milli(x)),
+        (Axis::A2, Milli(y)),
+        (Axis::A3, Milli(z)),
+        (Axis::A4, Milli(r)),
     ]);
     Command::ScaraMoveAbsolute(ScaraMove { motion, targets })
 }

@@ -18,9 +18,9 @@ use std::collections::HashMap;
 use std::fmt;
 
 use super::teach::{
-    MAX_POINTS, MAX_TOOL, MAX_WORK, TeachList, TeachPoint, arm_word, check_name, parse_arm_word,
+    MAX_FRAME_NUMBER, MAX_POINTS, TeachList, TeachPoint, arm_word, check_name, parse_arm_word,
 };
-use crate::protocol::Thou;
+use crate::protocol::Milli;
 
 /// The CSV header line.
 pub const CSV_HEADER: &str = "name,x_mm,y_mm,z_mm,r_deg,arm,work,tool";
@@ -74,7 +74,7 @@ impl TeachList {
             push_csv_text(&mut out, &p.name);
             for v in p.pose {
                 out.push(',');
-                out.push_str(&Thou(v).to_string());
+                out.push_str(&Milli(v).to_string());
             }
             out.push(',');
             out.push_str(arm_word(p.arm));
@@ -391,7 +391,7 @@ fn parse_point(r: &Record) -> Result<TeachPoint, FileError> {
     let name = check_name(f(0)).map_err(|e| at(0, e.to_string()))?;
     let mut pose = [0i32; 4];
     for (i, slot) in pose.iter_mut().enumerate() {
-        *slot = parse_thou(f(i + 1)).map_err(|m| at(i + 1, m))?;
+        *slot = parse_milli(f(i + 1)).map_err(|m| at(i + 1, m))?;
     }
     let arm = parse_arm_word(f(5)).ok_or_else(|| {
         at(
@@ -402,8 +402,8 @@ fn parse_point(r: &Record) -> Result<TeachPoint, FileError> {
             ),
         )
     })?;
-    let work = parse_frame(f(6), "work", MAX_WORK).map_err(|m| at(6, m))?;
-    let tool = parse_frame(f(7), "tool", MAX_TOOL).map_err(|m| at(7, m))?;
+    let work = parse_frame(f(6), "work", MAX_FRAME_NUMBER).map_err(|m| at(6, m))?;
+    let tool = parse_frame(f(7), "tool", MAX_FRAME_NUMBER).map_err(|m| at(7, m))?;
     let point = TeachPoint {
         name,
         pose,
@@ -417,7 +417,7 @@ fn parse_point(r: &Record) -> Result<TeachPoint, FileError> {
 }
 
 /// A decimal in mm or deg with at most 3 decimals, exactly to 0.001 units.
-pub fn parse_thou(text: &str) -> Result<i32, String> {
+pub fn parse_milli(text: &str) -> Result<i32, String> {
     let t = text.trim();
     let bad = || format!("\"{}\" {NUMBER_HINT}", shown(t));
     let (neg, digits) = match (t.strip_prefix('-'), t.strip_prefix('+')) {

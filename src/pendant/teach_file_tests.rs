@@ -98,24 +98,24 @@ fn parse_thou_is_exact() {
         ("5", 5_000),
         ("-0", 0),
     ] {
-        assert_eq!(parse_thou(t), Ok(v), "{t}");
+        assert_eq!(parse_milli(t), Ok(v), "{t}");
     }
     for t in [
         "", "-", ".", "1e3", "12,5", "1.2.3", "--1", "0x10", "1 000", "inf", "NaN",
     ] {
         assert_eq!(
-            parse_thou(t),
+            parse_milli(t),
             Err(format!(
                 "\"{t}\" is not a number (use a dot, 3 decimals at most)"
             )),
         );
     }
     assert_eq!(
-        parse_thou("1.0005"),
+        parse_milli("1.0005"),
         Err("\"1.0005\" has more than 3 decimals (the resolution is 0.001)".into())
     );
     for t in ["2147483.648", "-2147483.649", "99999999999999999999999"] {
-        assert!(parse_thou(t).unwrap_err().contains("out of range"), "{t}");
+        assert!(parse_milli(t).unwrap_err().contains("out of range"), "{t}");
     }
 }
 
@@ -153,11 +153,11 @@ fn broken_csv_names_line_and_field_and_changes_nothing() {
         "line 2, field arm: \"elbow\" is not an arm system (use right, left or undetermined)"
     );
     assert_eq!(
-        refused(&format!("{H}P2,1,2,3,4,left,32,0\n"), 2, Some("work")),
-        "line 2, field work: work coordinate system \"32\" is out of range (0-31)"
+        refused(&format!("{H}P2,1,2,3,4,left,255,0\n"), 2, Some("work")),
+        "line 2, field work: work coordinate system \"255\" is out of range (0-254)"
     );
     refused(&format!("{H}P2,1,2,3,4,left,-1,0\n"), 2, Some("work"));
-    refused(&format!("{H}P2,1,2,3,4,left,0,128\n"), 2, Some("tool"));
+    refused(&format!("{H}P2,1,2,3,4,left,0,256\n"), 2, Some("tool"));
     refused(
         &format!("{H}P2,1,2,3,4,left,0,99999999999\n"),
         2,
@@ -281,10 +281,10 @@ fn broken_json_names_line_and_field() {
     let e = json_refused(&format!(
         "{{\"points\": [\n{},\n{}\n]}}",
         point("A", 0, ""),
-        point("B", 40, "\n")
+        point("B", 255, "\n")
     ));
     assert_eq!((e.line, e.field.as_deref()), (4, Some("work")), "{e}");
-    assert!(e.message.starts_with("40 is out of range (0-31)"), "{e}");
+    assert!(e.message.starts_with("255 is out of range (0-254)"), "{e}");
     let e = json_refused(&format!(
         "{{\"points\": [\n{},\n{}\n]}}",
         point("A", 0, ""),
@@ -331,13 +331,13 @@ fn pretty_json_errors_point_at_the_value() {
     for (from, to, field, line) in [
         (
             "\"work\": 31",
-            "\"work\": 32",
+            "\"work\": 255",
             Some("work"),
             line_of("\"work\": 31"),
         ),
         (
             "\"tool\": 127",
-            "\"tool\": 128",
+            "\"tool\": 300",
             Some("tool"),
             line_of("\"tool\": 127"),
         ),
@@ -351,9 +351,9 @@ fn pretty_json_errors_point_at_the_value() {
         assert_eq!((e.line, e.field.as_deref()), (line, field), "{to}: {e}");
     }
     assert_eq!(
-        json_refused(&j.replacen("\"work\": 31", "\"work\": 32", 1)).to_string(),
+        json_refused(&j.replacen("\"work\": 31", "\"work\": 255", 1)).to_string(),
         format!(
-            "line {}, field work: 32 is out of range (0-31) (column 16)",
+            "line {}, field work: 255 is out of range (0-254) (column 17)",
             line_of("\"work\": 31")
         )
     );
@@ -375,7 +375,7 @@ fn the_derived_serde_form_checks_too() {
     let dup = format!("{{\"points\":[{},{}]}}", p("A", 0), p(" A", 0));
     let e = serde_json::from_str::<TeachList>(&dup).unwrap_err();
     assert!(e.to_string().contains("already used by point 1"), "{e}");
-    let bad = format!("{{\"points\":[{}]}}", p("A", 32));
+    let bad = format!("{{\"points\":[{}]}}", p("A", 255));
     assert!(serde_json::from_str::<TeachList>(&bad).is_err());
     let trimmed = format!("{{\"points\":[{}]}}", p(" A ", 0));
     let t: TeachList = serde_json::from_str(&trimmed).unwrap();
@@ -422,7 +422,7 @@ proptest! {
 
     #[test]
     fn positions_parse_back_exactly(v in any::<i32>()) {
-        prop_assert_eq!(parse_thou(&Thou(v).to_string()), Ok(v));
+        prop_assert_eq!(parse_milli(&Milli(v).to_string()), Ok(v));
     }
 
     #[test]

@@ -10,7 +10,7 @@ use serde::{Deserialize, Deserializer, Serializer};
 use serde_json::value::RawValue;
 
 use super::teach::{
-    MAX_POINTS, MAX_TOOL, MAX_WORK, TeachList, TeachPoint, arm_word, check_name, parse_arm_word,
+    MAX_FRAME_NUMBER, MAX_POINTS, TeachList, TeachPoint, arm_word, check_name, parse_arm_word,
 };
 use super::teach_file::{FileError, not_utf8, shown, too_many};
 use crate::protocol::ArmSystem;
@@ -184,12 +184,12 @@ fn de_frame<'de, D: Deserializer<'de>>(d: D, what: &str, max: u8) -> Result<u8, 
 
 /// A work coordinate system number, 0-31.
 pub(super) fn de_work<'de, D: Deserializer<'de>>(d: D) -> Result<u8, D::Error> {
-    de_frame(d, "work", MAX_WORK)
+    de_frame(d, "work", MAX_FRAME_NUMBER)
 }
 
 /// A tool coordinate system number, 0-127.
 pub(super) fn de_tool<'de, D: Deserializer<'de>>(d: D) -> Result<u8, D::Error> {
-    de_frame(d, "tool", MAX_TOOL)
+    de_frame(d, "tool", MAX_FRAME_NUMBER)
 }
 
 /// Deserialises the points of a [`TeachList`], refusing a duplicate name where it occurs.

@@ -57,14 +57,14 @@ fn record_refuses_bad_names_and_frames_and_changes_nothing() {
     l.remove(3).unwrap();
     assert_eq!(l.record("a\tb", at(0, 0, 0)), Err(TeachError::NameControl));
     assert_eq!(
-        l.record("w", at(0, 32, 0)),
-        Err(TeachError::WorkOutOfRange(32))
+        l.record("w", at(0, 255, 0)),
+        Err(TeachError::WorkOutOfRange(255))
     );
     assert_eq!(
-        l.record("t", at(0, 0, 128)),
-        Err(TeachError::ToolOutOfRange(128))
+        l.record("t", at(0, 0, 255)),
+        Err(TeachError::ToolOutOfRange(255))
     );
-    assert!(l.record("edge", at(0, 31, 127)).is_ok());
+    assert!(l.record("edge", at(0, 254, 254)).is_ok());
     l.remove(3).unwrap();
     let dup = l.record(" B ", at(0, 0, 0)).unwrap_err();
     assert_eq!(
@@ -158,8 +158,8 @@ fn insert_and_update() {
     assert_eq!(l.get(1).unwrap().name, "Z");
     assert_eq!(l.get(1).unwrap().taught(), at(99, 2, 3));
     assert_eq!(
-        l.update(1, at(0, 40, 0)),
-        Err(TeachError::WorkOutOfRange(40))
+        l.update(1, at(0, 255, 0)),
+        Err(TeachError::WorkOutOfRange(255))
     );
     assert!(l.update(9, at(0, 0, 0)).is_err());
     assert_eq!(l.get(1).unwrap().taught(), at(99, 2, 3));

@@ -6,7 +6,7 @@ use super::*;
 use crate::link::{LinkEvent, Origin, RequestId};
 use crate::protocol::{
     ArmPolicy as WirePolicy, Axis, CoordKind, Direction, JogMotion, PerAxis, PositionSystem,
-    ScaraMotion, SystemMode, SystemStatus, SystemStatus1, Thou,
+    ScaraMotion, SystemMode, SystemStatus, SystemStatus1, Milli,
 };
 use crate::robot::{Joints, RobotModel, Scara};
 
@@ -105,7 +105,7 @@ fn a_work_step_is_one_2d5h_with_the_step_on_its_axis() {
     let Command::ScaraMoveRelative(m) = sent[0] else {
         panic!("not a 2D5H: {:?}", sent[0]);
     };
-    assert_eq!(m.targets.get(Axis::A1), Some(Thou(10_000)));
+    assert_eq!(m.targets.get(Axis::A1), Some(Milli(10_000)));
     assert_eq!(m.targets.pattern(), crate::protocol::AxisPattern(0x01));
     // The 20 % asked for is above the reduced jog speed: the capped % goes out.
     let capped = speed_cap::ptp_percent_cap(&p.model, speed_cap::REDUCED_SPEED_MM_S);
@@ -124,20 +124,20 @@ fn a_work_step_is_one_2d5h_with_the_step_on_its_axis() {
 #[test]
 fn each_arm_policy_and_cp_reach_the_command() {
     let now = t0();
-    for (choice, wire) in [
-        (ArmChoice::KeepNoSwitch, WirePolicy::KeepNoSwitch),
-        (ArmChoice::KeepMaySwitch, WirePolicy::KeepMaySwitch),
-        (ArmChoice::Right, WirePolicy::Right),
+    for wire in [
+        WirePolicy::KeepNoSwitch,
+        WirePolicy::KeepMaySwitch,
+        WirePolicy::Right,
     ] {
         let mut p = ready_at(start(), now);
-        p.settings.jog.arm = choice;
+        p.settings.jog.arm = wire;
         p.jog_step(JogAxis::Y, Direction::Negative, now);
         let sent = submitted(&mut p);
         let Some(Command::ScaraMoveRelative(m)) = sent.first() else {
-            panic!("{choice:?}: nothing sent: {:?}", p.jog_feedback);
+            panic!("{wire:?}: nothing sent: {:?}", p.jog_feedback);
         };
         assert!(matches!(m.motion, ScaraMotion::Ptp { arm, .. } if arm == wire));
-        assert_eq!(m.targets.get(Axis::A2), Some(Thou(-1000)));
+        assert_eq!(m.targets.get(Axis::A2), Some(Milli(-1000)));
     }
     let mut p = ready_at(start(), now);
     p.settings.jog.interpolation = Interpolation::Cp;
@@ -185,7 +185,7 @@ fn a_joint_step_is_236h_inching_in_the_each_axis_system() {
     let Some(Command::Jog(j)) = sent.first() else {
         panic!("no 236H: {:?}", p.jog_feedback);
     };
-    assert_eq!(j.distance, Thou(100));
+    assert_eq!(j.distance, Milli(100));
     assert_eq!(j.direction, Direction::Negative);
     assert_eq!(j.axes, crate::protocol::AxisPattern(0x02));
     assert!(matches!(j.motion, JogMotion::Joint { .. }));
@@ -265,7 +265,7 @@ fn a_base_frame_step_turns_with_the_work_frame() {
     // Work No. 0 turned by 90 deg (as if work No. 1 were selected): a base X+ step is a
     // work-frame Y- step.
     let mut rec = PerAxis::new();
-    rec.set(Axis::A4, Thou(90_000));
+    rec.set(Axis::A4, Milli(90_000));
     p.handle_event(
         now,
         LinkEvent::TableDone {
@@ -276,8 +276,8 @@ fn a_base_frame_step_turns_with_the_work_frame() {
             missing: vec![],
         },
     );
-    p.settings.jog.frame = StepFrame::Base;
-    p.settings.jog.relative_to = StepBase::Actual;
+    p.settings.jog.frame = crate::robot::JogFrame::Base;
+    p.settings.jog.relative_to = crate::robot::RelativeTo::Actual;
     p.settings.jog.step = 5.0;
     let plan = p
         .preview_step(JogAxis::X, Direction::Positive, now)
@@ -286,7 +286,7 @@ fn a_base_frame_step_turns_with_the_work_frame() {
         panic!()
     };
     assert_eq!(m.targets.get(Axis::A1).map(|t| t.0.abs()).unwrap_or(0), 0);
-    assert_eq!(m.targets.get(Axis::A2), Some(Thou(-5000)));
+    assert_eq!(m.targets.get(Axis::A2), Some(Milli(-5000)));
 }
 
 #[test]
@@ -294,7 +294,7 @@ fn a_ptp_step_that_flips_the_arm_asks_for_a_second_press() {
     let now = t0();
     // Right arm, elbow nearly straight: a step to the left arm with policy "left arm".
     let mut p = ready_at(start(), now);
-    p.settings.jog.arm = ArmChoice::Left;
+    p.settings.jog.arm = WirePolicy::Left;
     p.settings.jog.step = 0.01;
     p.jog_step(JogAxis::X, Direction::Positive, now);
     assert!(submitted(&mut p).is_empty(), "sent without confirmation");
@@ -323,7 +323,7 @@ fn steps_relative_to_command_chain_without_drift() {
     let Command::ScaraMoveRelative(m) = submitted(&mut p)[0] else {
         panic!()
     };
-    assert_eq!(m.targets.get(Axis::A1), Some(Thou(1000)));
+    assert_eq!(m.targets.get(Axis::A1), Some(Milli(1000)));
     assert_eq!(
         m.targets.pattern(),
         crate::protocol::AxisPattern(0x01),
@@ -345,12 +345,12 @@ fn a_step_relative_to_actual_follows_the_polled_arm() {
     p.handle_event(now, accepted(first));
     // Relative to actual, with the arm still at the start: 1 mm from where it stands,
     // which is 1 mm short of where the controller's first step ends.
-    p.settings.jog.relative_to = StepBase::Actual;
+    p.settings.jog.relative_to = crate::robot::RelativeTo::Actual;
     p.jog_step(JogAxis::X, Direction::Positive, now);
     let Command::ScaraMoveRelative(m) = submitted(&mut p)[0] else {
         panic!()
     };
-    assert_eq!(m.targets.get(Axis::A1), Some(Thou(0)));
+    assert_eq!(m.targets.get(Axis::A1), Some(Milli(0)));
 }
 
 #[test]
@@ -409,7 +409,7 @@ fn a_recorded_point_is_gone_to_with_2d4h_in_its_own_frame() {
         .into_iter()
         .enumerate()
     {
-        assert_eq!(m.targets.get(axis), Some(Thou(pose[i])));
+        assert_eq!(m.targets.get(axis), Some(Milli(pose[i])));
     }
     // Taught in another work frame: refused, nothing sent.
     let mut other = p.teach.list().clone();

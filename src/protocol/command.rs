@@ -92,8 +92,9 @@ impl Command {
         }
     }
 
-    /// Whether this command moves (or powers) axes: never re-send it blindly after a
-    /// time-out (232H, 233H, 234H, 235H, 236H, 262H, 2D4H, 2D5H, 2D6H).
+    /// Whether this command moves or powers axes (servo and homing too): never re-send it
+    /// blindly after a time-out, and send it only on a line proven in step (232H, 233H,
+    /// 234H, 235H, 236H, 262H, 2D4H, 2D5H, 2D6H).
     pub const fn is_motion(&self) -> bool {
         matches!(
             self,
@@ -103,6 +104,20 @@ impl Command {
                 | Command::MoveRelative(_)
                 | Command::Jog(_)
                 | Command::SpeedChange(_)
+                | Command::ScaraMoveAbsolute(_)
+                | Command::ScaraMoveRelative(_)
+                | Command::ScaraMovePosition(_)
+        )
+    }
+
+    /// Whether this command moves the arm or an axis: a jog or a move (not servo or
+    /// homing, which [`Command::is_motion`] also counts as motion).
+    pub const fn moves_arm(&self) -> bool {
+        matches!(
+            self,
+            Command::Jog(_)
+                | Command::MoveAbsolute(_)
+                | Command::MoveRelative(_)
                 | Command::ScaraMoveAbsolute(_)
                 | Command::ScaraMoveRelative(_)
                 | Command::ScaraMovePosition(_)

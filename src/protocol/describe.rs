@@ -2,12 +2,12 @@
 
 use std::fmt;
 
-use super::checksum::checksum;
 use super::command::decode_command_data;
 use super::error::Columns;
 use super::frame::{MAX_FRAME_LEN, chars_at};
 use super::hex::parse_hex;
 use super::ids::{Header, MessageId};
+use super::peek;
 use super::reply::{decode_error_data, decode_reply_data};
 
 /// One field of a described frame.
@@ -240,7 +240,7 @@ pub fn describe(bytes: &[u8]) -> FrameDescription {
     let body = bytes.get(..body_len).unwrap_or(&[]);
 
     // Station.
-    match body.get(1..3) {
+    match body.get(peek::STATION) {
         Some(s) => match parse_hex(s) {
             Some(v) => d
                 .fields
@@ -269,7 +269,7 @@ pub fn describe(bytes: &[u8]) -> FrameDescription {
     // Message ID.
     let data_start = if header == Header::Error { 3 } else { 6 };
     if header != Header::Error {
-        match body.get(3..6) {
+        match body.get(peek::MESSAGE_ID) {
             Some(s) => match parse_hex(s) {
                 Some(v) => {
                     let id = MessageId(v as u16);
@@ -366,21 +366,8 @@ pub fn describe(bytes: &[u8]) -> FrameDescription {
     }
 
     // SC.
-    let sc_raw = body.get(sc_at..).unwrap_or(&[]);
-    let computed = checksum(body.get(..sc_at).unwrap_or(&[]));
     let sc_col = sc_at + 1;
-    d.checksum = if sc_raw == b"@@" {
-        ChecksumVerdict::AtAt { computed }
-    } else {
-        match parse_hex(sc_raw) {
-            Some(v) if v as u8 == computed => ChecksumVerdict::Valid(computed),
-            Some(v) => ChecksumVerdict::Wrong {
-                found: v as u8,
-                computed,
-            },
-            None => ChecksumVerdict::Unreadable { computed },
-        }
-    };
+    d.checksum = peek::checksum_verdict(bytes);
     d.fields.push(field(
         "SC (checksum)",
         sc_col,

@@ -8,7 +8,7 @@ use super::describe::{BitNote, FieldDescription};
 use super::error::{Columns, MessageError, MessageErrorKind};
 use super::hex::{parse_hex, parse_hex8};
 use super::ids::{ErrorCode, MessageId, Role};
-use super::units::{AxisUnit, CentiG, MmPerSec, Percent, Thou};
+use super::units::{AxisUnit, CentiG, MmPerSec, Percent, Milli};
 
 /// A field's name: a base plus optional record and axis, formatted only when needed.
 #[derive(Clone, Copy, Debug)]
@@ -121,7 +121,7 @@ fn render(show: Show, v: u32, width: usize) -> (String, Vec<BitNote>) {
         Show::Accel => (param(CentiG(v as u16).to_string()), Vec::new()),
         Show::Speed => (param(MmPerSec(v as u16).to_string()), Vec::new()),
         Show::Pct => (param(Percent(v as u16).to_string()), Vec::new()),
-        Show::Coord(u) => (Thou::from_wire(v).with_unit(u).to_string(), Vec::new()),
+        Show::Coord(u) => (Milli::from_wire(v).with_unit(u).to_string(), Vec::new()),
         Show::Magnitude(u) => (format!("{}.{:03} {u}", v / 1000, v % 1000), Vec::new()),
         Show::Pattern => (AxisPattern(v as u8).to_string(), Vec::new()),
         Show::Error => (ErrorCode(v as u16).to_string(), Vec::new()),
@@ -326,7 +326,7 @@ impl<'a, 'r> Reader<'a, 'r> {
 
     /// An 8-digit signed (two's complement) coordinate.
     #[inline]
-    pub(crate) fn coord(&mut self, name: Name, unit: AxisUnit) -> Result<Thou, MessageError> {
+    pub(crate) fn coord(&mut self, name: Name, unit: AxisUnit) -> Result<Milli, MessageError> {
         if self.rec.is_none() {
             // Hot path (coordinate tables): one bounds check, one table-driven parse.
             let pos = self.pos;
@@ -338,10 +338,10 @@ impl<'a, 'r> Reader<'a, 'r> {
             {
                 self.last = (name, pos, 8);
                 self.pos = pos + 8;
-                return Ok(Thou::from_wire(v));
+                return Ok(Milli::from_wire(v));
             }
         }
-        Ok(Thou::from_wire(self.hex(name, 8, Show::Coord(unit))?))
+        Ok(Milli::from_wire(self.hex(name, 8, Show::Coord(unit))?))
     }
 
     /// Raw text of `width` characters, checked with `ok` (for 200H data, 216H text and
@@ -472,9 +472,9 @@ mod tests {
     fn coordinates_decode_signed_in_both_cases() {
         let mut r = reader(b"FFFFEC78ffffec780000C350");
         let n = Name::new("x");
-        assert_eq!(r.coord(n, AxisUnit::Mm).unwrap(), Thou(-5000));
-        assert_eq!(r.coord(n, AxisUnit::Mm).unwrap(), Thou(-5000));
-        assert_eq!(r.coord(n, AxisUnit::Mm).unwrap(), Thou(50_000));
+        assert_eq!(r.coord(n, AxisUnit::Mm).unwrap(), Milli(-5000));
+        assert_eq!(r.coord(n, AxisUnit::Mm).unwrap(), Milli(-5000));
+        assert_eq!(r.coord(n, AxisUnit::Mm).unwrap(), Milli(50_000));
         let e = r
             .coord(Name::axis("target", Axis::A2), AxisUnit::Mm)
             .unwrap_err();

@@ -11,6 +11,12 @@ use super::ids::{Header, MessageId, Role, Station};
 /// including CR LF (PROTOCOL.md 3.16, corrected counts).
 pub const MAX_FRAME_LEN: usize = 16_337;
 
+/// The controller's reply buffer on most models, in bytes from header to LF; replies are
+/// cut to fit it (PROTOCOL.md 1.7; the count from header to LF is `[inferred]`).
+pub const REPLY_BUFFER: usize = 2048;
+/// The reply buffer of the J/K/KE/KT/KET/JX/KX/KTX and TT models (PROTOCOL.md 1.7).
+pub const SMALL_REPLY_BUFFER: usize = 1024;
+
 /// The shortest legal frame: 10 bytes (a command or acknowledge without data, or an error
 /// reply) (PROTOCOL.md 1.3).
 pub const MIN_FRAME_LEN: usize = 10;

@@ -110,11 +110,10 @@ impl std::str::FromStr for Station {
 
     /// Exactly 2 hex digits, either case, as on the wire (PROTOCOL.md 1.3): "99", "0a".
     fn from_str(s: &str) -> Result<Station, StationParseError> {
-        let bad = || StationParseError(s.to_owned());
-        if s.len() != 2 || !s.bytes().all(|b| b.is_ascii_hexdigit()) {
-            return Err(bad());
+        match super::hex::parse_hex(s.as_bytes()) {
+            Some(v) if s.len() == 2 => Ok(Station(v as u8)),
+            _ => Err(StationParseError(s.to_owned())),
         }
-        u8::from_str_radix(s, 16).map(Station).map_err(|_| bad())
     }
 }
 
@@ -269,8 +268,9 @@ impl ErrorCode {
         }
     }
 
-    /// The meaning the built-in simulator gives this number: the one table of its codes
-    /// (`sim::CODE_TABLE` takes its texts from here). [inferred] Only C74 and CC1 are
+    /// The meaning the built-in simulator gives this number, where the controller's own
+    /// is not known: the one table of its codes (`sim::CODE_TABLE` takes its texts from
+    /// here, and the controller's text where there is one). [inferred] Only C74 and CC1 are
     /// real controller numbers (PROTOCOL.md section 2); the others are the simulator's.
     pub const fn sim_text(self) -> Option<&'static str> {
         match self.0 {
@@ -288,8 +288,6 @@ impl ErrorCode {
             0xB08 => Some("target or path outside the arm's reach"),
             0xB09 => Some("target needs the other arm system; switching not allowed"),
             0xB0A => Some("position number holds no data for these axes"),
-            0xC74 => Some("target beyond a joint soft limit"),
-            0xCC1 => Some("speed change condition error (no move to change)"),
             _ => None,
         }
     }

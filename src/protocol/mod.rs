@@ -21,6 +21,7 @@ pub mod frame;
 mod hex;
 pub mod ids;
 pub mod messages;
+pub mod peek;
 pub mod reply;
 pub mod units;
 mod writer;
@@ -34,7 +35,10 @@ pub use describe::{
     BitNote, ChecksumVerdict, FieldDescription, FrameDescription, Problem, describe,
 };
 pub use error::{Columns, EncodeError, MessageError, MessageErrorKind};
-pub use frame::{Frame, FrameError, FrameErrorKind, MAX_FRAME_LEN, MIN_FRAME_LEN, OwnedFrame};
+pub use frame::{
+    Frame, FrameError, FrameErrorKind, MAX_FRAME_LEN, MIN_FRAME_LEN, OwnedFrame, REPLY_BUFFER,
+    SMALL_REPLY_BUFFER,
+};
 pub use ids::{ErrorCode, Header, MessageId, Role, Station, StationParseError};
 pub use messages::basic::{
     ErrorDetail, ErrorDetailQuery, TestData, UnitType, VersionInfo, VersionQuery,
@@ -53,4 +57,4 @@ pub use messages::status::{
     SystemStatus1, SystemStatus2, SystemStatus3,
 };
 pub use reply::Reply;
-pub use units::{AxisUnit, CentiG, MmPerSec, Percent, Thou};
+pub use units::{AxisUnit, CentiG, MmPerSec, Percent, Milli};

@@ -3,22 +3,23 @@
 use std::fmt;
 
 /// A position, distance or offset in thousandths of the axis unit, as sent on the wire:
-/// 0.001 mm for linear axes, 0.001 deg for rotary ones (micrometres / millidegrees).
+/// 0.001 mm for linear axes, 0.001 deg for rotary ones (micrometres / millidegrees): the
+/// one wire unit of positions.
 /// Signed 32-bit, sent as 8 hex digits in two's complement: -5.000 mm = `FFFFEC78`
 /// (PROTOCOL.md section 4).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct Thou(pub i32);
+pub struct Milli(pub i32);
 
-impl Thou {
+impl Milli {
     /// Zero.
-    pub const ZERO: Thou = Thou(0);
+    pub const ZERO: Milli = Milli(0);
 
     /// From a value in axis units (mm or deg), rounded to the nearest 0.001;
     /// `None` when it does not fit or is not finite.
-    pub fn from_units(v: f64) -> Option<Thou> {
+    pub fn from_units(v: f64) -> Option<Milli> {
         let t = (v * 1000.0).round();
         if t.is_finite() && t >= f64::from(i32::MIN) && t <= f64::from(i32::MAX) {
-            Some(Thou(t as i32))
+            Some(Milli(t as i32))
         } else {
             None
         }
@@ -35,13 +36,13 @@ impl Thou {
     }
 
     /// From the wire form (two's complement).
-    pub const fn from_wire(w: u32) -> Thou {
-        Thou(w as i32)
+    pub const fn from_wire(w: u32) -> Milli {
+        Milli(w as i32)
     }
 
     /// Displays with the given unit: `-5.000 mm`.
     pub fn with_unit(self, unit: AxisUnit) -> impl fmt::Display {
-        struct D(Thou, AxisUnit);
+        struct D(Milli, AxisUnit);
         impl fmt::Display for D {
             fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
                 write!(f, "{} {}", self.0, self.1)
@@ -51,7 +52,7 @@ impl Thou {
     }
 }
 
-impl fmt::Display for Thou {
+impl fmt::Display for Milli {
     /// Three decimals, no unit: `-5.000`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let v = i64::from(self.0);
@@ -119,20 +120,20 @@ mod tests {
 
     #[test]
     fn negative_coordinates_use_twos_complement() {
-        assert_eq!(Thou(-5000).to_wire(), 0xFFFF_EC78);
-        assert_eq!(Thou::from_wire(0xFFFF_EC78), Thou(-5000));
-        assert_eq!(Thou::from_wire(0xFFFF_CFC7), Thou(-12_345));
+        assert_eq!(Milli(-5000).to_wire(), 0xFFFF_EC78);
+        assert_eq!(Milli::from_wire(0xFFFF_EC78), Milli(-5000));
+        assert_eq!(Milli::from_wire(0xFFFF_CFC7), Milli(-12_345));
     }
 
     #[test]
     fn displays_three_decimals_and_units() {
-        assert_eq!(Thou(-5000).with_unit(AxisUnit::Mm).to_string(), "-5.000 mm");
+        assert_eq!(Milli(-5000).with_unit(AxisUnit::Mm).to_string(), "-5.000 mm");
         assert_eq!(
-            Thou(45_000).with_unit(AxisUnit::Deg).to_string(),
+            Milli(45_000).with_unit(AxisUnit::Deg).to_string(),
             "45.000 deg"
         );
-        assert_eq!(Thou(-5).to_string(), "-0.005");
-        assert_eq!(Thou(i32::MIN).to_string(), "-2147483.648");
+        assert_eq!(Milli(-5).to_string(), "-0.005");
+        assert_eq!(Milli(i32::MIN).to_string(), "-2147483.648");
         assert_eq!(CentiG(30).to_string(), "0.30 G");
         assert_eq!(MmPerSec(100).to_string(), "100 mm/s");
         assert_eq!(Percent(30).to_string(), "30 %");
@@ -140,8 +141,8 @@ mod tests {
 
     #[test]
     fn from_units_rounds_and_bounds() {
-        assert_eq!(Thou::from_units(-12.345), Some(Thou(-12_345)));
-        assert_eq!(Thou::from_units(1e12), None);
-        assert_eq!(Thou::from_units(f64::NAN), None);
+        assert_eq!(Milli::from_units(-12.345), Some(Milli(-12_345)));
+        assert_eq!(Milli::from_units(1e12), None);
+        assert_eq!(Milli::from_units(f64::NAN), None);
     }
 }

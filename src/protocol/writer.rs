@@ -6,7 +6,7 @@ use super::checksum::{ScMode, checksum};
 use super::error::EncodeError;
 use super::hex::{fits, max_for, push_hex};
 use super::ids::{Header, MessageId, Station};
-use super::units::Thou;
+use super::units::Milli;
 
 /// Writes the data fields of one message (always upper-case hex).
 pub(crate) struct Writer<'b> {
@@ -53,7 +53,7 @@ impl Writer<'_> {
     }
 
     #[inline]
-    pub(crate) fn coord(&mut self, v: Thou) {
+    pub(crate) fn coord(&mut self, v: Milli) {
         push_hex(self.out, v.to_wire(), 8);
     }
 

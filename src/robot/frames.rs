@@ -197,11 +197,25 @@ impl CoordTables {
 }
 
 /// The frame a jog step is given in (236H bits 1-2, without the each-axis system).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize)]
 pub enum JogFrame {
     Base,
+    #[default]
     Work,
     Tool,
+}
+
+impl JogFrame {
+    pub const ALL: [JogFrame; 3] = [JogFrame::Work, JogFrame::Base, JogFrame::Tool];
+
+    /// "work", "base", "tool".
+    pub fn name(self) -> &'static str {
+        match self {
+            JogFrame::Work => "work",
+            JogFrame::Base => "base",
+            JogFrame::Tool => "tool",
+        }
+    }
 }
 
 /// A jog step given in `frame` as the same motion of the tool tip in the selected work

@@ -19,7 +19,8 @@ pub use frames::{
 };
 pub use kinematics::{Arm, ArmSystem, IkError, Joint, Scara};
 pub use model::{
-    BUILTIN_MODELS, G_MM_S2, InPositionBand, JointSpec, ModelError, MoveDefaults, RobotModel,
+    BUILTIN_MODELS, G_MM_S2, InPositionBand, JointSpec, MAX_TABLE_SIZE, ModelError, MoveDefaults,
+    RobotModel,
 };
 pub use motion::{
     ArmPolicy, CpParams, MotionStatus, Move, MoveError, MoveSample, Positions, PtpMove, PtpParams,

@@ -22,6 +22,10 @@ pub const BUILTIN_MODELS: [(&str, &str); 2] = [
     ),
 ];
 
+/// The most entries a work or tool table can have: 2A4H reads at most 255 records
+/// (PROTOCOL.md 3.16).
+pub const MAX_TABLE_SIZE: usize = 255;
+
 /// Limits and maxima of one axis. Units: deg (J1, J2, R) or mm (Z), per s and per s^2.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct JointSpec {
@@ -384,13 +388,13 @@ impl Checker<'_> {
     ) -> Result<usize, ModelError> {
         match v {
             None => Ok(default),
-            // 2A4H returns at most 255 records; 1 is the least (No. 0 always exists).
+            // 1 is the least (No. 0 always exists).
             Some(s) => match usize::try_from(*s.get_ref()) {
-                Ok(n) if (1..=255).contains(&n) => Ok(n),
+                Ok(n) if (1..=MAX_TABLE_SIZE).contains(&n) => Ok(n),
                 _ => self.fail(
                     field,
                     s.span().start,
-                    format!("must be between 1 and 255, got {}", s.get_ref()),
+                    format!("must be between 1 and {MAX_TABLE_SIZE}, got {}", s.get_ref()),
                 ),
             },
         }

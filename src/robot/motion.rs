@@ -413,14 +413,28 @@ pub fn in_position(actual: &Joints, command: &Joints, band: &InPositionBand) -> 
 }
 
 /// Which position a relative step is added to (Delta RMC Move Relative; DESIGN.md).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize)]
 pub enum RelativeTo {
     /// Where the last move ends: chained steps never drift.
+    #[default]
     Command,
     /// The polled position: steps follow the real arm.
     Actual,
     /// Where the generator is now.
     Target,
+}
+
+impl RelativeTo {
+    pub const ALL: [RelativeTo; 3] = [RelativeTo::Command, RelativeTo::Actual, RelativeTo::Target];
+
+    /// "command", "actual", "target".
+    pub fn name(self) -> &'static str {
+        match self {
+            RelativeTo::Command => "command",
+            RelativeTo::Actual => "actual",
+            RelativeTo::Target => "target",
+        }
+    }
 }
 
 /// The three positions a controller tracks, in any one representation (joints, poses).

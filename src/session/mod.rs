@@ -197,7 +197,7 @@ fn direct_connector(kind: LineKind, address: String) -> Connector {
 /// the link (re)connects.
 fn guardian_connector(settings: &ConnectionSettings, exe: PathBuf) -> Connector {
     let settings = settings.clone();
-    let lease = crate::link::LinkConfig::default().jog_lease;
+    let lease = crate::link::JOG_LEASE;
     Box::new(move |_settings_go_to_the_guardian| {
         guardian::GuardianLine::open(&exe, &settings, lease)
             .map(|t| Box::new(t) as Box<dyn Transport>)

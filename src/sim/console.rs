@@ -5,7 +5,7 @@
 use std::fmt::Write as _;
 
 use super::controller::Controller;
-use super::state::{HomeState, Mode};
+use super::state::{HomeProgress, Mode};
 
 /// What an operator can do to the simulated controller besides the protocol.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -120,8 +120,8 @@ pub fn parse(line: &str) -> Result<ConsoleCommand, String> {
 /// A 3-hex-digit error code, not 000.
 pub fn parse_code(s: &str) -> Result<u16, String> {
     let t = s.trim();
-    match u16::from_str_radix(t, 16) {
-        Ok(code) if t.len() == 3 && code != 0 => Ok(code),
+    match crate::protocol::peek::hex_digits(t) {
+        Some(code) if t.len() == 3 && code != 0 => Ok(code as u16),
         _ => Err(format!(
             "`{s}` is not an alarm code: 3 hex digits, not 000 (e.g. C74)"
         )),
@@ -169,9 +169,9 @@ pub fn status(c: &Controller) -> String {
         .take(4 + usize::from(c.config().linear_axes))
     {
         let home = match a.home {
-            HomeState::NotDone => "not homed",
-            HomeState::Homing { .. } => "homing",
-            HomeState::Done => "homed",
+            HomeProgress::NotDone => "not homed",
+            HomeProgress::Homing { .. } => "homing",
+            HomeProgress::Done => "homed",
         };
         let _ = write!(out, "\naxis {}: servo {}, {home}", i + 1, on_off(a.servo));
     }

@@ -4,7 +4,7 @@
 
 use super::controller::{ALARM_HISTORY, Controller, Snapshot};
 use super::coords_file::PositionTable;
-use super::state::{Alarm, HomeState, Mode, ServoSwitch};
+use super::state::{Alarm, HomeProgress, Mode, ServoSwitch};
 use crate::robot::CoordTables;
 
 impl Controller {
@@ -113,8 +113,8 @@ impl Controller {
         for a in self.axes.iter_mut() {
             a.servo = false;
             a.switching = None;
-            if let HomeState::Homing { .. } = a.home {
-                a.home = HomeState::NotDone;
+            if let HomeProgress::Homing { .. } = a.home {
+                a.home = HomeProgress::NotDone;
             }
         }
     }
@@ -186,7 +186,7 @@ impl Controller {
             if i >= self.axis_count() && (a.servo || in_use & bit != 0) {
                 return Err(format!("absent axis {} has state", i + 1));
             }
-            if matches!(a.home, HomeState::Homing { .. }) && in_use & bit == 0 {
+            if matches!(a.home, HomeProgress::Homing { .. }) && in_use & bit == 0 {
                 return Err(format!("axis {} homing but not in use", i + 1));
             }
             if (self.estop || self.drive_cut) && (a.servo || a.switching.is_some()) {

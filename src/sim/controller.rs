@@ -7,7 +7,7 @@ use super::coords_file::{self, PositionTable};
 use super::errors::SimError;
 use super::framing::{Silence, max_command};
 use super::motion::{Motion, MotionKind};
-use super::state::{Alarm, AxisKind, AxisState, Counters, HomeState, Mode, SimConfig};
+use super::state::{Alarm, AxisKind, AxisState, Counters, HomeProgress, Mode, SimConfig};
 use crate::protocol::{
     Command, ErrorCode, Frame, FrameErrorKind, Header, MessageId, Reply, Sc, Station,
 };
@@ -136,7 +136,7 @@ impl Controller {
         if c.cfg.start_ready {
             for i in 0..c.axis_count() {
                 c.axes[i].servo = true;
-                c.axes[i].home = HomeState::Done;
+                c.axes[i].home = HomeProgress::Done;
             }
         }
         c
@@ -441,9 +441,9 @@ impl Controller {
             a.completed = !cancelled;
             if m.kind == MotionKind::Home {
                 a.home = if cancelled {
-                    HomeState::NotDone
+                    HomeProgress::NotDone
                 } else {
-                    HomeState::Done
+                    HomeProgress::Done
                 };
             }
         }

@@ -203,7 +203,7 @@ pub fn load(path: impl AsRef<Path>, model: &RobotModel) -> Result<CoordsFile, Co
 
 /// Writes tables and positions in the file format (non-zero entries only).
 pub fn to_toml(tables: &CoordTables, positions: &PositionTable) -> String {
-    let mm = |v: i32| f64::from(v) / 1000.0;
+    let mm = |v: i32| crate::protocol::Milli(v).units();
     let frames = |entries: &[CoordSystem]| {
         entries
             .iter()

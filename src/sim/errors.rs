@@ -76,11 +76,13 @@ pub const CODE_TABLE: &[CodeRow] = &[
     row(0xCC1, SimError::SpeedChange),
 ];
 
-/// A row whose text is the protocol's one table of the simulator's codes.
+/// A row whose text is the protocol's: the controller's meaning where known, else the
+/// simulator's own.
 const fn row(code: u16, error: SimError) -> CodeRow {
-    let text = match crate::protocol::ErrorCode(code).sim_text() {
-        Some(t) => t,
-        None => "",
+    let code_of = crate::protocol::ErrorCode(code);
+    let text = match (code_of.text(), code_of.sim_text()) {
+        (Some(t), _) | (None, Some(t)) => t,
+        (None, None) => "",
     };
     CodeRow { code, error, text }
 }

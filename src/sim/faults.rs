@@ -374,8 +374,8 @@ fn corrupt_sc(bytes: &mut [u8], rng: &mut SplitMix64) {
     let sc = &mut bytes[n - 4..n - 2];
     let old = std::str::from_utf8(sc)
         .ok()
-        .and_then(|s| u8::from_str_radix(s, 16).ok())
-        .unwrap_or(0);
+        .and_then(crate::protocol::peek::hex_digits)
+        .unwrap_or(0) as u8;
     let new = old.wrapping_add(1 + (rng.next_u64() % 255) as u8);
     let hex = format!("{new:02X}");
     sc.copy_from_slice(hex.as_bytes());

@@ -14,8 +14,13 @@ use super::runner::{RunOptions, ServeEnd, SimCore, SimHandle, lock, serve};
 use crate::line::Line;
 
 #[cfg(unix)]
-/// How long one blocked write waits before checking the stop flag again.
-const WRITE_SLICE: Duration = Duration::from_millis(50);
+/// How long one blocked write waits before the input is read and the stop flag checked.
+const WRITE_SLICE: Duration = Duration::from_millis(5);
+#[cfg(unix)]
+/// Input kept while a reply waits for room: a controller's UART keeps receiving whatever
+/// it does with its replies. 64 KiB `[inferred]`: the X-SEL's receive buffer size is not
+/// documented; what does not fit is dropped, counted and logged.
+const INPUT_KEEP: usize = 64 * 1024;
 #[cfg(unix)]
 /// A line that accepts no byte for this long is reported (once per reply).
 const FULL_REPORT: Duration = Duration::from_secs(1);
@@ -28,13 +33,54 @@ pub struct PtyServer {
 }
 
 /// The master side of the simulator's pseudo-terminal. A full pty (the client does not
-/// read) slows the simulator down: a write waits for room, never gives up on a reply or
-/// the input behind it. Only the stop flag ends the wait.
+/// read) slows the simulator down: a write waits for room, never gives up on a reply,
+/// and keeps receiving meanwhile into a bounded buffer, so a host that writes everything
+/// before it reads is served. Only the stop flag ends the wait.
 #[cfg(unix)]
 struct PtyMaster<'a> {
     port: &'a mut serialport::TTYPort,
     stop: &'a AtomicBool,
+    shared: &'a std::sync::Mutex<SimCore>,
     opts_notice: Option<super::runner::NoticeFn>,
+    /// Input received while a reply waited for room, not yet served.
+    received: std::collections::VecDeque<u8>,
+}
+
+#[cfg(unix)]
+impl PtyMaster<'_> {
+    /// Reads what input is there (without waiting) into the buffer; what does not fit
+    /// is dropped, counted and logged.
+    fn keep_receiving(&mut self) -> io::Result<()> {
+        use serialport::SerialPort;
+        use std::io::Read;
+        let mut buf = [0u8; 4096];
+        self.port.set_timeout(Duration::from_micros(100))?;
+        loop {
+            let n = match self.port.read(&mut buf) {
+                Ok(n) => n,
+                Err(e) if crate::line::is_timeout(&e) || e.raw_os_error() == Some(5) => 0,
+                Err(e) => return Err(e),
+            };
+            if n == 0 {
+                return self.port.set_timeout(WRITE_SLICE).map_err(io::Error::other);
+            }
+            let room = INPUT_KEEP.saturating_sub(self.received.len());
+            let kept = n.min(room);
+            self.received.extend(buf.iter().take(kept));
+            let dropped = n - kept;
+            if dropped > 0 {
+                lock(self.shared)
+                    .controller
+                    .note_lost(0, dropped as u64);
+                if let Some(notice) = &self.opts_notice {
+                    notice(&format!(
+                        "input buffer full ({INPUT_KEEP} bytes) while a reply waits for \
+                         room: {dropped} bytes of input dropped"
+                    ));
+                }
+            }
+        }
+    }
 }
 
 #[cfg(unix)]
@@ -42,6 +88,13 @@ impl Line for PtyMaster<'_> {
     fn read_timeout(&mut self, buf: &mut [u8], timeout: Duration) -> io::Result<usize> {
         use serialport::SerialPort;
         use std::io::Read;
+        if !self.received.is_empty() {
+            let n = buf.len().min(self.received.len());
+            for (slot, byte) in buf.iter_mut().zip(self.received.drain(..n)) {
+                *slot = byte;
+            }
+            return Ok(n);
+        }
         self.port
             .set_timeout(timeout.max(Duration::from_micros(100)))?;
         match self.port.read(buf) {
@@ -69,11 +122,12 @@ impl Line for PtyMaster<'_> {
                     if self.stop.load(Ordering::Relaxed) {
                         return Err(io::Error::new(io::ErrorKind::Interrupted, "stopping"));
                     }
+                    self.keep_receiving()?;
                     if !reported && started.elapsed() >= FULL_REPORT {
                         reported = true;
                         if let Some(n) = &self.opts_notice {
                             n("pty full for 1 s: the client is not reading; waiting for \
-                               room (no input is dropped)");
+                               room (input is kept meanwhile)");
                         }
                     }
                 }
@@ -103,7 +157,9 @@ pub fn start_pty(core: SimCore, mut opts: RunOptions) -> io::Result<PtyServer> {
         let mut line = PtyMaster {
             port: &mut master,
             stop,
+            shared,
             opts_notice: opts.notice.clone(),
+            received: std::collections::VecDeque::new(),
         };
         while !stop.load(Ordering::Relaxed) {
             match serve(&mut line, shared, stop, &mut opts) {

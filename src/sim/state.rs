@@ -21,9 +21,10 @@ impl Mode {
     }
 }
 
-/// Home return state, 212H status bits 1-2 (PROTOCOL.md 3.3).
+/// The simulated axis's homing, with its timing; reported as the protocol's
+/// [`crate::protocol::HomeState`] (212H status bits 1-2, PROTOCOL.md 3.3).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub enum HomeState {
+pub enum HomeProgress {
     #[default]
     NotDone,
     /// Homing, started at `since`, ends at `until`.
@@ -34,12 +35,14 @@ pub enum HomeState {
     Done,
 }
 
-impl HomeState {
-    pub fn code(self) -> u8 {
+impl HomeProgress {
+    /// What 212H reports of it.
+    pub fn state(self) -> crate::protocol::HomeState {
+        use crate::protocol::HomeState;
         match self {
-            HomeState::NotDone => 0,
-            HomeState::Homing { .. } => 1,
-            HomeState::Done => 2,
+            HomeProgress::NotDone => HomeState::NotDone,
+            HomeProgress::Homing { .. } => HomeState::Homing,
+            HomeProgress::Done => HomeState::Done,
         }
     }
 }
@@ -65,7 +68,7 @@ pub enum AxisKind {
 pub struct AxisState {
     pub servo: bool,
     pub switching: Option<ServoSwitch>,
-    pub home: HomeState,
+    pub home: HomeProgress,
     /// 212H bit 4: the last operation command on this axis completed normally.
     pub completed: bool,
     /// Axis error code shown by 212H (0 = none).
@@ -74,7 +77,7 @@ pub struct AxisState {
 
 impl AxisState {
     pub fn is_homed(&self) -> bool {
-        self.home == HomeState::Done
+        self.home == HomeProgress::Done
     }
 }
 
@@ -180,7 +183,7 @@ impl Default for SimConfig {
         Self {
             station: 0x99,
             reply_delay: Duration::from_millis(2),
-            reply_buffer: 2048,
+            reply_buffer: crate::protocol::REPLY_BUFFER,
             servo_switch_time: Duration::from_millis(DEFAULT_SERVO_SWITCH_MS),
             homing_time: Duration::from_millis(800),
             reset_replies: true,

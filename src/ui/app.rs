@@ -35,11 +35,6 @@ const SETTINGS_KEY: &str = "settings";
 const LAYOUT_KEY: &str = "layout";
 /// Most time spent applying link events in one frame.
 const EVENT_BUDGET: Duration = Duration::from_millis(4);
-/// While a continuous jog is held the window runs at least this often, renewing the
-/// link's jog lease (250 ms) several times over.
-const HELD_REFRESH: Duration = Duration::from_millis(40);
-/// The controller's reply buffer assumed for table reads (PROTOCOL.md 1.7).
-const REPLY_BUFFER: usize = 2048;
 
 /// How the window starts.
 #[derive(Clone, Debug, Default)]
@@ -314,7 +309,7 @@ impl PendantApp {
                 axes: AxisPattern::SCARA_1,
                 first: range.start,
                 records: range.end.saturating_sub(range.start),
-                reply_buffer: REPLY_BUFFER,
+                reply_buffer: crate::protocol::REPLY_BUFFER,
             });
         }
     }
@@ -367,7 +362,8 @@ impl eframe::App for PendantApp {
         self.pendant.tick(now);
         self.run_requests(ctx, now);
         if self.pendant.held_jog().is_some() {
-            ctx.request_repaint_after(HELD_REFRESH);
+            // While a continuous jog is held the window runs at least this often.
+            ctx.request_repaint_after(crate::pendant::RENEW_EVERY);
         } else if self.session.is_some() {
             ctx.request_repaint_after(IDLE_WAKE);
         }

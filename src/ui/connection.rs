@@ -7,7 +7,8 @@ use super::detect::Detect;
 use super::ports::PortList;
 use super::widgets::{AMBER, GREEN, GREY, RED, reserved_line};
 use crate::link::line::STANDARD_BAUDS;
-use crate::pendant::{Intent, LineKind, LineState, ParityChoice, Pendant};
+use crate::line::Parity;
+use crate::pendant::{Intent, LineKind, LineState, Pendant};
 use crate::robot::BUILTIN_MODELS;
 
 /// The panel's own state (the text being typed in the station field, the port list).
@@ -137,7 +138,7 @@ impl ConnectionPanel {
                 ui.end_row();
                 ui.label("Parity");
                 ui.horizontal(|ui| {
-                    for p in ParityChoice::ALL {
+                    for p in Parity::ALL {
                         ui.selectable_value(&mut s.parity, p, p.name());
                     }
                 });
@@ -234,15 +235,12 @@ fn owner(ui: &mut Ui, pendant: &Pendant) {
     reserved_line(ui, Some((color, &text)), hover);
 }
 
-/// Exactly two hex digits, as the wire carries them.
+/// Exactly two hex digits, as the wire carries them (no sign).
 fn parse_station(text: &str) -> Result<u8, String> {
     let t = text.trim();
-    if t.len() == 2
-        && let Ok(v) = u8::from_str_radix(t, 16)
-    {
-        return Ok(v);
-    }
-    Err(format!("station `{t}`: 2 hex digits, 00 to FF"))
+    t.parse::<crate::protocol::Station>()
+        .map(|s| s.0)
+        .map_err(|_| format!("station `{t}`: 2 hex digits, 00 to FF"))
 }
 
 /// The link's figures in four lines that are always there (cut to the width, whole on

@@ -13,7 +13,6 @@ use super::widgets::{AMBER, GREEN, RED, clock_utc, reserved_line};
 use crate::files::job::Job;
 use crate::files::{DOCUMENT_LIMIT, WriteError, read_bounded_in, write_file};
 use crate::pendant::coords::file::TableFormat;
-use crate::pendant::coords::intent::coord_kind;
 use crate::pendant::coords::{CoordsIntent, FileOutcome, diff};
 use crate::pendant::{Intent, Pendant};
 use crate::robot::FrameKind;
@@ -158,7 +157,7 @@ impl CoordsPanel {
                     .on_disabled_hover_text("The line is down")
                     .clicked()
                 {
-                    ask(CoordsIntent::Reload(coord_kind(kind)));
+                    ask(CoordsIntent::Reload(kind.into()));
                 }
                 let unread: u16 = pendant
                     .unread_ranges(kind)
@@ -171,7 +170,7 @@ impl CoordsPanel {
                         .on_hover_text("Read again only the records that could not be read")
                         .clicked()
                 {
-                    ask(CoordsIntent::RetryUnread(coord_kind(kind)));
+                    ask(CoordsIntent::RetryUnread(kind.into()));
                 }
             }
         });

@@ -6,7 +6,7 @@ use egui::{RichText, Ui};
 
 use super::widgets::{AMBER, RED};
 use crate::link::probe::{ProbeEvent, ProbeHandle, ProbePlan, spawn_probe};
-use crate::pendant::{ConnectionSettings, ParityChoice};
+use crate::pendant::ConnectionSettings;
 
 /// A probe in progress, and what the last one found.
 #[derive(Default)]
@@ -126,7 +126,7 @@ impl Detect {
                         let c = found.candidate;
                         settings.baud = c.line.baud;
                         settings.data_bits = c.line.data_bits;
-                        settings.parity = ParityChoice::from_link(c.line.parity);
+                        settings.parity = c.line.parity;
                         settings.stop_bits = c.line.stop_bits;
                         settings.station = c.station.0;
                     }

@@ -11,9 +11,11 @@ use egui::{Button, ComboBox, DragValue, RichText, Ui};
 use super::pad::{self, PadOutput};
 use super::widgets::{AMBER, GREEN, RED, lamp, reserved_line};
 use crate::pendant::jog::{MAX_STEP, STEP_LADDER};
+use crate::protocol::ArmPolicy;
+use crate::robot::{JogFrame, RelativeTo};
 use crate::pendant::speed_cap::{self, MAX_CAP_MM_S, REDUCED_SPEED_MM_S};
 use crate::pendant::{
-    ArmChoice, Intent, Interpolation, JogMode, JogSettings, Pendant, StepBase, StepFrame,
+    Intent, Interpolation, JogMode, JogSettings, Pendant,
 };
 
 /// The panel's own state: the speed cap being raised.
@@ -281,10 +283,10 @@ fn settings(ui: &mut Ui, pendant: &Pendant, j: &mut JogSettings) {
         ui.horizontal(|ui| {
             let label = ui.label("Arm");
             ComboBox::from_id_salt("arm-policy")
-                .selected_text(j.arm.name())
+                .selected_text(j.arm.to_string())
                 .show_ui(ui, |ui| {
-                    for a in ArmChoice::ALL {
-                        ui.selectable_value(&mut j.arm, a, a.name());
+                    for a in ArmPolicy::ALL {
+                        ui.selectable_value(&mut j.arm, a, a.to_string());
                     }
                 })
                 .response
@@ -345,14 +347,14 @@ fn settings(ui: &mut Ui, pendant: &Pendant, j: &mut JogSettings) {
         );
     ui.horizontal(|ui| {
         ui.label("Frame");
-        for f in [StepFrame::Work, StepFrame::Base, StepFrame::Tool] {
+        for f in JogFrame::ALL {
             ui.selectable_value(&mut j.frame, f, f.name());
         }
     });
     ui.add_enabled_ui(stepping, |ui| {
         ui.horizontal(|ui| {
             ui.label("Relative to");
-            for b in [StepBase::Command, StepBase::Actual, StepBase::Target] {
+            for b in RelativeTo::ALL {
                 ui.selectable_value(&mut j.relative_to, b, b.name());
             }
         })

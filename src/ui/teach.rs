@@ -179,7 +179,8 @@ impl TeachPanel {
                                 }
                             });
                             row.col(|ui| {
-                                let [x, y, z, r] = p.pose.map(|v| f64::from(v) / 1000.0);
+                                let [x, y, z, r] =
+                                    p.pose.map(|v| crate::protocol::Milli(v).units());
                                 ui.monospace(format!("{x:.3} / {y:.3} / {z:.3} / {r:.3}"));
                             });
                             row.col(|ui| {

@@ -7,7 +7,7 @@ use crossbeam_channel::Receiver;
 use xsel_pendant::link::transport::StreamTransport;
 use xsel_pendant::link::{Connector, LinkConfig, LinkEvent, LinkHandle, Polling, spawn};
 use xsel_pendant::protocol::{
-    ArmPolicy, Axis, AxisPattern, Command, PerAxis, Percent, ScaraMotion, ScaraMove, Thou,
+    ArmPolicy, Axis, AxisPattern, Command, PerAxis, Percent, ScaraMotion, ScaraMove, Milli,
 };
 use xsel_pendant::sim::pipe::PipeEnd;
 use xsel_pendant::sim::{EmbeddedOptions, FaultSpec, SimHandle, SimSetup, start_embedded};
@@ -125,7 +125,7 @@ pub fn step_x(micrometres: i32) -> Command {
             speed: Percent(30),
             arm: ArmPolicy::KeepNoSwitch,
         },
-        targets: PerAxis::new().with(Axis::A1, Thou(micrometres)),
+        targets: PerAxis::new().with(Axis::A1, Milli(micrometres)),
     })
 }
 
@@ -154,7 +154,7 @@ pub fn jog_x() -> Command {
     Command::Jog(Jog {
         axes: AxisPattern::single(Axis::A1),
         direction: Direction::Negative,
-        distance: Thou(0),
+        distance: Milli(0),
         motion: JogMotion::Cartesian {
             frame: JogFrame::Work,
             acc: CentiG(10),

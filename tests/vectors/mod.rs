@@ -72,8 +72,8 @@ pub fn at_at_vector(s: &str, real_sc: &str) -> Command {
     c
 }
 
-pub fn t(v: i32) -> Thou {
-    Thou(v)
+pub fn t(v: i32) -> Milli {
+    Milli(v)
 }
 
 pub fn axes<T: Copy + Default>(vals: &[(u8, T)]) -> PerAxis<T> {

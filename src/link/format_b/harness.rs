@@ -16,7 +16,7 @@ use crate::link::request::{Origin, Pending, Priority, RequestId};
 use crate::link::schedule::Polling;
 use crate::protocol::{
     ArmPolicy, Axis, AxisPattern, CentiG, Command, Direction, Jog, JogFrame, JogMotion, MmPerSec,
-    PerAxis, Percent, ScaraMotion, ScaraMove, Stop, Thou,
+    PerAxis, Percent, ScaraMotion, ScaraMove, Stop, Milli,
 };
 use crate::sim::faults::{FaultInjector, FaultSpec};
 use crate::sim::framing::{Assembler, Received, max_command};
@@ -430,7 +430,7 @@ pub(crate) fn step_x(micrometres: i32) -> Command {
             speed: Percent(30),
             arm: ArmPolicy::KeepNoSwitch,
         },
-        targets: PerAxis::new().with(Axis::A1, Thou(micrometres)),
+        targets: PerAxis::new().with(Axis::A1, Milli(micrometres)),
     })
 }
 
@@ -439,7 +439,7 @@ pub(crate) fn jog_x() -> Command {
     Command::Jog(Jog {
         axes: AxisPattern::single(Axis::A1),
         direction: Direction::Negative,
-        distance: Thou(0),
+        distance: Milli(0),
         motion: JogMotion::Cartesian {
             frame: JogFrame::Work,
             acc: CentiG(10),

@@ -517,7 +517,7 @@ fn tool_table(first: u16, records: u16) -> TableRequest {
 
 fn assert_tool_table_matches(
     bench: &Bench,
-    records: &[Option<crate::protocol::PerAxis<crate::protocol::Thou>>],
+    records: &[Option<crate::protocol::PerAxis<crate::protocol::Milli>>],
 ) {
     let expected = bench.sim.controller.coords().tool.entries().to_vec();
     assert_eq!(records.len(), expected.len());

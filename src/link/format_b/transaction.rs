@@ -9,7 +9,7 @@ use crate::link::driver::later;
 use crate::link::event::{LinkEvent, garbage_event};
 use crate::link::reason::{BadInput, LineDownReason, NotSentReason};
 use crate::link::request::{Origin, Pending, Priority};
-use crate::link::sync::reply_id;
+use crate::protocol::peek::reply_id;
 use crate::protocol::{AxisPattern, Command, ErrorCode, Frame, Header, Reply, Stop};
 
 /// Proving queries tried for one motion command before it is refused.

@@ -1,10 +1,10 @@
 //! One cell of a coordinate table: its column, how it is shown, and the checks an entry
 //! passes before it reaches the draft (format, resolution 0.001, range, work No. 0).
 
-use crate::protocol::Thou;
+use crate::protocol::Milli;
 use crate::robot::{CoordSystem, FrameKind};
 
-use super::super::teach_file::parse_thou;
+use super::super::teach_file::parse_milli;
 
 /// A column of a coordinate table.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -72,12 +72,12 @@ impl Column {
 
 /// How a value is shown and written: three decimals, `-12.345`.
 pub fn show(value: i32) -> String {
-    Thou(value).to_string()
+    Milli(value).to_string()
 }
 
 /// Checks a typed entry for `column`; the value in wire units, or why it is refused.
 pub fn parse_entry(column: Column, text: &str) -> Result<i32, String> {
-    let v = parse_thou(text)?;
+    let v = parse_milli(text)?;
     check_range(column, v)?;
     Ok(v)
 }

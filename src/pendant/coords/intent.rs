@@ -217,14 +217,6 @@ impl Pendant {
     }
 }
 
-/// The table kind on the wire for a frame kind.
-pub fn coord_kind(kind: FrameKind) -> CoordKind {
-    match kind {
-        FrameKind::Work => CoordKind::Work,
-        FrameKind::Tool => CoordKind::Tool,
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

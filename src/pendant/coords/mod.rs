@@ -64,13 +64,6 @@ pub struct SavedDrafts {
     pub over_tool: Vec<u8>,
 }
 
-pub fn frame_kind(kind: CoordKind) -> FrameKind {
-    match kind {
-        CoordKind::Work => FrameKind::Work,
-        CoordKind::Tool => FrameKind::Tool,
-    }
-}
-
 impl CoordEditor {
     pub fn new(work: usize, tool: usize) -> Self {
         Self {
@@ -203,7 +196,7 @@ impl Pendant {
             );
         }
         self.coords.retries.clear();
-        let total = self.coords.draft(frame_kind(kind)).rows().len() as u16;
+        let total = self.coords.draft(FrameKind::from(kind)).rows().len() as u16;
         self.coords.reading = Some(Reading {
             kind,
             received: 0,
@@ -243,7 +236,7 @@ impl Pendant {
         if !self.line.is_up() {
             return self.say(Level::Warning, "records not read: the line is down", now);
         }
-        let holes = self.unread_ranges(frame_kind(kind));
+        let holes = self.unread_ranges(FrameKind::from(kind));
         self.coords
             .retries
             .extend(holes.into_iter().map(|r| (kind, r)));
@@ -348,11 +341,11 @@ impl Pendant {
         kind: CoordKind,
         axes: AxisPattern,
         first: u16,
-        records: &[Option<crate::protocol::PerAxis<crate::protocol::Thou>>],
+        records: &[Option<crate::protocol::PerAxis<crate::protocol::Milli>>],
         missing: &[Range<u16>],
         now: Instant,
     ) {
-        let fk = frame_kind(kind);
+        let fk = FrameKind::from(kind);
         let before = self.read_table(fk).map(|t| t.records.clone());
         let size = self.coords.draft(fk).rows().len();
         self.controller.table(kind, first, size, records, now);

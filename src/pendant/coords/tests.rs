@@ -6,18 +6,18 @@ use super::file::{self, TableFormat, TablePair};
 use super::*;
 use crate::link::LinkEvent;
 use crate::pendant::{Settings, teach_file::FileError};
-use crate::protocol::{Axis, PerAxis, Thou};
+use crate::protocol::{Axis, PerAxis, Milli};
 use crate::robot::RobotModel;
 
 fn cs(x: i32, y: i32, z: i32, r: i32) -> CoordSystem {
     CoordSystem::from_wire([x, y, z, r])
 }
 
-fn record(w: [i32; 4]) -> PerAxis<Thou> {
+fn record(w: [i32; 4]) -> PerAxis<Milli> {
     let mut p = PerAxis::new();
     for (i, v) in w.into_iter().enumerate() {
         if let Some(a) = Axis::from_index(i as u8) {
-            p.set(a, Thou(v));
+            p.set(a, Milli(v));
         }
     }
     p
@@ -27,7 +27,7 @@ fn pendant() -> Pendant {
     Pendant::new(Settings::default(), RobotModel::default_model())
 }
 
-fn done(kind: CoordKind, first: u16, records: Vec<Option<PerAxis<Thou>>>) -> LinkEvent {
+fn done(kind: CoordKind, first: u16, records: Vec<Option<PerAxis<Milli>>>) -> LinkEvent {
     let mut missing: Vec<Range<u16>> = Vec::new();
     for (i, r) in records.iter().enumerate() {
         let i = first + i as u16;

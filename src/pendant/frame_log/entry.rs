@@ -119,17 +119,9 @@ impl Entry {
     }
 }
 
-/// The message ID in columns 4-6, for a frame with a known header and an ID
-/// [spec: PROTOCOL.md 1.3]; `&` replies carry none.
+/// The message ID in columns 4-6 [spec: PROTOCOL.md 1.3]; `&` replies carry none.
 fn message_id(bytes: &[u8]) -> Option<u16> {
-    if !matches!(bytes.first(), Some(b'!' | b'#')) {
-        return None;
-    }
-    let id = bytes.get(3..6)?;
-    if !id.iter().all(u8::is_ascii_hexdigit) {
-        return None;
-    }
-    u16::from_str_radix(std::str::from_utf8(id).ok()?, 16).ok()
+    crate::protocol::peek::message_id(bytes).map(|id| id.0)
 }
 
 #[cfg(test)]

@@ -214,13 +214,16 @@ fn hex(bytes: &[u8]) -> String {
 }
 
 fn unhex(s: &str) -> Option<Vec<u8>> {
-    // Hex digits only (`from_str_radix` would also take a sign).
-    if !s.len().is_multiple_of(2) || !s.bytes().all(|b| b.is_ascii_hexdigit()) {
+    if !s.len().is_multiple_of(2) {
         return None;
     }
     (0..s.len())
         .step_by(2)
-        .map(|i| s.get(i..i + 2).and_then(|p| u8::from_str_radix(p, 16).ok()))
+        .map(|i| {
+            s.get(i..i + 2)
+                .and_then(crate::protocol::peek::hex_digits)
+                .map(|v| v as u8)
+        })
         .collect()
 }
 

@@ -161,9 +161,10 @@ pub fn parse_id(text: &str) -> Result<Option<u16>, String> {
         return Ok(None);
     }
     let t = t.trim_start_matches("0x").trim_end_matches(['H', 'h']);
-    u16::from_str_radix(t, 16)
-        .map(Some)
-        .map_err(|_| format!("'{text}' is not a message ID (3 hex digits, e.g. 212)"))
+    crate::protocol::peek::hex_digits(t)
+        .filter(|_| t.len() <= 3)
+        .map(|id| Some(id as u16))
+        .ok_or_else(|| format!("'{text}' is not a message ID (3 hex digits, e.g. 212)"))
 }
 
 /// Parses seconds as typed (empty: no bound).

@@ -5,8 +5,7 @@ use std::borrow::Cow;
 
 use super::entry::Entry;
 use super::packed;
-use crate::protocol::MessageId;
-use crate::protocol::checksum;
+use crate::protocol::{ChecksumVerdict, MessageId};
 
 /// Which way a row went, or what it is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -108,26 +107,13 @@ impl Verdict {
         }
     }
 
-    /// The verdict of a frame's SC: the two characters before CR LF against the sum of
-    /// everything before them [spec: PROTOCOL.md 1.4].
+    /// The verdict of a frame's SC [spec: PROTOCOL.md 1.4], as the protocol reads it.
     pub fn of(bytes: &[u8]) -> Verdict {
-        let body_end = match bytes {
-            [.., b'\r', b'\n'] => bytes.len() - 2,
-            _ => bytes.len(),
-        };
-        if body_end < 8 {
-            return Verdict::None;
-        }
-        let (body, sc) = bytes[..body_end].split_at(body_end - 2);
-        if sc == b"@@" {
-            return Verdict::AtAt;
-        }
-        let hex = std::str::from_utf8(sc)
-            .ok()
-            .and_then(|s| u8::from_str_radix(s, 16).ok());
-        match hex {
-            Some(v) if v == checksum(body) => Verdict::Ok,
-            _ => Verdict::Bad,
+        match crate::protocol::peek::checksum_verdict(bytes) {
+            ChecksumVerdict::Valid(_) => Verdict::Ok,
+            ChecksumVerdict::AtAt { .. } => Verdict::AtAt,
+            ChecksumVerdict::Wrong { .. } | ChecksumVerdict::Unreadable { .. } => Verdict::Bad,
+            ChecksumVerdict::Absent => Verdict::None,
         }
     }
 }

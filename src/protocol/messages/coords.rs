@@ -4,7 +4,7 @@ use crate::protocol::axis::{Axis, AxisPattern, PerAxis};
 use crate::protocol::error::{EncodeError, MessageError};
 use crate::protocol::fields::{Name, Reader, Show};
 use crate::protocol::hex::parse_hex8;
-use crate::protocol::units::{AxisUnit, Thou};
+use crate::protocol::units::{AxisUnit, Milli};
 use crate::protocol::writer::Writer;
 
 /// Which table a coordinate query reads.
@@ -85,13 +85,13 @@ impl CoordQuery {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct XyzR {
     /// X offset, 0.001 mm.
-    pub x: Thou,
+    pub x: Milli,
     /// Y offset, 0.001 mm.
-    pub y: Thou,
+    pub y: Milli,
     /// Z offset, 0.001 mm.
-    pub z: Thou,
+    pub z: Milli,
     /// R offset, 0.001 deg.
-    pub r: Thou,
+    pub r: Milli,
 }
 
 /// 2A0H reply: `records.len()` definitions from number `first`.
@@ -105,7 +105,16 @@ pub struct CoordTable {
     pub records: Vec<XyzR>,
 }
 
+/// SC CR LF, after a reply's records.
+const REPLY_TAIL: usize = 4;
+
 impl CoordTable {
+    /// How many records of a 2A0H reply fit a reply buffer of `reply_buffer` bytes: 11
+    /// characters before the records, 32 for each, SC CR LF (PROTOCOL.md 1.7, 3.15).
+    pub fn records_fitting(reply_buffer: usize) -> usize {
+        reply_buffer.saturating_sub(11 + REPLY_TAIL) / 32
+    }
+
     pub(crate) fn read(r: &mut Reader<'_, '_>) -> Result<Self, MessageError> {
         let kind = read_kind(r)?;
         let first = r.u8(Name::new("first definition number"), 2, Show::Number)?;
@@ -210,7 +219,7 @@ pub struct CoordTable2 {
     /// First definition number.
     pub first: u8,
     /// The records (at most 255); each has exactly the axes of `axes`.
-    pub records: Vec<PerAxis<Thou>>,
+    pub records: Vec<PerAxis<Milli>>,
 }
 
 /// All records at once when every character is a hex digit (the common case); `None`
@@ -219,7 +228,7 @@ fn fast_records(
     r: &mut Reader<'_, '_>,
     axes: AxisPattern,
     count: usize,
-) -> Option<Vec<PerAxis<Thou>>> {
+) -> Option<Vec<PerAxis<Milli>>> {
     let per = axes.count();
     let len = count * per * 8;
     let block = r.peek_block(len)?;
@@ -232,12 +241,12 @@ fn fast_records(
     let mut bad = false;
     if per > 0 {
         for rec in block.chunks_exact(per * 8) {
-            let mut vals = [Thou(0); 8];
+            let mut vals = [Milli(0); 8];
             for (field, &slot) in rec.chunks_exact(8).zip(slots) {
                 let v = <&[u8; 8]>::try_from(field).ok().and_then(parse_hex8);
                 bad |= v.is_none();
                 if let Some(dst) = vals.get_mut(slot) {
-                    *dst = Thou::from_wire(v.unwrap_or(0));
+                    *dst = Milli::from_wire(v.unwrap_or(0));
                 }
             }
             records.push(PerAxis::from_slots(axes, vals));
@@ -262,6 +271,13 @@ fn offset_unit(a: Axis) -> AxisUnit {
 }
 
 impl CoordTable2 {
+    /// How many records of `axes` a 2A4H reply fits in a reply buffer of `reply_buffer`
+    /// bytes: 13 characters before the records (`#`, station, ID, pattern, type, first,
+    /// count), 8 per axis of each record, SC CR LF (PROTOCOL.md 1.7, 3.16).
+    pub fn records_fitting(axes: AxisPattern, reply_buffer: usize) -> usize {
+        reply_buffer.saturating_sub(13 + REPLY_TAIL) / (8 * axes.count().max(1))
+    }
+
     pub(crate) fn read(r: &mut Reader<'_, '_>) -> Result<Self, MessageError> {
         let axes = r.pattern("response axis pattern")?;
         let kind = read_kind(r)?;

@@ -4,7 +4,7 @@
 use crate::protocol::axis::{Axis, AxisPattern, PerAxis};
 use crate::protocol::error::{EncodeError, MessageError};
 use crate::protocol::fields::{BitDef, Name, Reader, Show, bit};
-use crate::protocol::units::{AxisUnit, CentiG, MmPerSec, Percent, Thou};
+use crate::protocol::units::{AxisUnit, CentiG, MmPerSec, Percent, Milli};
 use crate::protocol::writer::Writer;
 
 /// 232H: servo ON or OFF for the axes of `axes`.
@@ -81,7 +81,7 @@ pub struct AxisMove {
     pub speed: MmPerSec,
     /// Target coordinate (234H) or distance (235H) per axis; its pattern is the axis
     /// pattern sent.
-    pub targets: PerAxis<Thou>,
+    pub targets: PerAxis<Milli>,
 }
 
 impl AxisMove {
@@ -181,7 +181,7 @@ pub struct Jog {
     /// Direction.
     pub direction: Direction,
     /// Inching distance, a magnitude (0 to 7FFFFFFFH); 0 = jog until stopped.
-    pub distance: Thou,
+    pub distance: Milli,
     /// Coordinate system and rates.
     pub motion: JogMotion,
 }
@@ -208,6 +208,17 @@ const JOG_OP_BITS: &[BitDef] = &[
 ];
 
 impl Jog {
+    /// A jog that runs until 238H, the workspace edge or the joint limit: distance 0
+    /// (PROTOCOL.md 3.10).
+    pub const fn until_stopped(axes: AxisPattern, direction: Direction, motion: JogMotion) -> Jog {
+        Jog {
+            axes,
+            direction,
+            distance: Milli(0),
+            motion,
+        }
+    }
+
     /// Whether this jog runs until stopped: distance 0 (PROTOCOL.md 3.10), the one home
     /// of that rule.
     pub const fn is_continuous(&self) -> bool {
@@ -280,7 +291,7 @@ impl Jog {
         Ok(Jog {
             axes,
             direction,
-            distance: Thou(dist as i32),
+            distance: Milli(dist as i32),
             motion,
         })
     }

@@ -4,7 +4,7 @@ use crate::protocol::arm::ArmPolicy;
 use crate::protocol::axis::{Axis, AxisPattern, PerAxis};
 use crate::protocol::error::{EncodeError, MessageError};
 use crate::protocol::fields::{BitDef, Name, Reader, Show};
-use crate::protocol::units::{AxisUnit, CentiG, MmPerSec, Percent, Thou};
+use crate::protocol::units::{AxisUnit, CentiG, MmPerSec, Percent, Milli};
 use crate::protocol::writer::Writer;
 
 /// Motion control of a SCARA move, with its rates in the units that mode uses
@@ -169,7 +169,7 @@ pub struct ScaraMove {
     /// PTP or CP, with rates.
     pub motion: ScaraMotion,
     /// Target (2D4H) or distance (2D5H) per axis; its pattern is the axis pattern sent.
-    pub targets: PerAxis<Thou>,
+    pub targets: PerAxis<Milli>,
 }
 
 impl ScaraMove {

@@ -4,7 +4,7 @@ use crate::protocol::axis::{Axis, AxisPattern, PerAxis};
 use crate::protocol::error::{EncodeError, MessageError};
 use crate::protocol::fields::{BitDef, Name, Reader, Show, bit};
 use crate::protocol::ids::ErrorCode;
-use crate::protocol::units::{AxisUnit, Thou};
+use crate::protocol::units::{AxisUnit, Milli};
 use crate::protocol::writer::Writer;
 
 /// Home state, bits 1-2 of the axis status (PROTOCOL.md 3.3).
@@ -102,7 +102,7 @@ pub struct AxisState {
     /// Encoder status bits.
     pub encoder: EncoderStatus,
     /// Current position (0.001 mm, or 0.001 deg for rotary axes).
-    pub position: Thou,
+    pub position: Milli,
 }
 
 pub(crate) const AXIS_STATUS_BITS: &[BitDef] = &[

@@ -8,7 +8,7 @@ use crate::robot::Trapezoid;
 use crate::sim::controller::Controller;
 use crate::sim::errors::SimError;
 use crate::sim::motion::{Motion, MotionKind, Plan};
-use crate::sim::state::{HomeState, Mode};
+use crate::sim::state::{HomeProgress, Mode};
 
 /// Axes 5-6: the linear axes (234H/235H move only these; the SCARA uses 2D4H/2D5H).
 pub(crate) const LINEAR: u8 = 0x30;
@@ -89,7 +89,7 @@ impl Controller {
         let until = self.now + self.cfg.homing_time;
         for i in 0..8 {
             if pattern & (1 << i) != 0 {
-                self.axes[i].home = HomeState::Homing {
+                self.axes[i].home = HomeProgress::Homing {
                     since: self.now,
                     until,
                 };
@@ -183,7 +183,7 @@ impl Controller {
         if j.axes.count() != 1 {
             return Err(SimError::BadAxis);
         }
-        let distance = j.distance.0.unsigned_abs();
+        let inching = (!j.is_continuous()).then(|| j.distance.0.unsigned_abs());
         let positive = j.direction == Direction::Positive;
         let (accel, decel, speed) = match j.motion {
             JogMotion::Cartesian {
@@ -193,7 +193,7 @@ impl Controller {
         };
         if pattern & SCARA != 0 {
             let frame = codes::jog_frame(&j.motion);
-            self.scara_jog(pattern, [speed, accel, decel], distance, positive, frame)?;
+            self.scara_jog(pattern, [speed, accel, decel], inching, positive, frame)?;
         } else {
             // A linear axis jogs in its own (each-axis) system: no homing needed.
             self.check_ready_to_jog_joint(pattern)?;
@@ -201,18 +201,19 @@ impl Controller {
             let (lo, hi) = self.axis_range(i);
             let mut to = self.values;
             let sign = if positive { 1.0 } else { -1.0 };
-            let (target, kind) = if distance == 0 {
-                let limit = if positive { hi } else { lo };
-                // Already at the limit it would jog to: refused like a SCARA joint jog.
-                if (to[i] - limit).abs() < AT_LIMIT {
-                    return Err(SimError::SoftLimit);
+            let (target, kind) = match inching {
+                None => {
+                    let limit = if positive { hi } else { lo };
+                    // Already at the limit it would jog to: refused like a SCARA joint jog.
+                    if (to[i] - limit).abs() < AT_LIMIT {
+                        return Err(SimError::SoftLimit);
+                    }
+                    (limit, MotionKind::Jog)
                 }
-                (limit, MotionKind::Jog)
-            } else {
-                (
+                Some(distance) => (
                     to[i] + sign * f64::from(distance) / 1000.0,
                     MotionKind::Move,
-                )
+                ),
             };
             to[i] = target;
             let rates = self.linear_rates(speed, accel, decel);

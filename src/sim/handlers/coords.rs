@@ -2,22 +2,21 @@
 
 use crate::protocol::{
     Axis, AxisPattern, CoordKind, CoordQuery, CoordQuery2, CoordTable, CoordTable2, PerAxis, Reply,
-    Thou, XyzR,
+    Milli, XyzR,
 };
 use crate::robot::CoordSystem;
 use crate::sim::controller::Controller;
 use crate::sim::errors::SimError;
 
 impl Controller {
-    /// The records `first..first+count` of a table that exist and fit a reply of `header`
-    /// characters plus 32 characters each plus SC CR LF in the reply buffer (PROTOCOL.md
-    /// 1.7; the count includes header to LF `[inferred]`).
+    /// The records `first..first+count` of a table that exist and, `fit` at most, fit
+    /// the reply buffer.
     fn table_slice(
         &self,
         kind: CoordKind,
         first: u8,
         count: u8,
-        header: usize,
+        fit: usize,
     ) -> Result<&[CoordSystem], SimError> {
         let table = match kind {
             CoordKind::Work => &self.coords.work,
@@ -27,18 +26,18 @@ impl Controller {
         if first >= table.len() {
             return Err(SimError::BadValue);
         }
-        let fit = self.cfg.reply_buffer.saturating_sub(header + 4) / 32;
         let n = usize::from(count).min(table.len() - first).min(fit);
         Ok(&table.entries()[first..first + n])
     }
 
     /// 2A0H coordinate system definition data (PROTOCOL.md 3.15).
     pub(crate) fn msg_coords(&mut self, q: CoordQuery) -> Result<Reply, SimError> {
-        let records = self.table_slice(q.kind, q.first, q.count, 11)?;
+        let fit = CoordTable::records_fitting(self.cfg.reply_buffer);
+        let records = self.table_slice(q.kind, q.first, q.count, fit)?;
         let records = records
             .iter()
             .map(|cs| {
-                let [x, y, z, r] = cs.to_wire().map(Thou);
+                let [x, y, z, r] = cs.to_wire().map(Milli);
                 XyzR { x, y, z, r }
             })
             .collect();
@@ -56,11 +55,13 @@ impl Controller {
         if q.axes == AxisPattern::SCARA_2 {
             return Err(SimError::BadAxis);
         }
-        let records = self.table_slice(q.kind, q.first, q.count, 13)?;
+        // This controller answers pattern 0F whatever was asked.
+        let fit = CoordTable2::records_fitting(AxisPattern::SCARA_1, self.cfg.reply_buffer);
+        let records = self.table_slice(q.kind, q.first, q.count, fit)?;
         let records = records
             .iter()
             .map(|cs| {
-                let [x, y, z, r] = cs.to_wire().map(Thou);
+                let [x, y, z, r] = cs.to_wire().map(Milli);
                 PerAxis::from_pairs([(Axis::A1, x), (Axis::A2, y), (Axis::A3, z), (Axis::A4, r)])
             })
             .collect();

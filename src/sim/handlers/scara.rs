@@ -4,7 +4,7 @@
 
 use super::axis::{AT_LIMIT, LINEAR, SCARA};
 use crate::codes;
-use crate::protocol::{ScaraMotion, ScaraMove, ScaraPositionMove};
+use crate::protocol::{Milli, ScaraMotion, ScaraMove, ScaraPositionMove};
 use crate::robot::{
     ArmPolicy, CpMove, CpParams, DEFAULT_CHECK_SPACING_MM, IkError, JogFrame, Joints, MoveError,
     Pose, PtpMove, PtpParams, jog_delta_to_work,
@@ -122,7 +122,7 @@ impl Controller {
             return Err(SimError::BadAxis);
         }
         let value = |current: f64, i: usize| {
-            let v = f64::from(values[i]) / 1000.0;
+            let v = Milli(values[i]).units();
             if relative { current + v } else { v }
         };
         if pattern & SCARA == 0 {
@@ -186,12 +186,13 @@ impl Controller {
 
     /// The SCARA side of 236H: one axis of the base/work/tool `frame` (X, Y, Z, R) or, with
     /// no frame, one joint (each-axis system, speeds in % `[inferred, PROTOCOL.md 5 erratum 12]`).
-    /// `distance` 0 = jog until 238H or the edge of the workspace (a joint: its limit).
+    /// `inching` is the distance of one inching step; `None` jogs until 238H or the edge of
+    /// the workspace (a joint: its limit).
     pub(crate) fn scara_jog(
         &mut self,
         pattern: u8,
         rates: [u16; 3],
-        distance: u32,
+        inching: Option<u32>,
         positive: bool,
         frame: Option<JogFrame>,
     ) -> Result<(), SimError> {
@@ -207,8 +208,9 @@ impl Controller {
         }
         let i = pattern.trailing_zeros() as usize;
         let sign = if positive { 1.0 } else { -1.0 };
-        let step = sign * f64::from(distance) / 1000.0;
-        let kind = if distance == 0 {
+        let continuous = inching.is_none();
+        let step = sign * f64::from(inching.unwrap_or(0)) / 1000.0;
+        let kind = if continuous {
             MotionKind::Jog
         } else {
             MotionKind::Move
@@ -216,13 +218,13 @@ impl Controller {
         let Some(frame) = frame else {
             let (lo, hi) = self.axis_range(i);
             let mut j = self.joints().to_array();
-            j[i] = match distance {
-                0 if positive => hi,
-                0 => lo,
-                _ => j[i] + step,
+            j[i] = match inching {
+                None if positive => hi,
+                None => lo,
+                Some(_) => j[i] + step,
             };
             if !(lo..=hi).contains(&j[i])
-                || (distance == 0 && (j[i] - self.values[i]).abs() < AT_LIMIT)
+                || (continuous && (j[i] - self.values[i]).abs() < AT_LIMIT)
             {
                 return Err(SimError::SoftLimit);
             }
@@ -234,7 +236,7 @@ impl Controller {
         let flange_r = self.kin.forward(&self.joints()).r;
         let (work, tool) = (self.work(), self.tool());
         let dir = jog_delta_to_work(&Pose::new(x, y, z, r), frame, &work, &tool, flange_r);
-        let reach = if distance == 0 { JOG_REACH } else { step.abs() };
+        let reach = if continuous { JOG_REACH } else { step.abs() };
         let start = self.tip_work();
         let target = work.work_to_base(&Pose::new(
             start.x + dir.x * reach,
@@ -242,6 +244,6 @@ impl Controller {
             start.z + dir.z * reach,
             start.r + dir.r * reach,
         ));
-        self.start_cp(target, rates, kind, distance == 0)
+        self.start_cp(target, rates, kind, continuous)
     }
 }

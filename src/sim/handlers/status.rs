@@ -2,24 +2,18 @@
 
 use crate::protocol::{
     self, AxisPattern, AxisStatus, CommonStatus, EncoderStatus, ErrorCode, PerAxis, PositionSystem,
-    Reply, ScaraStatus, ScaraStatus2, ScaraUnitStatus, SensorInput, Thou,
+    Reply, ScaraStatus, ScaraStatus2, ScaraUnitStatus, SensorInput, Milli,
 };
 use crate::robot::round_wire;
 use crate::sim::controller::Controller;
-use crate::sim::state::HomeState;
 
 impl Controller {
     /// 212H status byte of axis index `i` (PROTOCOL.md 3.3).
     pub(crate) fn status_byte(&self, i: usize, in_use: u8) -> AxisStatus {
         let a = &self.axes[i];
-        let home = match a.home {
-            HomeState::NotDone => protocol::HomeState::NotDone,
-            HomeState::Homing { .. } => protocol::HomeState::Homing,
-            HomeState::Done => protocol::HomeState::Done,
-        };
         AxisStatus::default()
             .with_in_use(in_use & (1 << i) != 0)
-            .with_home_state(home)
+            .with_home_state(a.home.state())
             .with_servo_on(a.servo)
             .with_completed_normally(a.completed)
     }
@@ -41,7 +35,7 @@ impl Controller {
                 sensor: SensorInput::default().with_home(homed_here),
                 error: ErrorCode(self.axes[i].error),
                 encoder: EncoderStatus::default(),
-                position: Thou(position(i)),
+                position: Milli(position(i)),
             }
         })
     }
