@@ -17,8 +17,8 @@ use std::time::{Duration, Instant};
 use xsel_pendant::link::{LinkEvent, Priority};
 use xsel_pendant::pendant::{ConnectionSettings, LineKind};
 use xsel_pendant::protocol::{
-    ArmPolicy, Axis, AxisPattern, CentiG, Command, Direction, Jog, JogFrame, JogMotion, MmPerSec,
-    PerAxis, Percent, ScaraMotion, ScaraMove, Milli,
+    ArmPolicy, Axis, AxisPattern, CentiG, Command, Direction, Jog, JogFrame, JogMotion, Milli,
+    MmPerSec, PerAxis, Percent, ScaraMotion, ScaraMove,
 };
 use xsel_pendant::robot::RobotModel;
 use xsel_pendant::session::{LineOwner, Session};

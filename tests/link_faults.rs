@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 use common::*;
 use xsel_pendant::link::{LinkConfig, LinkEvent, Origin, Priority};
 use xsel_pendant::protocol::{
-    Axis, AxisPattern, CentiG, Command, Direction, Jog, JogFrame, JogMotion, MmPerSec, Reply, Milli,
+    Axis, AxisPattern, CentiG, Command, Direction, Jog, JogFrame, JogMotion, Milli, MmPerSec, Reply,
 };
 use xsel_pendant::sim::runner::{RunOptions, SimCore, start_tcp};
 use xsel_pendant::sim::{Controller, Fault, FaultSpec};

@@ -161,7 +161,10 @@ fn a_host_that_writes_everything_before_it_reads_is_served() {
     }
     let lines = read_lines(|b| port.read(b), WRITTEN);
     for (i, line) in lines.iter().enumerate() {
-        assert!(line.starts_with(&format!("#99200{i:05}")), "reply {i}: {line:?}");
+        assert!(
+            line.starts_with(&format!("#99200{i:05}")),
+            "reply {i}: {line:?}"
+        );
     }
     assert_eq!(lines.len(), WRITTEN, "every frame answered");
     assert_eq!(server.handle.counters().input_lost_bytes, 0);

@@ -11,7 +11,7 @@ use std::io::{self, Read, Write};
 use std::net::TcpStream;
 use std::time::Duration;
 
-pub use pace::{sleep_until, write_paced};
+pub use pace::{sleep_until, wake_on_time, write_paced};
 pub use settings::{BAUD_RANGE, LineSettings, LineSettingsError, Parity, STANDARD_BAUDS};
 
 /// Shortest read timeout handed to an OS handle (a zero timeout means "block" to some).

@@ -25,6 +25,9 @@ pub type Connector = Box<dyn FnMut(LineSettings) -> io::Result<Box<dyn Transport
 
 /// Longest single read while an answer is awaited, so requests are seen promptly.
 const READ_SLICE: Duration = Duration::from_millis(20);
+/// The last part of a wait for the core's time is slept precisely (a timer wakes some
+/// tens of µs late) rather than on the channels.
+const ON_TIME: Duration = Duration::from_micros(200);
 /// While no answer is awaited, the line is looked at this often (a vanished port shows
 /// within a second, stale input is handed in).
 pub(super) const IDLE_CHECK: Duration = Duration::from_millis(200);
@@ -123,6 +126,7 @@ struct Driver<C: LinkCore> {
 
 impl<C: LinkCore> Driver<C> {
     fn run(mut self) -> C {
+        crate::line::wake_on_time();
         loop {
             self.take_inputs();
             let now = Instant::now();
@@ -283,7 +287,12 @@ impl<C: LinkCore> Driver<C> {
                     Ok(input) => self.core.handle_request(now, input),
                     Err(_) => self.handle_dropped(now),
                 },
-                default(wait) => {}
+                default(wait.saturating_sub(ON_TIME)) => {
+                    // The core's time (a line gap) is kept to the microsecond.
+                    if let Some(due) = due.filter(|t| t.saturating_duration_since(now) <= wait) {
+                        crate::line::sleep_until(due);
+                    }
+                }
             }
         }
         if self.transport.is_some() && self.last_line_check.elapsed() >= IDLE_CHECK {

@@ -8,7 +8,7 @@ use super::health::LinkHealth;
 use super::reason::{BadInput, LineDownReason, NotSentReason};
 use super::request::{Origin, RequestId};
 use crate::protocol::{
-    AxisPattern, Command, CoordKind, DecodeError, ErrorCode, PerAxis, Reply, Milli,
+    AxisPattern, Command, CoordKind, DecodeError, ErrorCode, Milli, PerAxis, Reply,
 };
 
 /// One event from the link thread, in the order things happened on the line.

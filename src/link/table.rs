@@ -3,9 +3,7 @@
 
 use std::ops::Range;
 
-use crate::protocol::{
-    AxisPattern, Command, CoordKind, CoordQuery2, CoordTable2, PerAxis, Milli,
-};
+use crate::protocol::{AxisPattern, Command, CoordKind, CoordQuery2, CoordTable2, Milli, PerAxis};
 
 /// What to download.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -5,8 +5,8 @@ use serde::{Deserialize, Serialize};
 
 use super::teach::{TeachPoint, go_command};
 use crate::protocol::{
-    ArmPolicy as WirePolicy, Axis, AxisPattern, CentiG, Command, Direction, Jog,
-    JogMotion, MmPerSec, PerAxis, Percent, ScaraMotion, ScaraMove, Milli,
+    ArmPolicy as WirePolicy, Axis, AxisPattern, CentiG, Command, Direction, Jog, JogMotion, Milli,
+    MmPerSec, PerAxis, Percent, ScaraMotion, ScaraMove,
 };
 use crate::robot::{
     ArmSystem, CoordSystem, CpMove, CpParams, DEFAULT_CHECK_SPACING_MM, JogFrame, Joints, Move,
@@ -287,15 +287,8 @@ pub fn plan_step(
     delta[axis.index()] = step;
     let delta = Pose::from_array(delta);
     let flange_r = kin.forward(&now.joints).r;
-    let delta_work = jog_delta_to_work(
-        &delta,
-        settings.frame,
-        &now.work,
-        &now.tool,
-        flange_r,
-    );
-    let (_, end_work) =
-        crate::robot::relative_move(settings.relative_to, &positions, delta_work);
+    let delta_work = jog_delta_to_work(&delta, settings.frame, &now.work, &now.tool, flange_r);
+    let (_, end_work) = crate::robot::relative_move(settings.relative_to, &positions, delta_work);
     // [inferred] The controller adds a 2D5H distance to its command position (where its
     // last move ends, where the arm stands once in position); PROTOCOL.md 3.20 does not
     // say which of its positions it uses. The pendant's estimate of it is the end of the

@@ -28,19 +28,17 @@ use std::time::{Duration, Instant};
 use serde::{Deserialize, Serialize};
 
 use crate::link::LinkEvent;
+/// How often a held jog's lease is renewed (the link's fact).
+pub use crate::link::RENEW_EVERY;
 use crate::link::health::LinkHealth;
 use crate::protocol::{AxisPattern, Command, CoordKind, Direction, Home, MmPerSec, Reply, Servo};
 use crate::robot::{Joints, RobotModel, Scara};
 pub use connection::{ConnectionSettings, LineKind, LineState};
 pub use hold::{HeldJog, JogInput, JogTarget, Press, StopCause};
 pub use intent::Intent;
-pub use jog::{
-    Interpolation, JogAxis, JogMode, JogSettings, PhysicalJog, PlannedStep, Refusal,
-};
+pub use jog::{Interpolation, JogAxis, JogMode, JogSettings, PhysicalJog, PlannedStep, Refusal};
 pub use readiness::NotReady;
 pub use state::ControllerState;
-/// How often a held jog's lease is renewed (the link's fact).
-pub use crate::link::RENEW_EVERY;
 
 /// How long a "press again to confirm" for an arm flip stays armed.
 const CONFIRM_FOR: Duration = Duration::from_secs(5);

@@ -7,8 +7,8 @@ use std::time::Duration;
 use super::state;
 use crate::link::{LinkEvent, Origin, RequestId};
 use crate::protocol::{
-    Axis, AxisPattern, AxisState, AxisStatus, CommonStatus, CoordKind, HomeState, PerAxis,
-    PositionSystem, Reply, ScaraStatus, SystemMode, SystemStatus, SystemStatus3, Milli, VersionInfo,
+    Axis, AxisPattern, AxisState, AxisStatus, CommonStatus, CoordKind, HomeState, Milli, PerAxis,
+    PositionSystem, Reply, ScaraStatus, SystemMode, SystemStatus, SystemStatus3, VersionInfo,
 };
 use crate::robot::{Joints, Scara};
 

@@ -4,8 +4,8 @@
 use std::time::{Duration, Instant};
 
 use crate::protocol::{
-    Axis, AxisPattern, AxisState, Command, CoordKind, PerAxis, PositionSystem, ScaraStatus,
-    ScaraStatusQuery, SystemStatus, Milli, VersionInfo, VersionQuery,
+    Axis, AxisPattern, AxisState, Command, CoordKind, Milli, PerAxis, PositionSystem, ScaraStatus,
+    ScaraStatusQuery, SystemStatus, VersionInfo, VersionQuery,
 };
 use crate::robot::{CoordSystem, Joints, Pose};
 

@@ -8,7 +8,9 @@ use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
-use crate::protocol::{ArmPolicy, ArmSystem, Axis, Command, PerAxis, ScaraMotion, ScaraMove, Milli};
+use crate::protocol::{
+    ArmPolicy, ArmSystem, Axis, Command, Milli, PerAxis, ScaraMotion, ScaraMove,
+};
 
 /// The longest name, in characters.
 pub const MAX_NAME_CHARS: usize = 32;

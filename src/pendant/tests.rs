@@ -5,8 +5,8 @@ use std::time::{Duration, Instant};
 use super::*;
 use crate::link::{LinkEvent, Origin, RequestId};
 use crate::protocol::{
-    ArmPolicy as WirePolicy, Axis, CoordKind, Direction, JogMotion, PerAxis, PositionSystem,
-    ScaraMotion, SystemMode, SystemStatus, SystemStatus1, Milli,
+    ArmPolicy as WirePolicy, Axis, CoordKind, Direction, JogMotion, Milli, PerAxis, PositionSystem,
+    ScaraMotion, SystemMode, SystemStatus, SystemStatus1,
 };
 use crate::robot::{Joints, RobotModel, Scara};
 

@@ -73,7 +73,9 @@ impl fmt::Display for ArmSystem {
 /// [inferred] PROTOCOL.md section 5 erratum 5: the spec's qualifiers for values 2 and 3 are
 /// asymmetric; read as the SEL PTP variants (current arm no switch / current arm may switch
 /// / right arm / left arm).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
+)]
 pub enum ArmPolicy {
     /// 0: keep the current arm; do not switch to the other arm if unreachable.
     #[default]

@@ -8,7 +8,7 @@ use super::describe::{BitNote, FieldDescription};
 use super::error::{Columns, MessageError, MessageErrorKind};
 use super::hex::{parse_hex, parse_hex8};
 use super::ids::{ErrorCode, MessageId, Role};
-use super::units::{AxisUnit, CentiG, MmPerSec, Percent, Milli};
+use super::units::{AxisUnit, CentiG, Milli, MmPerSec, Percent};
 
 /// A field's name: a base plus optional record and axis, formatted only when needed.
 #[derive(Clone, Copy, Debug)]

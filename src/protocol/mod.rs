@@ -57,4 +57,4 @@ pub use messages::status::{
     SystemStatus1, SystemStatus2, SystemStatus3,
 };
 pub use reply::Reply;
-pub use units::{AxisUnit, CentiG, MmPerSec, Percent, Milli};
+pub use units::{AxisUnit, CentiG, Milli, MmPerSec, Percent};

@@ -127,7 +127,10 @@ mod tests {
 
     #[test]
     fn displays_three_decimals_and_units() {
-        assert_eq!(Milli(-5000).with_unit(AxisUnit::Mm).to_string(), "-5.000 mm");
+        assert_eq!(
+            Milli(-5000).with_unit(AxisUnit::Mm).to_string(),
+            "-5.000 mm"
+        );
         assert_eq!(
             Milli(45_000).with_unit(AxisUnit::Deg).to_string(),
             "45.000 deg"

@@ -197,7 +197,9 @@ impl CoordTables {
 }
 
 /// The frame a jog step is given in (236H bits 1-2, without the each-axis system).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize,
+)]
 pub enum JogFrame {
     Base,
     #[default]

@@ -394,7 +394,10 @@ impl Checker<'_> {
                 _ => self.fail(
                     field,
                     s.span().start,
-                    format!("must be between 1 and {MAX_TABLE_SIZE}, got {}", s.get_ref()),
+                    format!(
+                        "must be between 1 and {MAX_TABLE_SIZE}, got {}",
+                        s.get_ref()
+                    ),
                 ),
             },
         }

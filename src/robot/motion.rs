@@ -413,7 +413,9 @@ pub fn in_position(actual: &Joints, command: &Joints, band: &InPositionBand) -> 
 }
 
 /// Which position a relative step is added to (Delta RMC Move Relative; DESIGN.md).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize,
+)]
 pub enum RelativeTo {
     /// Where the last move ends: chained steps never drift.
     #[default]

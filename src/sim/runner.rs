@@ -153,6 +153,7 @@ pub fn serve(
     stop: &AtomicBool,
     opts: &mut RunOptions,
 ) -> ServeEnd {
+    crate::line::wake_on_time();
     let limit = max_command(lock(shared).controller.config().reply_buffer);
     let mut assembler = Assembler::with_limit(limit);
     let mut buf = [0u8; 512];

@@ -18,9 +18,10 @@ use crate::line::Line;
 const WRITE_SLICE: Duration = Duration::from_millis(5);
 #[cfg(unix)]
 /// Input kept while a reply waits for room: a controller's UART keeps receiving whatever
-/// it does with its replies. 64 KiB `[inferred]`: the X-SEL's receive buffer size is not
-/// documented; what does not fit is dropped, counted and logged.
-const INPUT_KEEP: usize = 64 * 1024;
+/// it does with its replies. 1 MiB `[inferred]`: the X-SEL's receive buffer size is not
+/// documented; the simulator's is generous so that hosts that pipeline are served, and
+/// what does not fit is dropped, counted and logged.
+const INPUT_KEEP: usize = 1 << 20;
 #[cfg(unix)]
 /// A line that accepts no byte for this long is reported (once per reply).
 const FULL_REPORT: Duration = Duration::from_secs(1);
@@ -44,6 +45,8 @@ struct PtyMaster<'a> {
     opts_notice: Option<super::runner::NoticeFn>,
     /// Input received while a reply waited for room, not yet served.
     received: std::collections::VecDeque<u8>,
+    /// Input was dropped since the buffer was last empty (said once per such spell).
+    dropping: bool,
 }
 
 #[cfg(unix)]
@@ -69,13 +72,13 @@ impl PtyMaster<'_> {
             self.received.extend(buf.iter().take(kept));
             let dropped = n - kept;
             if dropped > 0 {
-                lock(self.shared)
-                    .controller
-                    .note_lost(0, dropped as u64);
-                if let Some(notice) = &self.opts_notice {
+                lock(self.shared).controller.note_lost(0, dropped as u64);
+                if !std::mem::replace(&mut self.dropping, true)
+                    && let Some(notice) = &self.opts_notice
+                {
                     notice(&format!(
                         "input buffer full ({INPUT_KEEP} bytes) while a reply waits for \
-                         room: {dropped} bytes of input dropped"
+                         room: bytes of input dropped until it has room (counted)"
                     ));
                 }
             }
@@ -93,6 +96,7 @@ impl Line for PtyMaster<'_> {
             for (slot, byte) in buf.iter_mut().zip(self.received.drain(..n)) {
                 *slot = byte;
             }
+            self.dropping &= !self.received.is_empty();
             return Ok(n);
         }
         self.port
@@ -160,6 +164,7 @@ pub fn start_pty(core: SimCore, mut opts: RunOptions) -> io::Result<PtyServer> {
             shared,
             opts_notice: opts.notice.clone(),
             received: std::collections::VecDeque::new(),
+            dropping: false,
         };
         while !stop.load(Ordering::Relaxed) {
             match serve(&mut line, shared, stop, &mut opts) {
@@ -313,6 +318,64 @@ mod tests {
         fn write_all_bytes(&mut self, _: &[u8]) -> io::Result<()> {
             Err(io::ErrorKind::BrokenPipe.into())
         }
+    }
+
+    /// While a reply waits for room, input is kept up to the bound; the rest is dropped,
+    /// counted and logged, and the writer is never blocked.
+    #[cfg(unix)]
+    #[test]
+    fn input_beyond_the_bound_is_dropped_counted_and_logged() {
+        use std::io::Write;
+        let (mut master, mut slave) = serialport::TTYPort::pair().expect("pty");
+        let shared = Mutex::new(SimCore::new(
+            Controller::new(SimSetup::default()),
+            FaultSpec::none(),
+        ));
+        let seen = Arc::new(Mutex::new(Vec::<String>::new()));
+        let sink = seen.clone();
+        let stop = AtomicBool::new(false);
+        let mut line = PtyMaster {
+            port: &mut master,
+            stop: &stop,
+            shared: &shared,
+            opts_notice: Some(Arc::new(move |l: &str| {
+                sink.lock().unwrap().push(l.to_owned())
+            })),
+            received: std::collections::VecDeque::new(),
+            dropping: false,
+        };
+        const SENT: usize = INPUT_KEEP + 300_000;
+        let writer = std::thread::spawn(move || {
+            let chunk = [b'x'; 4096];
+            let mut sent = 0;
+            while sent < SENT {
+                let n = (SENT - sent).min(chunk.len());
+                slave
+                    .write_all(&chunk[..n])
+                    .expect("the simulator keeps reading");
+                sent += n;
+            }
+            slave
+        });
+        let deadline = std::time::Instant::now() + Duration::from_secs(30);
+        let mut lost = 0;
+        while line.received.len() + lost < SENT {
+            assert!(
+                std::time::Instant::now() < deadline,
+                "the writer was blocked"
+            );
+            line.keep_receiving().expect("reads");
+            lost = lock(&shared).controller.counters().input_lost_bytes as usize;
+        }
+        let _slave = writer.join().expect("writer");
+        assert_eq!(line.received.len(), INPUT_KEEP);
+        assert_eq!(lost, SENT - INPUT_KEEP);
+        let notices = seen.lock().unwrap();
+        let drops = notices
+            .iter()
+            .filter(|l| l.contains("bytes of input dropped"))
+            .count();
+        assert_eq!(drops, 1, "the drop is logged once: {notices:?}");
     }
 
     #[test]

@@ -11,12 +11,10 @@ use egui::{Button, ComboBox, DragValue, RichText, Ui};
 use super::pad::{self, PadOutput};
 use super::widgets::{AMBER, GREEN, RED, lamp, reserved_line};
 use crate::pendant::jog::{MAX_STEP, STEP_LADDER};
+use crate::pendant::speed_cap::{self, MAX_CAP_MM_S, REDUCED_SPEED_MM_S};
+use crate::pendant::{Intent, Interpolation, JogMode, JogSettings, Pendant};
 use crate::protocol::ArmPolicy;
 use crate::robot::{JogFrame, RelativeTo};
-use crate::pendant::speed_cap::{self, MAX_CAP_MM_S, REDUCED_SPEED_MM_S};
-use crate::pendant::{
-    Intent, Interpolation, JogMode, JogSettings, Pendant,
-};
 
 /// The panel's own state: the speed cap being raised.
 #[derive(Default)]

@@ -7,7 +7,7 @@ use crossbeam_channel::Receiver;
 use xsel_pendant::link::transport::StreamTransport;
 use xsel_pendant::link::{Connector, LinkConfig, LinkEvent, LinkHandle, Polling, spawn};
 use xsel_pendant::protocol::{
-    ArmPolicy, Axis, AxisPattern, Command, PerAxis, Percent, ScaraMotion, ScaraMove, Milli,
+    ArmPolicy, Axis, AxisPattern, Command, Milli, PerAxis, Percent, ScaraMotion, ScaraMove,
 };
 use xsel_pendant::sim::pipe::PipeEnd;
 use xsel_pendant::sim::{EmbeddedOptions, FaultSpec, SimHandle, SimSetup, start_embedded};

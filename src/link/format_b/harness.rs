@@ -15,8 +15,8 @@ use crate::link::reason::{IoFailure, LineDownReason};
 use crate::link::request::{Origin, Pending, Priority, RequestId};
 use crate::link::schedule::Polling;
 use crate::protocol::{
-    ArmPolicy, Axis, AxisPattern, CentiG, Command, Direction, Jog, JogFrame, JogMotion, MmPerSec,
-    PerAxis, Percent, ScaraMotion, ScaraMove, Stop, Milli,
+    ArmPolicy, Axis, AxisPattern, CentiG, Command, Direction, Jog, JogFrame, JogMotion, Milli,
+    MmPerSec, PerAxis, Percent, ScaraMotion, ScaraMove, Stop,
 };
 use crate::sim::faults::{FaultInjector, FaultSpec};
 use crate::sim::framing::{Assembler, Received, max_command};

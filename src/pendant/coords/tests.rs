@@ -6,7 +6,7 @@ use super::file::{self, TableFormat, TablePair};
 use super::*;
 use crate::link::LinkEvent;
 use crate::pendant::{Settings, teach_file::FileError};
-use crate::protocol::{Axis, PerAxis, Milli};
+use crate::protocol::{Axis, Milli, PerAxis};
 use crate::robot::RobotModel;
 
 fn cs(x: i32, y: i32, z: i32, r: i32) -> CoordSystem {

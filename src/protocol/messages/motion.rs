@@ -4,7 +4,7 @@
 use crate::protocol::axis::{Axis, AxisPattern, PerAxis};
 use crate::protocol::error::{EncodeError, MessageError};
 use crate::protocol::fields::{BitDef, Name, Reader, Show, bit};
-use crate::protocol::units::{AxisUnit, CentiG, MmPerSec, Percent, Milli};
+use crate::protocol::units::{AxisUnit, CentiG, Milli, MmPerSec, Percent};
 use crate::protocol::writer::Writer;
 
 /// 232H: servo ON or OFF for the axes of `axes`.

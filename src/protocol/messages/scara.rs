@@ -4,7 +4,7 @@ use crate::protocol::arm::ArmPolicy;
 use crate::protocol::axis::{Axis, AxisPattern, PerAxis};
 use crate::protocol::error::{EncodeError, MessageError};
 use crate::protocol::fields::{BitDef, Name, Reader, Show};
-use crate::protocol::units::{AxisUnit, CentiG, MmPerSec, Percent, Milli};
+use crate::protocol::units::{AxisUnit, CentiG, Milli, MmPerSec, Percent};
 use crate::protocol::writer::Writer;
 
 /// Motion control of a SCARA move, with its rates in the units that mode uses

@@ -1,8 +1,8 @@
 //! Coordinate-system definition queries: 2A0H and 2A4H, limited to the reply buffer.
 
 use crate::protocol::{
-    Axis, AxisPattern, CoordKind, CoordQuery, CoordQuery2, CoordTable, CoordTable2, PerAxis, Reply,
-    Milli, XyzR,
+    Axis, AxisPattern, CoordKind, CoordQuery, CoordQuery2, CoordTable, CoordTable2, Milli, PerAxis,
+    Reply, XyzR,
 };
 use crate::robot::CoordSystem;
 use crate::sim::controller::Controller;

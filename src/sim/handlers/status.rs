@@ -1,8 +1,8 @@
 //! Status queries: 212H axis status, 2A1H and 2A3H SCARA axis status.
 
 use crate::protocol::{
-    self, AxisPattern, AxisStatus, CommonStatus, EncoderStatus, ErrorCode, PerAxis, PositionSystem,
-    Reply, ScaraStatus, ScaraStatus2, ScaraUnitStatus, SensorInput, Milli,
+    self, AxisPattern, AxisStatus, CommonStatus, EncoderStatus, ErrorCode, Milli, PerAxis,
+    PositionSystem, Reply, ScaraStatus, ScaraStatus2, ScaraUnitStatus, SensorInput,
 };
 use crate::robot::round_wire;
 use crate::sim::controller::Controller;
