@@ -13,6 +13,7 @@ use std::path::PathBuf;
 use std::process::{Command as Process, Stdio};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
+use xsel_pendant::pendant::state::poll_commands;
 
 use xsel_pendant::link::{LinkEvent, Priority};
 use xsel_pendant::pendant::{ConnectionSettings, LineKind};
@@ -88,8 +89,14 @@ fn settings(sim: &TcpServer) -> ConnectionSettings {
 
 fn open(sim: &TcpServer, owner: &LineOwner) -> Session {
     let model = RobotModel::default_model();
-    let session =
-        Session::open(&settings(sim), &model, Arc::new(|_| {}), owner).expect("a session");
+    let session = Session::open(
+        &settings(sim),
+        &model,
+        poll_commands(),
+        Arc::new(|_| {}),
+        owner,
+    )
+    .expect("a session");
     wait(&session, |e| matches!(e, LinkEvent::Connected { .. }));
     session
 }
@@ -272,7 +279,14 @@ fn window(addr: &str) {
     };
     let session = loop {
         // The previous guardian may still hold the simulator for a moment.
-        let s = Session::open(&settings, &model, Arc::new(|_| {}), &guardian()).expect("a session");
+        let s = Session::open(
+            &settings,
+            &model,
+            poll_commands(),
+            Arc::new(|_| {}),
+            &guardian(),
+        )
+        .expect("a session");
         let e = wait(&s, |e| {
             matches!(
                 e,

@@ -206,47 +206,6 @@ pub fn connection(args: &Args) -> Result<Connection, CliError> {
     ))
 }
 
-/// Parses the command line; a bad flag ends the program with exit code 2 and one line
-/// on stderr (`--help` and `--version` print as usual and exit 0). Shared by both
-/// binaries.
-pub fn parse_or_exit<P: Parser>(program: &str) -> P {
-    match P::try_parse() {
-        Ok(args) => args,
-        Err(e) => exit_on_clap_error(program, &e),
-    }
-}
-
-/// Prints a clap error as one line (help and version in full), then exits.
-pub fn exit_on_clap_error(program: &str, e: &clap::Error) -> ! {
-    use clap::error::ErrorKind;
-    use std::io::Write;
-    if matches!(
-        e.kind(),
-        ErrorKind::DisplayHelp
-            | ErrorKind::DisplayVersion
-            | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
-    ) {
-        // Help goes to stdout; a closed pipe there is not an error.
-        let _ = e.print();
-        std::process::exit(e.exit_code());
-    }
-    let _ = writeln!(std::io::stderr(), "{program}: {}", one_line(e));
-    std::process::exit(2);
-}
-
-/// The first line of a clap error, without its "error: " prefix, plus a pointer to
-/// `--help`.
-pub fn one_line(e: &clap::Error) -> String {
-    let text = e.render().to_string();
-    let first = text
-        .lines()
-        .map(str::trim)
-        .find(|l| !l.is_empty())
-        .unwrap_or("bad command line");
-    let first = first.strip_prefix("error: ").unwrap_or(first);
-    format!("{first} (--help lists the options)")
-}
-
 /// An error message for a line setting, as clap shows it after the flag's name.
 fn line_error(line: LineSettings) -> Result<(), String> {
     line.validate().map_err(|e| e.to_string())
@@ -306,7 +265,7 @@ mod tests {
 
     fn parses(args: &[&str]) -> Result<Args, String> {
         Args::try_parse_from(std::iter::once("xsel-pendant").chain(args.iter().copied()))
-            .map_err(|e| one_line(&e))
+            .map_err(|e| crate::flags::one_line(&e))
     }
 
     #[test]

@@ -12,7 +12,7 @@
 //!   project; `line` imports nothing of it either.
 //! - [`files`]: files the user names, read with a size bound (imports nothing).
 //! - [`cli`] (the pendant's flags and line set-up) and [`headless`] (its text mode) sit
-//!   above `link` and `sim`, for the binaries.
+//!   above `link` and `sim`, for the binaries; [`flags`] answers a bad flag for both.
 
 #![forbid(unsafe_code)]
 // Library code answers bad input instead of panicking (unit tests may unwrap).
@@ -24,6 +24,7 @@
 pub mod cli;
 pub mod codes;
 pub mod files;
+pub mod flags;
 pub mod headless;
 pub mod line;
 pub mod link;

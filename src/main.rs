@@ -17,7 +17,7 @@ fn main() -> ExitCode {
     {
         return session::guardian::run();
     }
-    let args: cli::Args = cli::parse_or_exit("xsel-pendant");
+    let args: cli::Args = xsel_pendant::flags::parse_or_exit("xsel-pendant");
     if args.render_png.is_some() {
         return render_cli::run(&args);
     }

@@ -274,8 +274,10 @@ fn the_draft_goes_to_the_simulator_in_one_click() {
     click(&mut h, "Tool table");
     type_into(&mut h, "tool 4 Z mm", "-40");
     click(&mut h, "Try on simulator");
-    let sim = sim_tables(h.state());
-    assert_eq!(sim.tool.get(4).map(|c| c.z.0), Some(-40_000));
+    // The simulator's own thread takes the draft from its front panel, between frames.
+    step_until(&mut h, "the simulator has the draft", |a| {
+        sim_tables(a).tool.get(4).map(|c| c.z.0) == Some(-40_000)
+    });
     // Read back from the simulator: the draft and the controller agree again.
     click(&mut h, "Read from controller");
     step_until(&mut h, "the tool table read again", |a| {
@@ -310,9 +312,12 @@ fn drafts_are_autosaved_on_every_change_and_come_back_after_a_close() {
     step_until(&mut h, "both tables read", both_read);
     open_pane(&mut h);
     type_into(&mut h, "work 5 R deg", "45.5");
-    // Written at once, before any close.
-    let text = std::fs::read_to_string(dir.join("coords-drafts.json")).expect("autosaved");
-    assert!(text.contains("45500"), "the edit is in the file: {text}");
+    // Written within frames, before any close (the write is a job: the window does not
+    // wait for the disk).
+    let file = dir.join("coords-drafts.json");
+    step_until(&mut h, "the edit in the drafts file", |_| {
+        std::fs::read_to_string(&file).is_ok_and(|text| text.contains("45500"))
+    });
     drop(h);
     // A new window (as after a crash) has the edit back before anything is read.
     let h = start(&dir);

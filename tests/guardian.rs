@@ -9,6 +9,7 @@ use std::path::PathBuf;
 use std::process::{Child, Command as Process, Stdio};
 use std::sync::Arc;
 use std::time::Duration;
+use xsel_pendant::pendant::state::poll_commands;
 
 use crossbeam_channel::{Receiver, unbounded};
 use xsel_pendant::link::{LinkEvent, Priority, TcpTransport, Transport};
@@ -59,8 +60,14 @@ fn window_process() {
         return;
     };
     let model = RobotModel::default_model();
-    let session = Session::open(&tcp_settings(&addr), &model, Arc::new(|_| {}), &guardian())
-        .expect("a session");
+    let session = Session::open(
+        &tcp_settings(&addr),
+        &model,
+        poll_commands(),
+        Arc::new(|_| {}),
+        &guardian(),
+    )
+    .expect("a session");
     let mut seen = Vec::new();
     let connected = wait_for(&session.events, LONG, &mut seen, |e| {
         matches!(e, LinkEvent::Connected { .. })
@@ -223,6 +230,7 @@ fn hundreds_of_queries_through_the_guardian_are_all_answered_in_order() {
     let session = Session::open(
         &tcp_settings(&sim.addr.to_string()),
         &model,
+        poll_commands(),
         Arc::new(|_| {}),
         &guardian(),
     )

@@ -8,7 +8,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use clap::Parser;
-use xsel_pendant::cli::parse_or_exit;
+use xsel_pendant::files::coords_file;
+use xsel_pendant::flags::parse_or_exit;
 use xsel_pendant::line::{BAUD_RANGE, byte_time_8n1};
 use xsel_pendant::protocol::Station;
 use xsel_pendant::robot::RobotModel;
@@ -17,7 +18,7 @@ use xsel_pendant::sim::errors::code_table_text;
 use xsel_pendant::sim::log_limit::LogLimiter;
 use xsel_pendant::sim::runner::{RunOptions, SimCore, start_tcp};
 use xsel_pendant::sim::state::DEFAULT_SERVO_SWITCH_MS;
-use xsel_pendant::sim::{Controller, FaultSpec, SimSetup, coords_file};
+use xsel_pendant::sim::{Controller, FaultSpec, SimSetup};
 use xsel_pendant::sim::{Mode, SimHandle, SimWatch};
 
 const AFTER_HELP: &str = "\

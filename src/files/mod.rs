@@ -3,6 +3,7 @@
 //! up to a size limit checked before reading and again while reading; and operator work
 //! saved in files of its own (`saved`). Imports nothing of the project.
 
+pub mod coords_file;
 pub mod folders;
 pub mod job;
 pub mod saved;

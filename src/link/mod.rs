@@ -10,7 +10,6 @@ pub mod format_b;
 pub mod handle;
 pub mod health;
 pub mod lease;
-pub mod ports;
 pub mod probe;
 pub mod reason;
 pub mod request;

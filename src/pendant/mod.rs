@@ -27,10 +27,11 @@ use std::time::{Duration, Instant};
 
 use serde::{Deserialize, Serialize};
 
-use crate::link::LinkEvent;
 /// How often a held jog's lease is renewed (the link's fact).
 pub use crate::link::RENEW_EVERY;
 use crate::link::health::LinkHealth;
+/// The link's events and their vocabulary, as the pendant takes them in.
+pub use crate::link::{LineDownReason, LinkEvent, Origin, RequestId};
 use crate::protocol::{AxisPattern, Command, CoordKind, Direction, Home, MmPerSec, Reply, Servo};
 use crate::robot::{Joints, RobotModel, Scara};
 pub use connection::{ConnectionSettings, LineKind, LineState};

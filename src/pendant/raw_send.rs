@@ -43,7 +43,7 @@ impl Pendant {
         match &result {
             Ok(c) => {
                 self.requests.push(Request::Submit(*c));
-                let station = self.settings.connection.station();
+                let station = crate::protocol::Station(self.settings.connection.station);
                 let canonical = c.to_bytes(station, ScMode::Computed).unwrap_or_default();
                 let typed = format!("!{}", body.trim());
                 let note = if canonical.starts_with(typed.as_bytes()) {
@@ -79,7 +79,7 @@ impl Pendant {
         let sc = checksum(&frame);
         frame.extend_from_slice(format!("{sc:02X}\r\n").as_bytes());
         let parsed = Frame::parse(&frame).map_err(|e| e.to_string())?;
-        let station = self.settings.connection.station();
+        let station = crate::protocol::Station(self.settings.connection.station);
         if parsed.station() != station {
             return Err(format!(
                 "station {} is not the line's station {station}",

@@ -5,22 +5,40 @@
 
 pub mod guardian;
 
+/// What the window's Simulator pane needs of the built-in simulator: its front panel and
+/// the operator's actions (the simulator itself stays below the session).
+pub mod simulator {
+    pub use crate::sim::Mode;
+    pub use crate::sim::console::{OperatorAction, parse_code};
+    pub use crate::sim::panel::{FrontPanel, PanelState};
+}
+pub use crate::sim::SimHandle;
+
+/// Connection auto-detect: a serial port tried at several settings (a probe opens lines,
+/// so the window reaches it here).
+pub mod probe {
+    pub use crate::link::probe::{
+        Candidate, Framing, ProbeEnd, ProbeEvent, ProbeHandle, ProbePlan, ProbeReport, spawn_probe,
+    };
+}
+
 use std::path::PathBuf;
-use std::sync::Arc;
 use std::time::Duration;
 
 use crossbeam_channel::Receiver;
 
 use crate::files;
+use crate::line::{ConnectionSettings, LineKind};
 use crate::link::transport::{SerialTransport, StreamTransport, TcpTransport};
 use crate::link::{
     Connector, LineSettings, LinkConfig, LinkEvent, LinkHandle, Polling, Repaint, Transport,
 };
-use crate::pendant::{ConnectionSettings, LineKind, state};
-use crate::protocol::ScMode;
+use crate::link::{Priority, TableRequest};
+use crate::protocol::{AxisPattern, Command, CoordKind, ScMode};
 use crate::robot::RobotModel;
+use crate::sim::panel::{FrontPanel, front_panel};
 use crate::sim::pipe::PipeEnd;
-use crate::sim::{EmbeddedOptions, SimHandle, SimSetup, start_embedded};
+use crate::sim::{EmbeddedOptions, SimSetup, start_embedded};
 
 /// How often a poll cycle starts in the window.
 pub const POLL_INTERVAL: Duration = Duration::from_millis(100);
@@ -67,6 +85,8 @@ pub struct Connection {
     pub connector: Connector,
     /// The embedded simulator, kept alive as long as this is held.
     pub sim: Option<SimHandle>,
+    /// The embedded simulator's front panel (operator states), served by its thread.
+    pub panel: Option<FrontPanel>,
     pub line: LineSettings,
     /// The robot model (the simulator's, and the one the pendant checks moves with).
     pub model: RobotModel,
@@ -108,6 +128,7 @@ impl Connection {
                 Connection {
                     connector,
                     sim: None,
+                    panel: None,
                     line,
                     model,
                     target,
@@ -117,9 +138,11 @@ impl Connection {
             LineKind::Simulator => {
                 let mut setup = SimSetup::for_model(model.clone());
                 setup.config.station = settings.station;
+                let (panel, desk) = front_panel();
                 let (pipe, sim) = start_embedded(EmbeddedOptions {
                     setup,
                     byte_time: Some(line.byte_time()),
+                    panel: Some(desk),
                     ..EmbeddedOptions::default()
                 });
                 let target = format!("built-in simulator ({}, paced at {line})", settings.robot);
@@ -136,6 +159,7 @@ impl Connection {
                 Connection {
                     connector,
                     sim: Some(sim),
+                    panel: Some(panel),
                     line,
                     model,
                     address: target.clone(),
@@ -210,14 +234,19 @@ pub struct Session {
     pub events: Receiver<LinkEvent>,
     /// The embedded simulator, when the line is the built-in one.
     pub sim: Option<SimHandle>,
+    /// Its front panel: the window's Simulator pane talks to it through this, never
+    /// through a lock of the simulator.
+    pub panel: Option<FrontPanel>,
 }
 
 impl Session {
-    /// Checks the settings, prepares the line and starts the link polling for the
-    /// window; the line opens on the link thread (success or failure arrives as an event).
+    /// Checks the settings, prepares the line and starts the link polling `polls` every
+    /// [`POLL_INTERVAL`]; the line opens on the link thread (success or failure arrives
+    /// as an event).
     pub fn open(
         settings: &ConnectionSettings,
         model: &RobotModel,
+        polls: Vec<Command>,
         repaint: Repaint,
         owner: &LineOwner,
     ) -> Result<Session, String> {
@@ -233,7 +262,7 @@ impl Session {
         }
         let connection = Connection::prepare(settings, model.clone(), owner);
         let mut config = LinkConfig {
-            station: settings.station(),
+            station: crate::protocol::Station(settings.station),
             sc_mode: if settings.send_at_at {
                 ScMode::AtAt
             } else {
@@ -241,7 +270,7 @@ impl Session {
             },
             polling: Polling {
                 interval: Some(POLL_INTERVAL),
-                commands: state::poll_commands(),
+                commands: polls,
             },
             ..LinkConfig::default()
         };
@@ -252,14 +281,39 @@ impl Session {
             link,
             events,
             sim: connection.sim,
+            panel: connection.panel,
         })
     }
 
-    /// A session whose repaint hook does nothing (tests, benches).
-    pub fn open_quiet(
-        settings: &ConnectionSettings,
-        model: &RobotModel,
-    ) -> Result<Session, String> {
-        Self::open(settings, model, Arc::new(|_| {}), &LineOwner::InProcess)
+    /// Sends a command at the user's priority (238H at the head of the queue).
+    pub fn submit(&self, command: Command) {
+        self.link.submit(command, Priority::User);
+    }
+
+    /// 238H for all axes, ahead of anything queued.
+    pub fn stop_all(&self) {
+        self.link.stop_all();
+    }
+
+    /// Keeps a held jog alive (see [`LinkHandle::renew_jog_lease`]).
+    pub fn renew_jog_lease(&self) {
+        self.link.renew_jog_lease();
+    }
+
+    /// Reads `records` of a coordinate table with 2A4H, in chunks that fit the reply
+    /// buffer.
+    pub fn read_table(&self, kind: CoordKind, records: std::ops::Range<u16>) {
+        self.link.download_table(TableRequest {
+            kind,
+            axes: AxisPattern::SCARA_1,
+            first: records.start,
+            records: records.end.saturating_sub(records.start),
+            reply_buffer: crate::protocol::REPLY_BUFFER,
+        });
+    }
+
+    /// Stops the table read in progress.
+    pub fn cancel_table_read(&self) {
+        self.link.cancel_table();
     }
 }

@@ -3,8 +3,8 @@
 //! the state checks the soak tests run.
 
 use super::controller::{ALARM_HISTORY, Controller, Snapshot};
-use super::coords_file::PositionTable;
 use super::state::{Alarm, HomeProgress, Mode, ServoSwitch};
+use crate::files::coords_file::PositionTable;
 use crate::robot::CoordTables;
 
 impl Controller {

@@ -3,11 +3,11 @@
 
 use std::time::Duration;
 
-use super::coords_file::{self, PositionTable};
 use super::errors::SimError;
 use super::framing::{Silence, max_command};
 use super::motion::{Motion, MotionKind};
 use super::state::{Alarm, AxisKind, AxisState, Counters, HomeProgress, Mode, SimConfig};
+use crate::files::coords_file::{self, PositionTable};
 use crate::protocol::{
     Command, ErrorCode, Frame, FrameErrorKind, Header, MessageId, Reply, Sc, Station,
 };

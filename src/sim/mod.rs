@@ -9,13 +9,13 @@
 pub mod console;
 mod control;
 pub mod controller;
-pub mod coords_file;
 pub mod errors;
 pub mod faults;
 pub mod framing;
 mod handlers;
 pub mod log_limit;
 pub mod motion;
+pub mod panel;
 pub mod pipe;
 pub mod runner;
 mod servers;

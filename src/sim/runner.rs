@@ -105,6 +105,8 @@ pub struct RunOptions {
     /// With pacing: write each reply piece whole when its last byte is due (TCP: one
     /// segment a reply, as serial-to-Ethernet bridges send lines) instead of byte by byte.
     pub coalesce: bool,
+    /// The front panel's desk, served between frames (the window's Simulator pane).
+    pub panel: Option<super::panel::PanelDesk>,
 }
 
 impl Default for RunOptions {
@@ -117,6 +119,7 @@ impl Default for RunOptions {
             log: None,
             notice: None,
             coalesce: false,
+            panel: None,
         }
     }
 }
@@ -184,10 +187,15 @@ pub fn serve(
                 }
             }
         }
-        if n == 0 {
+        if n == 0 || opts.panel.is_some() {
             let mut core = lock(shared);
-            let now = core.now();
-            core.controller.advance(now);
+            if n == 0 {
+                let now = core.now();
+                core.controller.advance(now);
+            }
+            if let Some(desk) = opts.panel.as_mut() {
+                desk.serve(&mut core.controller);
+            }
         }
     }
 }
@@ -333,6 +341,8 @@ pub struct EmbeddedOptions {
     pub faults: FaultSpec,
     /// Called for every frame in and out (on the simulator's thread).
     pub log: Option<LogFn>,
+    /// The front panel's desk, served between frames.
+    pub panel: Option<super::panel::PanelDesk>,
 }
 
 impl Default for EmbeddedOptions {
@@ -343,6 +353,7 @@ impl Default for EmbeddedOptions {
             read_timeout: Duration::from_millis(50),
             faults: FaultSpec::none(),
             log: None,
+            panel: None,
         }
     }
 }
@@ -360,6 +371,7 @@ pub fn start_embedded(opts: EmbeddedOptions) -> (PipeEnd, SimHandle) {
     let mut run = RunOptions {
         pacing: None,
         log: opts.log,
+        panel: opts.panel,
         ..RunOptions::default()
     };
     let handle = SimHandle::spawn(core, move |shared, stop| {

@@ -20,14 +20,13 @@ use super::teach::TeachPanel;
 use super::wake::{IDLE_WAKE, LINK_REPAINT, Wake, WakeFilter};
 use super::work_files::WorkFiles;
 use super::{safety_band, top_bar};
-use crate::link::{Priority, TableRequest};
 use crate::pendant::{
     ConnectionSettings, Intent, JogInput, Pendant, Press, Request, Settings, StopCause,
 };
-use crate::protocol::{AxisPattern, CoordKind};
+use crate::protocol::CoordKind;
 use crate::robot::RobotModel;
+use crate::session::SimHandle;
 use crate::session::{LineOwner, Session, load_model};
-use crate::sim::SimHandle;
 
 /// The storage key and window title.
 pub const APP_ID: &str = "xsel-pendant";
@@ -35,6 +34,9 @@ const SETTINGS_KEY: &str = "settings";
 const LAYOUT_KEY: &str = "layout";
 /// Most time spent applying link events in one frame.
 const EVENT_BUDGET: Duration = Duration::from_millis(4);
+/// The simulator's thread answers the front panel within a tick (20 ms); the window looks
+/// again after this.
+const PANEL_ANSWER: Duration = Duration::from_millis(60);
 
 /// How the window starts.
 #[derive(Clone, Debug, Default)]
@@ -229,6 +231,11 @@ impl PendantApp {
         self.session.as_ref().and_then(|s| s.sim.as_ref())
     }
 
+    /// The built-in simulator's front panel, when the line is the built-in one.
+    fn panel(&self) -> Option<&crate::session::simulator::FrontPanel> {
+        self.session.as_ref().and_then(|s| s.panel.as_ref())
+    }
+
     /// Closes the session as the window does on exit: the link stops any jog or move.
     pub fn close(&mut self) {
         if self.pendant.held_jog().is_some() {
@@ -242,7 +249,19 @@ impl PendantApp {
     }
 
     fn drain_events(&mut self, now: Instant) {
-        let Some(session) = &self.session else { return };
+        let Some(session) = &mut self.session else {
+            return;
+        };
+        // What the simulator's front panel did, said beside it and in Messages.
+        for line in session
+            .panel
+            .as_mut()
+            .map(|p| p.take_news())
+            .unwrap_or_default()
+        {
+            self.simulator.done(format!("Simulator: {line}"));
+            self.pendant.note(format!("simulator: {line}"), now);
+        }
         let deadline = now + EVENT_BUDGET;
         while let Ok(event) = session.events.try_recv() {
             self.pendant.handle_event(Instant::now(), event);
@@ -258,19 +277,19 @@ impl PendantApp {
         if requests.contains(&Request::Stop)
             && let Some(s) = &self.session
         {
-            s.link.stop_all();
+            s.stop_all();
         }
         for request in requests {
             match request {
                 Request::Stop => {}
                 Request::Submit(command) => {
                     if let Some(s) = &self.session {
-                        s.link.submit(command, Priority::User);
+                        s.submit(command);
                     }
                 }
                 Request::RenewJogLease => {
                     if let Some(s) = &self.session {
-                        s.link.renew_jog_lease();
+                        s.renew_jog_lease();
                     }
                 }
                 Request::ReadTable(kind) => {
@@ -283,19 +302,16 @@ impl PendantApp {
                 Request::ReadRecords(kind, range) => self.read_records(kind, range),
                 Request::CancelTableRead => {
                     if let Some(s) = &self.session {
-                        s.link.cancel_table();
+                        s.cancel_table_read();
                     }
                 }
-                Request::SimulatorTables(tables) => {
-                    let text = match self.sim() {
-                        Some(sim) => {
-                            sim.set_coords(tables);
-                            "the simulator now answers 2A4H with the draft (unread rows as zeros)"
-                        }
-                        None => "no built-in simulator on this line: the draft was not given",
-                    };
-                    self.pendant.note(text, now);
-                }
+                Request::SimulatorTables(tables) => match self.panel() {
+                    Some(panel) => panel.try_tables(tables),
+                    None => self.pendant.note(
+                        "no built-in simulator on this line: the draft was not given",
+                        now,
+                    ),
+                },
                 Request::Connect => self.open_session(ctx, now),
                 Request::Disconnect => self.session = None,
             }
@@ -304,13 +320,7 @@ impl PendantApp {
 
     fn read_records(&self, kind: CoordKind, range: std::ops::Range<u16>) {
         if let Some(s) = &self.session {
-            s.link.download_table(TableRequest {
-                kind,
-                axes: AxisPattern::SCARA_1,
-                first: range.start,
-                records: range.end.saturating_sub(range.start),
-                reply_buffer: crate::protocol::REPLY_BUFFER,
-            });
+            s.read_table(kind, range);
         }
     }
 
@@ -329,14 +339,15 @@ impl PendantApp {
         let repaint_ctx = ctx.clone();
         let filter = std::sync::Mutex::new(WakeFilter::new(self.live_log_shown.clone()));
         let wakes = self.link_wakes.clone();
-        let repaint = std::sync::Arc::new(move |event: &crate::link::LinkEvent| {
+        let repaint = std::sync::Arc::new(move |event: &crate::pendant::LinkEvent| {
             let wake = filter.lock().map_or(Wake::Soon, |mut f| f.on_event(event));
             if wake == Wake::Soon {
                 wakes.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                 repaint_ctx.request_repaint_after(LINK_REPAINT);
             }
         });
-        match Session::open(&settings, &model, repaint, &self.line_owner) {
+        let polls = crate::pendant::state::poll_commands();
+        match Session::open(&settings, &model, polls, repaint, &self.line_owner) {
             Ok(session) => self.session = Some(session),
             Err(e) => self.pendant.connect_failed(e, now),
         }
@@ -433,7 +444,7 @@ impl eframe::App for PendantApp {
                 folder: self
                     .folder
                     .get(self.pendant.settings.last_folder.as_deref()),
-                sim: self.session.as_ref().and_then(|s| s.sim.as_ref()),
+                sim: self.session.as_ref().and_then(|s| s.panel.as_ref()),
                 sim_action: &mut sim_action,
                 now,
                 started: self.started,
@@ -457,10 +468,11 @@ impl eframe::App for PendantApp {
         intents.push(Intent::Jog(JogInput::Pointer, press));
         self.pendant.apply_all(intents, now);
         if let Some(action) = sim_action
-            && let Some(sim) = self.sim()
+            && let Some(panel) = self.panel()
         {
-            let text = sim.with(|c| action.apply(c));
-            self.simulator.done(format!("Simulator: {text}"));
+            panel.act(action);
+            // Its result comes back from the simulator's thread within a tick.
+            ctx.request_repaint_after(PANEL_ANSWER);
         }
         self.run_requests(&ctx, now);
         self.work_files.autosave(&mut self.pendant, now);

@@ -7,7 +7,7 @@ use super::detect::Detect;
 use super::ports::PortList;
 use super::widgets::{AMBER, GREEN, GREY, RED, reserved_line};
 use crate::line::Parity;
-use crate::link::line::STANDARD_BAUDS;
+use crate::line::STANDARD_BAUDS;
 use crate::pendant::{Intent, LineKind, LineState, Pendant};
 use crate::robot::BUILTIN_MODELS;
 

@@ -5,8 +5,8 @@
 use egui::{RichText, Ui};
 
 use super::widgets::{AMBER, RED};
-use crate::link::probe::{ProbeEvent, ProbeHandle, ProbePlan, spawn_probe};
 use crate::pendant::ConnectionSettings;
+use crate::session::probe::{ProbeEvent, ProbeHandle, ProbePlan, spawn_probe};
 
 /// A probe in progress, and what the last one found.
 #[derive(Default)]

@@ -19,7 +19,7 @@ use serde::{Deserialize, Serialize};
 use super::arm_view::ArmView;
 use super::coords::CoordsPanel;
 use super::frame_log::FrameLogPanel;
-use super::simulator::{SimState, SimulatorPanel};
+use super::simulator::SimulatorPanel;
 use super::teach::TeachPanel;
 use super::{messages, readout, status};
 use crate::pendant::{Intent, Pendant};
@@ -116,10 +116,10 @@ pub struct Tabs<'a> {
     pub simulator: &'a mut SimulatorPanel,
     /// The folder a file name typed without one is in.
     pub folder: &'a std::path::Path,
-    /// The built-in simulator, when the line is the built-in one (read when its pane shows).
-    pub sim: Option<&'a crate::sim::SimHandle>,
-    /// The simulator action clicked, applied after drawing.
-    pub sim_action: &'a mut Option<crate::sim::console::OperatorAction>,
+    /// The built-in simulator's front panel, when the line is the built-in one.
+    pub sim: Option<&'a crate::session::simulator::FrontPanel>,
+    /// The simulator action clicked, handed to the front panel after drawing.
+    pub sim_action: &'a mut Option<crate::session::simulator::OperatorAction>,
     pub now: Instant,
     pub started: Instant,
 }
@@ -156,12 +156,14 @@ impl Behavior<Tab> for Tabs<'_> {
                 self.frame_log
                     .show(ui, self.pendant, self.folder, self.now, self.intents)
             }
-            // The simulator's states are read only while this pane is in sight.
-            Tab::Simulator => match self.sim.map(SimState::of) {
-                Some(state) => {
-                    if let Some(action) = self.simulator.show(ui, &state) {
+            Tab::Simulator => match self.sim.map(|panel| panel.state()) {
+                Some(Some(state)) => {
+                    if let Some(action) = self.simulator.show(ui, state) {
                         *self.sim_action = Some(action);
                     }
+                }
+                Some(None) => {
+                    ui.label("Waiting for the built-in simulator's panel...");
                 }
                 None => {
                     ui.label("Not on the built-in simulator: the line goes to a real controller.");

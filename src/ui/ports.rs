@@ -2,7 +2,7 @@
 
 use crossbeam_channel::{Receiver, bounded};
 
-use crate::link::ports::{PortEntry, list_ports};
+use crate::line::ports::{PortEntry, list_ports};
 
 /// The ports last found, and a listing in progress.
 #[derive(Default)]

@@ -1,37 +1,13 @@
 //! The Simulator panel (only on the built-in simulator): the operator states a real
 //! controller takes from its front panel and wiring (E-stop, MODE switch, drive cut-off,
 //! alarms), so an operator can rehearse them without a robot. Returns the action; the
-//! app applies it to the simulator after drawing.
+//! app hands it to the simulator's front panel after drawing, and the simulator's own
+//! thread applies it.
 
 use egui::{RichText, Ui};
 
 use super::widgets::{AMBER, GREEN, RED, lamp, reserved_line};
-use crate::sim::Mode;
-use crate::sim::console::{OperatorAction, parse_code};
-
-/// What the panel shows of the simulator (read once a frame).
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct SimState {
-    pub emergency_stop: bool,
-    pub mode: Mode,
-    pub drive_cut_off: bool,
-    pub alarm: Option<u16>,
-}
-
-impl SimState {
-    /// The operator states of a running simulator (a short lock of its controller).
-    pub fn of(sim: &crate::sim::SimHandle) -> Self {
-        sim.with(|c| {
-            let s = c.snapshot();
-            SimState {
-                emergency_stop: s.emergency_stop,
-                mode: s.mode,
-                drive_cut_off: s.drive_cut_off,
-                alarm: s.alarm.map(|a| a.code),
-            }
-        })
-    }
-}
+use crate::session::simulator::{Mode, OperatorAction, PanelState, parse_code};
 
 /// The panel's own input: the alarm code being typed and what was last done.
 pub struct SimulatorPanel {
@@ -51,7 +27,7 @@ impl Default for SimulatorPanel {
 
 impl SimulatorPanel {
     /// Draws the panel; the action clicked, if any.
-    pub fn show(&mut self, ui: &mut Ui, state: &SimState) -> Option<OperatorAction> {
+    pub fn show(&mut self, ui: &mut Ui, state: &PanelState) -> Option<OperatorAction> {
         let mut action = None;
         ui.label(
             RichText::new("Operator states of the built-in simulator (not sent on the line)")

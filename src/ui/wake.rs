@@ -8,7 +8,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
-use crate::link::{LinkEvent, Origin};
+use crate::pendant::{LinkEvent, Origin};
 use crate::protocol::{Command, Reply};
 
 /// The longest a change waits to be drawn (polls arrive at about 10 Hz; one frame for a
@@ -85,7 +85,7 @@ impl WakeFilter {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::link::RequestId;
+    use crate::pendant::RequestId;
     use crate::protocol::AxisPattern;
 
     fn answer(origin: Origin, command: Command, reply: Reply) -> LinkEvent {
@@ -148,7 +148,7 @@ mod tests {
         shown.store(true, Ordering::Relaxed);
         assert_eq!(f.on_event(&sent), Wake::Soon);
         let down = LinkEvent::Disconnected {
-            reason: crate::link::LineDownReason::Closed,
+            reason: crate::pendant::LineDownReason::Closed,
         };
         assert_eq!(f.on_event(&down), Wake::Soon);
     }

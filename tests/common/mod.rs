@@ -49,7 +49,7 @@ pub fn embedded_link(
         byte_time,
         read_timeout: Duration::from_millis(20),
         faults,
-        log: None,
+        ..EmbeddedOptions::default()
     });
     let (link, events) =
         spawn(pipe_connector(pipe), config, std::sync::Arc::new(|_| {})).expect("link thread");

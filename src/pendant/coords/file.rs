@@ -20,9 +20,9 @@ use serde_json::value::RawValue;
 
 use super::cell::{self, Column};
 use super::draft::Rows;
+use crate::files::coords_file;
 use crate::pendant::teach_file::FileError;
 use crate::robot::{CoordSystem, CoordTables, FrameKind, RobotModel};
-use crate::sim::coords_file;
 
 /// The CSV header line.
 pub const CSV_HEADER: &str = "table,number,x_mm,y_mm,z_mm,r_deg";

@@ -14,8 +14,8 @@ use crossbeam_channel::{Receiver, RecvTimeoutError, unbounded};
 
 use super::wire::{self, FromGuardian, OpenLine, ToGuardian};
 use super::{GUARDIAN_FLAG, HEARTBEAT};
+use crate::line::ConnectionSettings;
 use crate::link::Transport;
-use crate::pendant::ConnectionSettings;
 
 /// Longest wait for the guardian to say the line is open (a TCP connect gives up
 /// after 2 s; a process start on a loaded PC takes a moment).

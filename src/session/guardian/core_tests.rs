@@ -4,9 +4,9 @@
 use std::time::{Duration, Instant};
 
 use super::*;
-use crate::pendant::JogSettings;
-use crate::pendant::jog::{JogAxis, continuous_jog};
-use crate::protocol::{Direction, checksum};
+use crate::protocol::{
+    Axis, AxisPattern, CentiG, Direction, Jog, JogFrame, JogMotion, MmPerSec, checksum,
+};
 
 const LEASE: Duration = Duration::from_millis(250);
 
@@ -15,9 +15,19 @@ fn core(now: Instant) -> GuardianCore {
 }
 
 fn jog() -> Vec<u8> {
-    continuous_jog(&JogSettings::default(), JogAxis::X, Direction::Positive)
-        .to_bytes(Station::DEFAULT, ScMode::Computed)
-        .unwrap()
+    let motion = JogMotion::Cartesian {
+        frame: JogFrame::Work,
+        acc: CentiG(10),
+        dec: CentiG(10),
+        speed: MmPerSec(5),
+    };
+    Command::Jog(Jog::until_stopped(
+        AxisPattern::single(Axis::A1),
+        Direction::Positive,
+        motion,
+    ))
+    .to_bytes(Station::DEFAULT, ScMode::Computed)
+    .unwrap()
 }
 
 fn status_query() -> Vec<u8> {

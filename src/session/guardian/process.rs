@@ -13,9 +13,9 @@ use crossbeam_channel::{Receiver, RecvTimeoutError, Sender, unbounded};
 
 use super::core::GuardianCore;
 use super::wire::{self, FromGuardian, OpenLine, ToGuardian};
+use crate::line::LineKind;
 use crate::link::Transport;
 use crate::link::timing::Timing;
-use crate::pendant::LineKind;
 use crate::session::Connection;
 
 /// How long the line's reader waits in one read before it looks whether it should end.
@@ -83,7 +83,12 @@ pub fn run() -> ExitCode {
         ..Timing::default()
     };
     let lease = Duration::from_millis(open.lease_ms);
-    let mut core = GuardianCore::new(Instant::now(), settings.station(), lease, timing);
+    let mut core = GuardianCore::new(
+        Instant::now(),
+        crate::protocol::Station(settings.station),
+        lease,
+        timing,
+    );
     relay(&mut core, writer, &from, &mut out);
     done.store(true, Ordering::Relaxed);
     if let Some(reader) = reader {

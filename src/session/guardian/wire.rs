@@ -5,7 +5,7 @@ use std::io::{self, BufRead, Write};
 
 use serde::{Deserialize, Serialize};
 
-use crate::pendant::ConnectionSettings;
+use crate::line::ConnectionSettings;
 
 /// The longest message line either side accepts: a frame is at most a few hundred bytes
 /// (PROTOCOL.md 1.3), about four characters each as JSON numbers.
