@@ -13,7 +13,7 @@ use std::path::PathBuf;
 use std::process::{Command as Process, Stdio};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
-use xsel_pendant::pendant::state::poll_commands;
+use xsel_pendant::pendant::controller::poll_commands;
 
 use xsel_pendant::link::{LinkEvent, Priority};
 use xsel_pendant::pendant::{ConnectionSettings, LineKind};

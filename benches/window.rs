@@ -173,7 +173,7 @@ fn click_to_2d5h(h: &mut Harness<'_, PendantApp>, n: usize) {
             assert!(
                 Instant::now() < end,
                 "no 2D5H after click {i} ({label}); jog message: {:?}",
-                h.state().pendant().jog_feedback
+                h.state().pendant().jog.feedback
             );
             std::thread::sleep(Duration::from_micros(200));
         };

@@ -2,15 +2,25 @@
 //!
 //! Layers (see DESIGN.md), arrows pointing down only:
 //!
-//! - [`link`]: the IO engine (one thread owns the line) -> [`protocol`], [`line`](mod@line).
-//! - [`sim`]: the simulated controller -> [`codes`], [`robot`], [`protocol`], [`line`](mod@line).
-//! - [`codes`]: wire codes <-> robot types (arm policy, jog frame, arm system), the one
-//!   place that knows both [`protocol`] and [`robot`].
-//! - [`line`](mod@line): byte lines (read with a timeout, write), line settings and byte timing,
-//!   shared by `link` and `sim`, which never import each other.
+//! - [`ui`]: egui panels drawing the pendant and pushing intents -> [`pendant`],
+//!   [`session`], [`render`] (never `link` or `sim`).
+//! - [`pendant`]: the application model, sans-IO -> [`link`]'s events, [`robot`],
+//!   [`protocol`].
+//! - [`session`]: a connection: the line prepared and opened, the link driver on it, the
+//!   embedded simulator and its front panel -> [`link`], [`sim`].
+//! - [`link`]: one driver thread per line running a sans-IO protocol core (Format B in
+//!   `link::format_b`, the port probe) -> [`protocol`], [`line`](mod@line).
+//! - [`sim`]: the simulated controller -> [`robot_wire`], [`robot`], [`protocol`],
+//!   [`line`](mod@line).
+//! - [`robot_wire`]: wire codes <-> robot types (arm policy, jog frame, arm system, table
+//!   kind), the one place that knows both [`protocol`] and [`robot`].
+//! - [`files`]: files the user names, read with a size bound and written whole, and the
+//!   coordinate file both the pendant and the simulator read.
+//! - [`line`](mod@line): byte lines (read with a timeout, write), line and connection
+//!   settings, byte timing, the serial port list; shared by `link` and `sim`, which never
+//!   import each other.
 //! - [`protocol`] (the Format B codec) and [`robot`] (SCARA math) import nothing of the
 //!   project; `line` imports nothing of it either.
-//! - [`files`]: files the user names, read with a size bound (imports nothing).
 //! - [`cli`] (the pendant's flags and line set-up) and [`headless`] (its text mode) sit
 //!   above `link` and `sim`, for the binaries; [`flags`] answers a bad flag for both.
 
@@ -22,7 +32,6 @@
 )]
 
 pub mod cli;
-pub mod codes;
 pub mod files;
 pub mod flags;
 pub mod headless;
@@ -33,6 +42,7 @@ pub mod protocol;
 pub mod render;
 pub mod render_cli;
 pub mod robot;
+pub mod robot_wire;
 pub mod session;
 pub mod sim;
 pub mod ui;

@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use std::process::{Child, Command as Process, Stdio};
 use std::sync::Arc;
 use std::time::Duration;
-use xsel_pendant::pendant::state::poll_commands;
+use xsel_pendant::pendant::controller::poll_commands;
 
 use crossbeam_channel::{Receiver, unbounded};
 use xsel_pendant::link::{LinkEvent, Priority, TcpTransport, Transport};

@@ -84,7 +84,8 @@ fn step_ended(n: usize) -> impl Fn(&PendantApp) -> bool {
 
 fn refused(a: &PendantApp) -> bool {
     a.pendant()
-        .jog_feedback
+        .jog
+        .feedback
         .as_ref()
         .is_some_and(|m| m.text.starts_with("refused"))
 }
@@ -145,7 +146,7 @@ fn a_step_beyond_reach_is_refused_beside_the_button_and_nothing_is_sent() {
         }
     }
     let before = sim_in_frames(h.state(), "2D5").len();
-    let text = h.state().pendant().jog_feedback.clone().unwrap().text;
+    let text = h.state().pendant().jog.feedback.clone().unwrap().text;
     assert!(text.starts_with("refused"), "{text}");
     assert!(
         h.query_all_by_label_contains("refused").count() >= 1,

@@ -6,6 +6,7 @@ use std::time::{Duration, Instant};
 use super::script::{poll_reply, ready_system, scara_status};
 use super::*;
 use crate::link::{LinkEvent, NotSentReason, Origin, RequestId};
+use crate::protocol::Direction;
 use crate::protocol::{ErrorCode, PositionSystem, Stop, SystemMode, SystemStatus};
 use crate::robot::{Joints, Scara};
 
@@ -33,7 +34,7 @@ fn continuous(now: Instant) -> Pendant {
 
 /// The controller keeps answering its polls: a fresh status at `now`, `system` as given.
 fn poll(p: &mut Pendant, now: Instant, system: SystemStatus) {
-    let polls = state::poll_commands();
+    let polls = controller::poll_commands();
     p.handle_event(now, poll_reply(polls[1], Reply::SystemStatus(system)));
     let joints = Joints::new(30.0, 60.0, 50.0, 0.0);
     let tip = p.kinematics().forward(&joints).to_array();
@@ -376,7 +377,7 @@ fn servo_and_e_stop_changes_reach_messages() {
         texts.iter().any(|t| t.contains("E-stop released")),
         "{texts:?}"
     );
-    let polls = state::poll_commands();
+    let polls = controller::poll_commands();
     let off = scara_status(PositionSystem::Work, [0.0; 4], false, true);
     p.handle_event(now, poll_reply(polls[0], Reply::ScaraStatus(off)));
     assert!(p.messages.back().is_some_and(|m| m.text == "servo off"));

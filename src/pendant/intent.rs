@@ -6,8 +6,8 @@ use std::time::Instant;
 
 use super::Pendant;
 use super::coords::CoordsIntent;
-use super::hold::{JogInput, Press, StopCause};
 use super::jog::JogSettings;
+use super::jog::hold::{JogInput, Press, StopCause};
 use crate::robot::Pose;
 
 /// One thing an operator asked for.

@@ -4,23 +4,13 @@
 //! out of [`Pendant::take_requests`].
 
 pub mod connection;
+pub mod controller;
 pub mod coords;
 pub mod frame_log;
-pub mod hold;
 mod intent;
 pub mod jog;
-mod moving;
-mod raw_send;
-pub mod readiness;
 pub mod script;
-pub mod speed_cap;
-pub mod state;
-pub mod target;
 pub mod teach;
-pub mod teach_book;
-pub mod teach_file;
-mod teach_json;
-mod transitions;
 
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
@@ -32,14 +22,15 @@ pub use crate::link::RENEW_EVERY;
 use crate::link::health::LinkHealth;
 /// The link's events and their vocabulary, as the pendant takes them in.
 pub use crate::link::{LineDownReason, LinkEvent, Origin, RequestId};
-use crate::protocol::{AxisPattern, Command, CoordKind, Direction, Home, MmPerSec, Reply, Servo};
-use crate::robot::{Joints, RobotModel, Scara};
+use crate::protocol::{AxisPattern, Command, CoordKind, Home, MmPerSec, Reply, Servo};
+use crate::robot::{RobotModel, Scara};
 pub use connection::{ConnectionSettings, LineKind, LineState};
-pub use hold::{HeldJog, JogInput, JogTarget, Press, StopCause};
+pub use controller::ControllerState;
+pub use controller::readiness::NotReady;
+use controller::{readiness, transitions};
 pub use intent::Intent;
+pub use jog::hold::{HeldJog, JogInput, JogTarget, Press, StopCause};
 pub use jog::{Interpolation, JogAxis, JogMode, JogSettings, PhysicalJog, PlannedStep, Refusal};
-pub use readiness::NotReady;
-pub use state::ControllerState;
 
 /// How long a "press again to confirm" for an arm flip stays armed.
 const CONFIRM_FOR: Duration = Duration::from_secs(5);
@@ -147,26 +138,15 @@ pub struct Pendant {
     pub messages: VecDeque<Message>,
     /// Every frame on the line (a capped ring), for the frame log pane.
     pub frame_log: frame_log::FrameLog,
-    /// The last word on a jog button: the refusal or the controller's answer.
-    pub jog_feedback: Option<Message>,
     /// The last raw frame typed in the frame log: its message ID as sent, or why not.
     pub raw_sent: Option<Result<String, String>>,
-    /// Hold-to-run: the jog inputs down, the jog they drive, the STOP latch.
-    hold: hold::HoldMachine,
-    /// The jog speed cap at the tool, mm/s (not saved: a restart brings back the
-    /// reduced speed).
-    speed_cap_mm_s: f64,
-    followed: Option<Followed>,
-    /// End of the last accepted move (joints): the "command position".
-    command_position: Option<Joints>,
-    confirm: Option<(JogAxis, Direction, Instant)>,
-    /// The target filled in from the arm view ("step here"), moved to only on "Go".
-    step_target: Option<target::StepTarget>,
+    /// Jogging's own state: hold-to-run, the move followed, the speed cap, the last word.
+    pub jog: jog::JogState,
     requests: Vec<Request>,
     /// The coordinate-table editor: drafts, reads, "over the arm".
     pub coords: coords::CoordEditor,
     /// The teach list, a load waiting for "Replace", and what Undo load brings back.
-    pub teach: teach_book::TeachBook,
+    pub teach: teach::book::TeachBook,
     /// The teach pane's last word on a file (loaded, refused, undone).
     pub teach_feedback: Option<(Level, String)>,
 }
@@ -174,7 +154,7 @@ pub struct Pendant {
 impl Pendant {
     pub fn new(mut settings: Settings, model: RobotModel) -> Self {
         let log_cap = settings.frame_log_cap.unwrap_or(frame_log::DEFAULT_CAP);
-        let teach = teach_book::TeachBook::new(std::mem::take(&mut settings.legacy_teach));
+        let teach = teach::book::TeachBook::new(std::mem::take(&mut settings.legacy_teach));
         Self {
             teach,
             teach_feedback: None,
@@ -188,14 +168,8 @@ impl Pendant {
             health_window: VecDeque::new(),
             messages: VecDeque::new(),
             frame_log: frame_log::FrameLog::new(log_cap),
-            jog_feedback: None,
+            jog: jog::JogState::default(),
             raw_sent: None,
-            hold: hold::HoldMachine::default(),
-            speed_cap_mm_s: speed_cap::REDUCED_SPEED_MM_S,
-            followed: None,
-            command_position: None,
-            confirm: None,
-            step_target: None,
             requests: Vec::new(),
         }
     }
@@ -247,7 +221,7 @@ impl Pendant {
 
     fn jog_says(&mut self, level: Level, text: impl Into<String>, now: Instant) {
         let text = text.into();
-        self.jog_feedback = Some(Message {
+        self.jog.feedback = Some(Message {
             level,
             text: text.clone(),
             at: now,
@@ -260,7 +234,7 @@ impl Pendant {
     /// hover.
     fn jog_refused(&mut self, why: &Refusal, now: Instant) {
         let full = format!("refused: {why}");
-        self.jog_feedback = Some(Message {
+        self.jog.feedback = Some(Message {
             level: Level::Warning,
             text: format!("refused: {}", why.short()),
             at: now,
@@ -294,11 +268,11 @@ impl Pendant {
     fn line_gone(&mut self, _now: Instant) {
         self.controller.line_lost();
         self.coords.line_gone();
-        if self.hold.stop(StopCause::LineLost).is_some() {
+        if self.jog.hold.stop(StopCause::LineLost).is_some() {
             self.say(Level::Error, "the line went down during a jog", _now);
         }
-        self.followed = None;
-        self.command_position = None;
+        self.jog.followed = None;
+        self.jog.command_position = None;
     }
 
     // ---- events ----
@@ -312,7 +286,8 @@ impl Pendant {
                 self.say(Level::Info, format!("connected: {line}"), now);
                 self.line = LineState::Up { line, since: now };
                 self.health_window.clear();
-                self.requests.push(Request::Submit(state::version_query()));
+                self.requests
+                    .push(Request::Submit(controller::version_query()));
                 self.requests.push(Request::ReadTable(CoordKind::Work));
             }
             LinkEvent::Disconnected { reason } => {
@@ -345,7 +320,7 @@ impl Pendant {
             } => {
                 let text = format!("no reply to {} ({})", command.id(), name(&command));
                 if command.moves_arm() {
-                    self.followed = None;
+                    self.jog.followed = None;
                     self.jog_says(Level::Error, text, now);
                 } else {
                     self.say(Level::Warning, text, now);
@@ -380,7 +355,7 @@ impl Pendant {
                 }
             }
             LinkEvent::Interrupted { command, .. } if command.moves_arm() => {
-                self.followed = None;
+                self.jog.followed = None;
                 self.jog_says(
                     Level::Error,
                     format!(
@@ -421,7 +396,7 @@ impl Pendant {
                 for (level, text) in transitions::system(old, &s) {
                     self.say(level, text, now);
                 }
-                self.controller.system = Some(state::Stamped { value: s, at: now });
+                self.controller.system = Some(controller::Stamped { value: s, at: now });
             }
             Reply::ScaraStatus(s) => {
                 if s.common.system == crate::protocol::PositionSystem::Work {
@@ -435,23 +410,33 @@ impl Pendant {
             Reply::Version(v) => self.controller.version = Some(v),
             Reply::Ack(_) => match command {
                 Command::ScaraMoveRelative(_) | Command::ScaraMoveAbsolute(_) => {
-                    if let Some(f) = self.followed.as_mut().filter(|f| f.plan.command == command) {
+                    if let Some(f) = self
+                        .jog
+                        .followed
+                        .as_mut()
+                        .filter(|f| f.plan.command == command)
+                    {
                         f.accepted = Some(now);
-                        self.command_position = Some(f.plan.end);
+                        self.jog.command_position = Some(f.plan.end);
                     }
                 }
                 Command::Jog(j) if j.distance.0 != 0 => {
-                    if let Some(f) = self.followed.as_mut().filter(|f| f.plan.command == command) {
+                    if let Some(f) = self
+                        .jog
+                        .followed
+                        .as_mut()
+                        .filter(|f| f.plan.command == command)
+                    {
                         f.accepted = Some(now);
-                        self.command_position = Some(f.plan.end);
+                        self.jog.command_position = Some(f.plan.end);
                     }
                 }
                 Command::Stop(_) => {
-                    if let Some(f) = self.followed.as_mut() {
+                    if let Some(f) = self.jog.followed.as_mut() {
                         f.stopped.get_or_insert(now);
                     }
                     // The arm stopped short: the command position is where it is.
-                    self.command_position = None;
+                    self.jog.command_position = None;
                 }
                 _ => {}
             },
@@ -533,9 +518,9 @@ impl Pendant {
         self.requests
             .retain(|r| !matches!(r, Request::Submit(c) if c.moves_arm()));
         self.requests.push(Request::Stop);
-        self.hold.stop(cause);
-        self.confirm = None;
-        if let Some(f) = self.followed.as_mut() {
+        self.jog.hold.stop(cause);
+        self.jog.confirm = None;
+        if let Some(f) = self.jog.followed.as_mut() {
             f.stopped.get_or_insert(now);
         }
         // The operator's own STOP is news of the expected kind; any other is a warning.
@@ -548,8 +533,8 @@ impl Pendant {
 
     /// A move or jog the controller (or the link) refused: the jog ends, latched.
     fn motion_refused(&mut self) {
-        self.followed = None;
-        self.hold.stop(StopCause::Refused);
+        self.jog.followed = None;
+        self.jog.hold.stop(StopCause::Refused);
     }
 
     /// The link's own STOPs (lapsed lease, stalled line) reach Messages and latch.
@@ -568,11 +553,11 @@ impl Pendant {
             crate::link::Origin::SafetyStop => StopCause::LinkSafety,
             _ => return,
         };
-        self.hold.stop(cause);
-        if let Some(f) = self.followed.as_mut() {
+        self.jog.hold.stop(cause);
+        if let Some(f) = self.jog.followed.as_mut() {
             f.stopped.get_or_insert(now);
         }
-        self.command_position = None;
+        self.jog.command_position = None;
         self.jog_says(
             Level::Warning,
             format!("STOP sent by the link: {}", cause.name()),
@@ -583,11 +568,11 @@ impl Pendant {
     /// The guardian stopped the arm by itself: a jog still held is latched as for any
     /// STOP the operator did not give.
     fn guardian_stopped(&mut self, why: &str, now: Instant) {
-        self.hold.stop(StopCause::Guardian);
-        if let Some(f) = self.followed.as_mut() {
+        self.jog.hold.stop(StopCause::Guardian);
+        if let Some(f) = self.jog.followed.as_mut() {
             f.stopped.get_or_insert(now);
         }
-        self.command_position = None;
+        self.jog.command_position = None;
         self.jog_says(
             Level::Warning,
             format!("STOP sent by the guardian process: {why}"),
@@ -598,7 +583,7 @@ impl Pendant {
     /// Once a frame: a jog held while the controller leaves the state that allows motion
     /// is stopped (and latched).
     pub fn tick(&mut self, now: Instant) {
-        if self.hold.jog().is_none() {
+        if self.jog.hold.jog().is_none() {
             return;
         }
         if let Err(why) = self.motion_ready(now) {

@@ -4,7 +4,7 @@
 
 use std::time::Duration;
 
-use super::state;
+use super::controller as state;
 use crate::link::{LinkEvent, Origin, RequestId};
 use crate::protocol::{
     Axis, AxisPattern, AxisState, AxisStatus, CommonStatus, CoordKind, HomeState, Milli, PerAxis,

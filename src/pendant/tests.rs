@@ -72,7 +72,7 @@ fn connecting_asks_for_the_version_and_both_tables_in_turn() {
     assert_eq!(
         r,
         vec![
-            Request::Submit(state::version_query()),
+            Request::Submit(controller::version_query()),
             Request::ReadTable(CoordKind::Work)
         ]
     );
@@ -108,7 +108,7 @@ fn a_work_step_is_one_2d5h_with_the_step_on_its_axis() {
     assert_eq!(m.targets.get(Axis::A1), Some(Milli(10_000)));
     assert_eq!(m.targets.pattern(), crate::protocol::AxisPattern(0x01));
     // The 20 % asked for is above the reduced jog speed: the capped % goes out.
-    let capped = speed_cap::ptp_percent_cap(&p.model, speed_cap::REDUCED_SPEED_MM_S);
+    let capped = jog::speed_cap::ptp_percent_cap(&p.model, jog::speed_cap::REDUCED_SPEED_MM_S);
     assert!(capped < 20);
     assert_eq!(
         m.motion,
@@ -134,7 +134,7 @@ fn each_arm_policy_and_cp_reach_the_command() {
         p.jog_step(JogAxis::Y, Direction::Negative, now);
         let sent = submitted(&mut p);
         let Some(Command::ScaraMoveRelative(m)) = sent.first() else {
-            panic!("{wire:?}: nothing sent: {:?}", p.jog_feedback);
+            panic!("{wire:?}: nothing sent: {:?}", p.jog.feedback);
         };
         assert!(matches!(m.motion, ScaraMotion::Ptp { arm, .. } if arm == wire));
         assert_eq!(m.targets.get(Axis::A2), Some(Milli(-1000)));
@@ -145,7 +145,7 @@ fn each_arm_policy_and_cp_reach_the_command() {
     p.jog_step(JogAxis::Z, Direction::Positive, now);
     let sent = submitted(&mut p);
     let Some(Command::ScaraMoveRelative(m)) = sent.first() else {
-        panic!("CP step not sent: {:?}", p.jog_feedback);
+        panic!("CP step not sent: {:?}", p.jog.feedback);
     };
     assert_eq!(m.motion.operation_type() & 1, 1, "CP bit");
     assert!(matches!(m.motion, ScaraMotion::Cp { speed, .. } if speed.0 == 80));
@@ -159,7 +159,7 @@ fn a_step_beyond_reach_is_refused_and_nothing_is_sent() {
     p.settings.jog.step = 50.0;
     p.jog_step(JogAxis::X, Direction::Positive, now);
     assert!(submitted(&mut p).is_empty());
-    let feedback = p.jog_feedback.clone().unwrap();
+    let feedback = p.jog.feedback.clone().unwrap();
     assert_eq!(feedback.level, Level::Warning);
     assert!(feedback.text.starts_with("refused"), "{}", feedback.text);
 }
@@ -172,7 +172,7 @@ fn a_joint_step_beyond_its_limit_is_refused() {
     p.settings.jog.step = 1.0;
     p.jog_step(JogAxis::J1, Direction::Positive, now);
     assert!(submitted(&mut p).is_empty());
-    assert!(p.jog_feedback.unwrap().text.contains("J1"));
+    assert!(p.jog.feedback.unwrap().text.contains("J1"));
 }
 
 #[test]
@@ -183,7 +183,7 @@ fn a_joint_step_is_236h_inching_in_the_each_axis_system() {
     p.jog_step(JogAxis::J2, Direction::Negative, now);
     let sent = submitted(&mut p);
     let Some(Command::Jog(j)) = sent.first() else {
-        panic!("no 236H: {:?}", p.jog_feedback);
+        panic!("no 236H: {:?}", p.jog.feedback);
     };
     assert_eq!(j.distance, Milli(100));
     assert_eq!(j.direction, Direction::Negative);
@@ -201,7 +201,7 @@ fn motion_waits_for_servo_homing_and_auto_and_says_why() {
     p.handle_event(now, LinkEvent::Connected { line: "t".into() });
     p.take_requests();
     assert_eq!(p.motion_ready(now), Err(NotReady::NoStatus));
-    let polls = state::poll_commands();
+    let polls = controller::poll_commands();
     let manual = SystemStatus {
         mode: SystemMode::MANUAL,
         ..ready_system()
@@ -222,14 +222,14 @@ fn motion_waits_for_servo_homing_and_auto_and_says_why() {
     assert_eq!(p.motion_ready(now), Err(NotReady::EmergencyStop));
     p.jog_step(JogAxis::X, Direction::Positive, now);
     assert!(submitted(&mut p).is_empty());
-    assert!(p.jog_feedback.unwrap().text.contains("emergency stop"));
+    assert!(p.jog.feedback.unwrap().text.contains("emergency stop"));
 }
 
 #[test]
 fn an_old_status_blocks_motion() {
     let now = t0();
     let mut p = ready_at(start(), now);
-    let later = now + state::STALE_AFTER + Duration::from_millis(1);
+    let later = now + controller::STALE_AFTER + Duration::from_millis(1);
     assert_eq!(p.motion_ready(later), Err(NotReady::StatusStale));
     p.jog_step(JogAxis::X, Direction::Positive, later);
     assert!(submitted(&mut p).is_empty());
@@ -298,7 +298,7 @@ fn a_ptp_step_that_flips_the_arm_asks_for_a_second_press() {
     p.settings.jog.step = 0.01;
     p.jog_step(JogAxis::X, Direction::Positive, now);
     assert!(submitted(&mut p).is_empty(), "sent without confirmation");
-    assert!(p.jog_feedback.as_ref().unwrap().text.contains("flips"));
+    assert!(p.jog.feedback.as_ref().unwrap().text.contains("flips"));
     p.jog_step(
         JogAxis::X,
         Direction::Positive,
@@ -402,7 +402,7 @@ fn a_recorded_point_is_gone_to_with_2d4h_in_its_own_frame() {
     p2.teach_go(0, now);
     let sent = submitted(&mut p2);
     let Some(Command::ScaraMoveAbsolute(m)) = sent.first() else {
-        panic!("no 2D4H: {:?}", p2.jog_feedback);
+        panic!("no 2D4H: {:?}", p2.jog.feedback);
     };
     let pose = p.teach.list().get(0).unwrap().pose;
     for (i, axis) in [Axis::A1, Axis::A2, Axis::A3, Axis::A4]
@@ -418,10 +418,10 @@ fn a_recorded_point_is_gone_to_with_2d4h_in_its_own_frame() {
     other.insert(0, point).unwrap();
     p2.teach.set(other);
     p2.take_requests();
-    p2.followed = None;
+    p2.jog.followed = None;
     p2.teach_go(0, now);
     assert!(submitted(&mut p2).is_empty());
-    assert!(p2.jog_feedback.unwrap().text.contains("work frame 3"));
+    assert!(p2.jog.feedback.unwrap().text.contains("work frame 3"));
 }
 
 #[test]

@@ -55,7 +55,7 @@ pub enum MoveError {
 }
 
 /// PTP target arm (on the wire: 2D4H-2D6H operation type bits 3-4, converted in
-/// `crate::codes`). The printed spec is ambiguous for the right/left policies; this
+/// `crate::robot_wire`). The printed spec is ambiguous for the right/left policies; this
 /// follows PROTOCOL.md section 5 erratum 5 `[inferred]`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum ArmPolicy {

@@ -346,7 +346,7 @@ impl PendantApp {
                 repaint_ctx.request_repaint_after(LINK_REPAINT);
             }
         });
-        let polls = crate::pendant::state::poll_commands();
+        let polls = crate::pendant::controller::poll_commands();
         match Session::open(&settings, &model, polls, repaint, &self.line_owner) {
             Ok(session) => self.session = Some(session),
             Err(e) => self.pendant.connect_failed(e, now),

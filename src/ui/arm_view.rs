@@ -10,7 +10,7 @@ use egui::{Color32, RichText, Sense, Ui};
 
 use super::arm_export::Export;
 use crate::pendant::jog::JogAxis;
-use crate::pendant::target::StepPreview;
+use crate::pendant::jog::target::StepPreview;
 use crate::pendant::{Intent, Pendant};
 use crate::protocol::Direction;
 use crate::render::{

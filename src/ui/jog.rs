@@ -10,8 +10,8 @@ use egui::{Button, ComboBox, DragValue, RichText, Ui};
 
 use super::pad::{self, PadOutput};
 use super::widgets::{AMBER, GREEN, RED, lamp, reserved_line};
+use crate::pendant::jog::speed_cap::{self, MAX_CAP_MM_S, REDUCED_SPEED_MM_S};
 use crate::pendant::jog::{MAX_STEP, STEP_LADDER};
-use crate::pendant::speed_cap::{self, MAX_CAP_MM_S, REDUCED_SPEED_MM_S};
 use crate::pendant::{Intent, Interpolation, JogMode, JogSettings, Pendant};
 use crate::protocol::ArmPolicy;
 use crate::robot::{JogFrame, RelativeTo};
@@ -70,7 +70,7 @@ impl JogPanel {
         reserved_line(ui, line.as_ref().map(|(c, t)| (*c, t.as_str())), None);
         let out = pad::show(ui, pendant, ready.is_ok() && latch.is_none(), &why);
         // The last word on a jog: one reserved line, cut to fit, the whole on hover.
-        let feedback = pendant.jog_feedback.as_ref();
+        let feedback = pendant.jog.feedback.as_ref();
         reserved_line(
             ui,
             feedback.map(|m| (super::widgets::level_color(m.level), m.text.as_str())),

@@ -19,7 +19,7 @@ pub fn step_until(h: &mut Harness<'_, PendantApp>, what: &str, done: impl Fn(&Pe
         assert!(
             Instant::now() < end,
             "timed out waiting for: {what}; last jog message: {:?}; messages: {:?}",
-            h.state().pendant().jog_feedback,
+            h.state().pendant().jog.feedback,
             h.state()
                 .pendant()
                 .messages

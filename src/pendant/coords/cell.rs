@@ -4,7 +4,7 @@
 use crate::protocol::Milli;
 use crate::robot::{CoordSystem, FrameKind};
 
-use super::super::teach_file::parse_milli;
+use crate::pendant::teach::file::parse_milli;
 
 /// A column of a coordinate table.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

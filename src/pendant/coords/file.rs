@@ -21,7 +21,7 @@ use serde_json::value::RawValue;
 use super::cell::{self, Column};
 use super::draft::Rows;
 use crate::files::coords_file;
-use crate::pendant::teach_file::FileError;
+use crate::pendant::teach::file::FileError;
 use crate::robot::{CoordSystem, CoordTables, FrameKind, RobotModel};
 
 /// The CSV header line.

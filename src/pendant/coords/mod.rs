@@ -13,7 +13,7 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use super::state::ReadTable;
+use super::controller::ReadTable;
 use super::{Level, Pendant, Request};
 use crate::protocol::{AxisPattern, CoordKind};
 use crate::robot::{CoordSystem, FrameKind};
@@ -301,7 +301,7 @@ impl Pendant {
         &mut self,
         bytes: &[u8],
         format: file::TableFormat,
-    ) -> Result<usize, crate::pendant::teach_file::FileError> {
+    ) -> Result<usize, crate::pendant::teach::file::FileError> {
         let (w, t) = (self.coords.work.rows().len(), self.coords.tool.rows().len());
         let pair = match format {
             file::TableFormat::Csv => file::from_csv(bytes, w, t)?,

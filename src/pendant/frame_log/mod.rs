@@ -9,6 +9,7 @@ mod entry;
 pub mod file;
 pub mod filter;
 mod packed;
+mod raw_send;
 mod row;
 
 use std::collections::VecDeque;

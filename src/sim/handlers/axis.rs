@@ -1,10 +1,10 @@
 //! Axis messages: 232H servo, 233H home, 234H/235H linear-axis moves, 236H jog/inching,
 //! 238H stop, 262H speed change.
 
-use crate::codes;
 use crate::protocol::{AxisMove, Direction, Home, Jog, JogMotion, Servo, SpeedChange, Stop};
 use crate::robot::G_MM_S2;
 use crate::robot::Trapezoid;
+use crate::robot_wire;
 use crate::sim::controller::Controller;
 use crate::sim::errors::SimError;
 use crate::sim::motion::{Motion, MotionKind, Plan};
@@ -192,7 +192,7 @@ impl Controller {
             JogMotion::Joint { acc, dec, speed } => (acc.0, dec.0, speed.0),
         };
         if pattern & SCARA != 0 {
-            let frame = codes::jog_frame(&j.motion);
+            let frame = robot_wire::jog_frame(&j.motion);
             self.scara_jog(pattern, [speed, accel, decel], inching, positive, frame)?;
         } else {
             // A linear axis jogs in its own (each-axis) system: no homing needed.

@@ -3,12 +3,12 @@
 //! checked by the robot layer's motion generator.
 
 use super::axis::{AT_LIMIT, LINEAR, SCARA};
-use crate::codes;
 use crate::protocol::{Milli, ScaraMotion, ScaraMove, ScaraPositionMove};
 use crate::robot::{
     ArmPolicy, CpMove, CpParams, DEFAULT_CHECK_SPACING_MM, IkError, JogFrame, Joints, MoveError,
     Pose, PtpMove, PtpParams, jog_delta_to_work,
 };
+use crate::robot_wire;
 use crate::sim::controller::Controller;
 use crate::sim::errors::SimError;
 use crate::sim::motion::{MotionKind, Plan};
@@ -46,7 +46,7 @@ fn op_type(m: &ScaraMotion) -> (Option<ArmPolicy>, [u16; 3]) {
             acc, dec, speed, ..
         } => [speed.0, acc.0, dec.0],
     };
-    (codes::arm_policy(m), rates)
+    (robot_wire::arm_policy(m), rates)
 }
 
 impl Controller {

@@ -10,8 +10,8 @@
 use std::collections::BTreeMap;
 use std::time::Instant;
 
-use super::jog::JogAxis;
-use super::readiness::NotReady;
+use super::plan::JogAxis;
+use crate::pendant::controller::readiness::NotReady;
 use crate::protocol::Direction;
 
 /// A jog button: an axis and a direction.

@@ -4,13 +4,13 @@
 
 use std::time::Instant;
 
-use super::{Level, Pendant, Request, name};
 use crate::link::LinkEvent;
+use crate::pendant::{Level, Pendant, Request, name};
 use crate::protocol::{Command, Frame, ScMode, checksum};
 
 impl Pendant {
     /// Records traffic (frames, garbage, time-outs, left-out counts) in the frame log.
-    pub(super) fn log_traffic(&mut self, now: Instant, event: &LinkEvent) {
+    pub(in crate::pendant) fn log_traffic(&mut self, now: Instant, event: &LinkEvent) {
         let log = &mut self.frame_log;
         match event {
             LinkEvent::FrameSent { bytes, at, .. } => log.sent(bytes, *at),

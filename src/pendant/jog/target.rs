@@ -5,8 +5,8 @@
 
 use std::time::{Duration, Instant};
 
-use super::jog::{self, JogAxis, PlannedStep, Refusal};
-use super::{Followed, Level, Pendant, Request};
+use super::plan::{self as jog, JogAxis, PlannedStep, Refusal};
+use crate::pendant::{Followed, Level, Pendant, Request};
 use crate::protocol::Direction;
 use crate::robot::{Joints, Pose, jog_delta_to_work, tip_in_work};
 
@@ -38,7 +38,7 @@ pub struct StepPreview {
 impl Pendant {
     /// The target set from the arm view, if any.
     pub fn step_target(&self) -> Option<&StepTarget> {
-        self.step_target.as_ref()
+        self.jog.step_target.as_ref()
     }
 
     /// Sets the target to the tool tip at `pose` in the selected work frame. Refused
@@ -51,7 +51,7 @@ impl Pendant {
                 now,
             );
         };
-        self.step_target = Some(StepTarget {
+        self.jog.step_target = Some(StepTarget {
             pose,
             work,
             tool,
@@ -69,7 +69,7 @@ impl Pendant {
 
     /// Edits the target's pose (the jog panel's fields); a pending confirmation lapses.
     pub fn edit_step_target(&mut self, pose: Pose) {
-        if let Some(t) = self.step_target.as_mut()
+        if let Some(t) = self.jog.step_target.as_mut()
             && t.pose != pose
         {
             t.pose = pose;
@@ -78,7 +78,7 @@ impl Pendant {
     }
 
     pub fn clear_step_target(&mut self) {
-        self.step_target = None;
+        self.jog.step_target = None;
     }
 
     /// The target's frames differ from the selected ones: the same numbers would mean
@@ -95,7 +95,7 @@ impl Pendant {
 
     /// What "Go to target" would do now.
     pub fn preview_target(&self, now: Instant) -> Option<StepPreview> {
-        let t = self.step_target.as_ref()?;
+        let t = self.jog.step_target.as_ref()?;
         let arm = self.arm_now(now).ok();
         let tip_base = arm.map_or(t.pose, |a| a.work.work_to_base(&t.pose));
         let plan = match (self.target_frames_changed(t), arm) {
@@ -118,7 +118,7 @@ impl Pendant {
         let arm = self.arm_now(now).ok();
         let tip_base = arm.map_or(pose, |a| a.work.work_to_base(&pose));
         let frames = self.controller.frame_numbers().and_then(|(work, tool)| {
-            super::teach::check_go(point, work, tool)
+            crate::pendant::teach::check_go(point, work, tool)
                 .err()
                 .map(|e| e.to_string())
         });
@@ -138,7 +138,7 @@ impl Pendant {
     /// "Go to target": 2D4H after the readiness, frame and move checks; an arm flip
     /// asks for a second press. The target stays set (a refused one can be edited).
     pub fn go_to_target(&mut self, now: Instant) {
-        let Some(t) = self.step_target.clone() else {
+        let Some(t) = self.jog.step_target.clone() else {
             return;
         };
         if !self.may_send_move("move", now) {
@@ -158,7 +158,7 @@ impl Pendant {
             .confirm
             .is_some_and(|at| now.duration_since(at) < CONFIRM_FOR);
         if plan.flips_arm && !confirmed {
-            if let Some(st) = self.step_target.as_mut() {
+            if let Some(st) = self.jog.step_target.as_mut() {
                 st.confirm = Some(now);
             }
             return self.jog_says(
@@ -171,14 +171,14 @@ impl Pendant {
             );
         }
         // Sent: the ghost now shows the move in progress.
-        self.step_target = None;
+        self.jog.step_target = None;
         self.requests.push(Request::Submit(plan.command));
         self.jog_says(
             Level::Info,
             format!("go to target X {:.3} Y {:.3}: sent", t.pose.x, t.pose.y),
             now,
         );
-        self.followed = Some(Followed {
+        self.jog.followed = Some(Followed {
             plan,
             accepted: None,
             stopped: None,
@@ -245,7 +245,7 @@ impl Pendant {
 
     /// The move in progress (sent and not yet ended), as a preview of its end.
     pub fn preview_followed(&self, now: Instant) -> Option<StepPreview> {
-        let f = self.followed.as_ref().filter(|f| f.stopped.is_none())?;
+        let f = self.jog.followed.as_ref().filter(|f| f.stopped.is_none())?;
         if f.accepted.is_some() && self.motion_phase(now) == super::MotionPhase::Done {
             return None;
         }
@@ -319,12 +319,13 @@ mod tests {
         p.go_to_target(now);
         assert!(submitted(&mut p).is_empty());
         let said = p
-            .jog_feedback
+            .jog
+            .feedback
             .as_ref()
             .map(|m| m.text.clone())
             .unwrap_or_default();
         assert_eq!(said, "refused: target out of reach", "one short sentence");
-        let detail = p.jog_feedback.as_ref().and_then(|m| m.detail.clone());
+        let detail = p.jog.feedback.as_ref().and_then(|m| m.detail.clone());
         assert!(
             detail.is_some_and(|d| d.starts_with("refused: out of reach") && d.contains(" mm")),
             "the details are kept for the hover"

@@ -1,8 +1,12 @@
 //! The teach list: named poses recorded from the arm, kept in order, replayed with 2D4H.
 //!
 //! Positions stay in the wire's integers (0.001 mm, 0.001 deg) from the status reply to the
-//! file and back to the move command, so nothing drifts. Files live in
-//! [`super::teach_file`].
+//! file and back to the move command, so nothing drifts. Files (CSV, JSON) live in
+//! [`file`] and `json`; the list with its pending load and Undo in [`book`].
+
+pub mod book;
+pub mod file;
+mod json;
 
 use std::fmt;
 
@@ -41,22 +45,19 @@ pub struct TaughtPose {
 #[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct TeachPoint {
     /// Unique within its list, trimmed, 1 to 32 characters, no control characters.
-    #[serde(deserialize_with = "super::teach_json::de_name")]
+    #[serde(deserialize_with = "json::de_name")]
     pub name: String,
     /// Work X, Y, Z in 0.001 mm and R in 0.001 deg (wire units).
-    #[serde(deserialize_with = "super::teach_json::de_pose")]
+    #[serde(deserialize_with = "json::de_pose")]
     pub pose: [i32; 4],
     /// The arm system the point was taught in (`right`, `left`, `undetermined` in files).
-    #[serde(
-        serialize_with = "super::teach_json::ser_arm",
-        deserialize_with = "super::teach_json::de_arm"
-    )]
+    #[serde(serialize_with = "json::ser_arm", deserialize_with = "json::de_arm")]
     pub arm: ArmSystem,
     /// The work coordinate system number it was taught in (0-31).
-    #[serde(deserialize_with = "super::teach_json::de_work")]
+    #[serde(deserialize_with = "json::de_work")]
     pub work: u8,
     /// The tool coordinate system number it was taught in (0-127).
-    #[serde(deserialize_with = "super::teach_json::de_tool")]
+    #[serde(deserialize_with = "json::de_tool")]
     pub tool: u8,
 }
 
@@ -189,7 +190,7 @@ fn check_frames(work: u8, tool: u8) -> Result<(), TeachError> {
 #[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct TeachList {
-    #[serde(deserialize_with = "super::teach_json::de_points")]
+    #[serde(deserialize_with = "json::de_points")]
     points: Vec<TeachPoint>,
 }
 
@@ -455,5 +456,4 @@ pub fn parse_arm_word(word: &str) -> Option<ArmSystem> {
 }
 
 #[cfg(test)]
-#[path = "teach_tests.rs"]
 mod tests;

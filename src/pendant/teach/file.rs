@@ -17,7 +17,7 @@
 use std::collections::HashMap;
 use std::fmt;
 
-use super::teach::{
+use super::{
     MAX_FRAME_NUMBER, MAX_POINTS, TeachList, TeachPoint, arm_word, check_name, parse_arm_word,
 };
 use crate::protocol::Milli;
@@ -485,5 +485,5 @@ fn parse_frame(text: &str, what: &str, max: u8) -> Result<u8, String> {
 }
 
 #[cfg(test)]
-#[path = "teach_file_tests.rs"]
+#[path = "file_tests.rs"]
 mod tests;

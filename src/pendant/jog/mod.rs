@@ -1,11 +1,57 @@
-//! The pendant's motion intents: jog steps (planned and checked), continuous jogs on a
-//! lease, moves to taught points, and the motion phase the lamps show.
+//! Jogging: the planner ([`plan`]), hold-to-run and the STOP latch ([`hold`]), the step
+//! target ([`target`]), the jog speed cap ([`speed_cap`]), and here the pendant's motion
+//! intents: jog steps (planned and checked), continuous jogs on a lease, moves to taught
+//! points, and the motion phase the lamps show.
+
+pub mod hold;
+pub mod plan;
+pub mod speed_cap;
+pub mod target;
 
 use std::time::Instant;
 
-use super::hold::{HeldJog, HoldAction, JogInput, JogTarget, Press, StopCause};
-use super::jog::{self, JogAxis, JogMode, JogSettings, PlannedStep, Refusal};
-use super::{CONFIRM_FOR, Followed, Level, MotionPhase, Pendant, Request, speed_cap};
+pub use plan::*;
+
+use self::hold::{HeldJog, HoldAction, HoldMachine, JogInput, JogTarget, Press, StopCause};
+use crate::pendant::Message;
+use crate::robot::Joints;
+
+/// Jogging's own state: the jog inputs down and the STOP latch, the move the pendant
+/// follows, the command position, an arm flip waiting for its second press, the step
+/// target, the speed cap, and the last word beside the pad.
+#[derive(Debug)]
+pub struct JogState {
+    /// The last word on a jog button: the refusal or the controller's answer.
+    pub feedback: Option<Message>,
+    /// Hold-to-run: the jog inputs down, the jog they drive, the STOP latch.
+    pub(super) hold: HoldMachine,
+    /// The jog speed cap at the tool, mm/s (not saved: a restart brings back the
+    /// reduced speed).
+    pub(super) speed_cap_mm_s: f64,
+    pub(super) followed: Option<Followed>,
+    /// End of the last accepted move (joints): the "command position".
+    pub(super) command_position: Option<Joints>,
+    /// A step that flips the arm, waiting for a second press until then.
+    pub(super) confirm: Option<(JogAxis, crate::protocol::Direction, Instant)>,
+    /// The target filled in from the arm view ("step here"), moved to only on "Go".
+    pub(super) step_target: Option<target::StepTarget>,
+}
+
+impl Default for JogState {
+    fn default() -> Self {
+        Self {
+            feedback: None,
+            hold: HoldMachine::default(),
+            speed_cap_mm_s: speed_cap::REDUCED_SPEED_MM_S,
+            followed: None,
+            command_position: None,
+            confirm: None,
+            step_target: None,
+        }
+    }
+}
+use self::plan as jog;
+use super::{CONFIRM_FOR, Followed, Level, MotionPhase, Pendant, Request};
 use crate::protocol::Direction;
 use crate::robot::{Move, in_position};
 
@@ -19,13 +65,13 @@ impl Pendant {
         let joints = c.joint_position().ok_or(Refusal::NoPosition)?;
         let work = c.work_frame().ok_or(Refusal::NoTable("work"))?;
         let tool = c.tool_frame().ok_or(Refusal::NoTable("tool"))?;
-        let target = self.followed.as_ref().and_then(|f| {
+        let target = self.jog.followed.as_ref().and_then(|f| {
             let t = now.saturating_duration_since(f.accepted?).as_secs_f64();
             Some(f.plan.profile.sample(t).joints)
         });
         Ok(jog::ArmNow {
             joints,
-            command: self.command_position,
+            command: self.jog.command_position,
             target,
             work,
             tool,
@@ -51,7 +97,12 @@ impl Pendant {
             self.jog_says(Level::Warning, format!("not sent: {why}"), now);
             return false;
         }
-        if self.followed.as_ref().is_some_and(|f| f.accepted.is_none()) {
+        if self
+            .jog
+            .followed
+            .as_ref()
+            .is_some_and(|f| f.accepted.is_none())
+        {
             self.jog_says(
                 Level::Warning,
                 format!("not sent: the previous {what} is still waiting for its reply"),
@@ -82,7 +133,7 @@ impl Pendant {
             Ok(plan) => {
                 self.requests.push(Request::Submit(plan.command));
                 self.jog_says(Level::Info, format!("go to \"{}\": sent", point.name), now);
-                self.followed = Some(Followed {
+                self.jog.followed = Some(Followed {
                     plan,
                     accepted: None,
                     stopped: None,
@@ -135,11 +186,11 @@ impl Pendant {
             Ok(plan) => plan,
             Err(why) => return self.jog_refused(&why, now),
         };
-        let confirmed = self.confirm.take().is_some_and(|(a, d, at)| {
+        let confirmed = self.jog.confirm.take().is_some_and(|(a, d, at)| {
             a == axis && d == dir && now.duration_since(at) < CONFIRM_FOR
         });
         if plan.flips_arm && !confirmed {
-            self.confirm = Some((axis, dir, now));
+            self.jog.confirm = Some((axis, dir, now));
             return self.jog_says(
                 Level::Warning,
                 format!(
@@ -163,7 +214,7 @@ impl Pendant {
             ),
             now,
         );
-        self.followed = Some(Followed {
+        self.jog.followed = Some(Followed {
             plan,
             accepted: None,
             stopped: None,
@@ -172,7 +223,7 @@ impl Pendant {
 
     /// One jog input's state this frame (the hold-to-run machine decides what it means).
     pub(super) fn jog_input(&mut self, input: JogInput, press: Press, now: Instant) {
-        match self.hold.report(input, press) {
+        match self.jog.hold.report(input, press) {
             HoldAction::None => {}
             HoldAction::Press(target) => match self.settings.jog.mode {
                 JogMode::Step => self.jog_step(target.axis, target.direction, now),
@@ -205,15 +256,15 @@ impl Pendant {
         }
         let command = jog::continuous_jog(&self.jog_sent(), target.axis, target.direction);
         self.requests.push(Request::Submit(command));
-        self.hold.started(input, target, now);
-        self.followed = None;
-        self.command_position = None;
+        self.jog.hold.started(input, target, now);
+        self.jog.followed = None;
+        self.jog.command_position = None;
         self.jog_says(Level::Info, format!("jogging {}", target.label()), now);
     }
 
     /// The window lost focus: it cannot see a key or button come up, so the jog stops.
     pub(super) fn focus_lost(&mut self, now: Instant) {
-        if self.hold.focus_lost().is_some() {
+        if self.jog.hold.focus_lost().is_some() {
             self.requests.push(Request::Stop);
             self.jog_says(
                 Level::Info,
@@ -225,17 +276,17 @@ impl Pendant {
 
     /// The continuous jog running on a held input.
     pub fn held_jog(&self) -> Option<HeldJog> {
-        self.hold.jog()
+        self.jog.hold.jog()
     }
 
     /// The control `input` is held on now, if any (the pad lights it).
     pub fn held_on(&self, input: JogInput) -> Option<JogTarget> {
-        self.hold.on(input)
+        self.jog.hold.on(input)
     }
 
     /// The STOP latch beside the pad: "STOP (Esc): release the jog controls".
     pub fn stop_latch(&self) -> Option<String> {
-        self.hold.latch_text()
+        self.jog.hold.latch_text()
     }
 
     /// New jog choices; a refusal or an armed confirmation made under the old ones goes.
@@ -244,24 +295,25 @@ impl Pendant {
             return;
         }
         self.settings.jog = settings;
-        self.confirm = None;
+        self.jog.confirm = None;
         if self
-            .jog_feedback
+            .jog
+            .feedback
             .as_ref()
             .is_some_and(|m| m.level != Level::Info)
         {
-            self.jog_feedback = None;
+            self.jog.feedback = None;
         }
     }
 
     /// The jog settings as they go on the line: speeds within the cap.
     pub fn jog_sent(&self) -> JogSettings {
-        speed_cap::apply(&self.settings.jog, &self.model, self.speed_cap_mm_s)
+        speed_cap::apply(&self.settings.jog, &self.model, self.jog.speed_cap_mm_s)
     }
 
     /// The jog speed cap at the tool, mm/s.
     pub fn speed_cap(&self) -> f64 {
-        self.speed_cap_mm_s
+        self.jog.speed_cap_mm_s
     }
 
     /// Raises (or lowers) the cap until the window closes; a raise is said in Messages.
@@ -270,7 +322,7 @@ impl Pendant {
             return;
         }
         let mm_s = mm_s.min(speed_cap::MAX_CAP_MM_S);
-        self.speed_cap_mm_s = mm_s;
+        self.jog.speed_cap_mm_s = mm_s;
         self.say(
             Level::Warning,
             format!("jog speed cap set to {mm_s:.0} mm/s at the tool until the window closes"),
@@ -280,7 +332,7 @@ impl Pendant {
 
     /// Back to the reduced jog speed.
     pub(super) fn reset_speed_cap(&mut self, now: Instant) {
-        self.speed_cap_mm_s = speed_cap::REDUCED_SPEED_MM_S;
+        self.jog.speed_cap_mm_s = speed_cap::REDUCED_SPEED_MM_S;
         self.say(
             Level::Info,
             format!(
@@ -293,10 +345,10 @@ impl Pendant {
 
     /// The motion phase of the move being followed.
     pub fn motion_phase(&self, now: Instant) -> MotionPhase {
-        if self.hold.jog().is_some() {
+        if self.jog.hold.jog().is_some() {
             return MotionPhase::Jogging;
         }
-        let Some(f) = &self.followed else {
+        let Some(f) = &self.jog.followed else {
             return MotionPhase::Idle;
         };
         let Some(at) = f.accepted else {
@@ -328,22 +380,23 @@ impl Pendant {
     /// polled joints say.
     pub fn in_position(&self) -> Option<bool> {
         let actual = self.controller.joint_position()?;
-        if self.hold.jog().is_some() {
+        if self.jog.hold.jog().is_some() {
             return Some(false);
         }
         let now_moving = self
+            .jog
             .followed
             .as_ref()
             .is_some_and(|f| f.stopped.is_none() && f.accepted.is_none());
         if now_moving {
             return Some(false);
         }
-        let command = self.command_position.unwrap_or(actual);
+        let command = self.jog.command_position.unwrap_or(actual);
         Some(in_position(&actual, &command, &self.model.in_position))
     }
 
     /// The planned move being followed, for the arm view's ghost.
     pub fn followed_move(&self) -> Option<&Move> {
-        self.followed.as_ref().map(|f| &f.plan.profile)
+        self.jog.followed.as_ref().map(|f| &f.plan.profile)
     }
 }

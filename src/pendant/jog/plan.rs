@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::teach::{TeachPoint, go_command};
+use crate::pendant::teach::{TeachPoint, go_command};
 use crate::protocol::{
     ArmPolicy as WirePolicy, Axis, AxisPattern, CentiG, Command, Direction, Jog, JogMotion, Milli,
     MmPerSec, PerAxis, Percent, ScaraMotion, ScaraMove,

@@ -1,6 +1,9 @@
 //! What the pendant knows of the controller: the latest status of each kind with its
 //! time, the positions in work, base and joint coordinates, and the coordinate tables.
 
+pub mod readiness;
+pub(super) mod transitions;
+
 use std::time::{Duration, Instant};
 
 use crate::protocol::{

@@ -9,10 +9,10 @@ use serde::de::{Error as _, SeqAccess, Visitor};
 use serde::{Deserialize, Deserializer, Serializer};
 use serde_json::value::RawValue;
 
-use super::teach::{
+use super::file::{FileError, not_utf8, shown, too_many};
+use super::{
     MAX_FRAME_NUMBER, MAX_POINTS, TeachList, TeachPoint, arm_word, check_name, parse_arm_word,
 };
-use super::teach_file::{FileError, not_utf8, shown, too_many};
 use crate::protocol::ArmSystem;
 
 impl TeachList {

@@ -4,8 +4,8 @@
 
 use std::time::Instant;
 
-use super::teach::TeachList;
-use super::{Level, Pendant};
+use super::TeachList;
+use crate::pendant::{Level, Pendant};
 
 /// A file's points read and checked, waiting for "Replace".
 #[derive(Clone, Debug, PartialEq)]

@@ -2,7 +2,7 @@
 //! jog, taught-point Go and Go to target. Format B works only in AUTO mode, where the
 //! controller applies no safety speed of its own (PROTOCOL.md), so the pendant does.
 
-use super::jog::JogSettings;
+use super::plan::JogSettings;
 use crate::robot::RobotModel;
 
 /// The default cap, mm/s at the tool centre point: ISO 10218-1's reduced speed.

@@ -1,7 +1,7 @@
 //! What changed between two polls that an operator must hear of: E-stop, alarm, drive
 //! source, mode, servo and homing. Each change becomes one line in Messages.
 
-use super::Level;
+use crate::pendant::Level;
 use crate::protocol::{AxisState, HomeState, PerAxis, SystemMode, SystemStatus};
 
 /// The lines for a new 215H after `old` (none for the first one read).
