@@ -1,10 +1,10 @@
 //! The continuous jog's lease (dead man's switch): its caller renews it while the button
 //! is held; when it is not renewed in time the core stops the jog by itself.
 //!
-//! Renewal is an atomic timestamp ([`LeaseClock`]), not a channel message: the window
+//! Renewal is an atomic timestamp (`LeaseClock`), not a channel message: the window
 //! renews every frame, and a renewal must neither queue up behind other messages nor cost
 //! an allocation. The driver reads the clock and hands the core the instant
-//! ([`super::core::Input::LeaseRenewed`]); the core's [`JogLease`] is plain state.
+//! ([`super::core::Input::LeaseRenewed`]); the core's `JogLease` is plain state.
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};

@@ -1,9 +1,7 @@
 //! Every example frame of PROTOCOL.md 6.3 decodes to its meaning, and the computed-SC
 //! frames re-encode byte for byte from their typed form; negative coordinates are exact.
 
-mod vectors;
-
-use vectors::*;
+use crate::vectors::*;
 use xsel_pendant::protocol::*;
 
 // ---------------------------------------------------------------- 6.3

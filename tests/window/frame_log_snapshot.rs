@@ -6,8 +6,7 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use xsel_pendant::ui::{PendantApp, StartOptions};
 
-mod wire;
-use wire::frame as framed;
+use crate::wire::frame as framed;
 
 #[test]
 fn frame_log_pane() {

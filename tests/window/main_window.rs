@@ -11,8 +11,7 @@ use xsel_pendant::protocol::HomeState;
 use xsel_pendant::sim::runner::Dir;
 use xsel_pendant::ui::{PendantApp, StartOptions};
 
-mod kittest_common;
-use kittest_common::{DEADLINE, alarm_code, click, replace_text, show_tab, step_until};
+use crate::kittest_common::{DEADLINE, alarm_code, click, replace_text, show_tab, step_until};
 
 fn app<'a>() -> Harness<'a, PendantApp> {
     Harness::builder()

@@ -1,11 +1,9 @@
 //! The link engine against the simulator: over the embedded pipe and a real
 //! pseudo-terminal, with STOP, lost lines and table downloads.
 
-mod common;
-
 use std::time::{Duration, Instant};
 
-use common::*;
+use crate::common::*;
 use xsel_pendant::link::{
     LineSettings, LinkConfig, LinkEvent, Origin, Polling, Priority, TableRequest,
 };

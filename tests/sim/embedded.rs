@@ -11,8 +11,7 @@ use xsel_pendant::sim::framing::Silence;
 use xsel_pendant::sim::runner::{Dir, format_entry};
 use xsel_pendant::sim::{EmbeddedOptions, Fault, FaultSpec, Mode, start_embedded};
 
-mod wire;
-use wire::frame;
+use crate::wire::frame;
 
 /// Generous: a deadline only bounds how long a failing test waits.
 const PATIENCE: Duration = Duration::from_secs(5);

@@ -1,9 +1,7 @@
 //! The frames of PROTOCOL.md 6.1 and 6.2 (observed in real host code) decode to the
 //! meaning given there; malformed ones are reported as such.
 
-mod vectors;
-
-use vectors::*;
+use crate::vectors::*;
 use xsel_pendant::protocol::*;
 
 // ---------------------------------------------------------------- 6.1

@@ -1,11 +1,9 @@
 //! STOP survives every way out: explicit shutdown, dropping the handle (mid-jog, right
 //! after `stop_all`, with the line down), and a jog whose lease is not renewed.
 
-mod common;
-
 use std::time::{Duration, Instant};
 
-use common::*;
+use crate::common::*;
 use xsel_pendant::link::{
     LinkConfig, LinkEvent, NotSentReason, Origin, Priority, ShutdownReport, StopOutcome,
 };

@@ -1,14 +1,12 @@
 //! The real `xsel-sim` binary under bad input: bad options, and closed stdout and stderr
 //! (it keeps serving with logging off).
 
-mod bin_common;
-
 use std::io::{Read, Write};
 use std::net::TcpStream;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use bin_common::*;
+use crate::bin_common::*;
 
 #[test]
 fn every_bad_option_exits_2_with_one_line_naming_it() {

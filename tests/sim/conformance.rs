@@ -10,8 +10,7 @@ use serialport::TTYPort;
 use xsel_pendant::sim::runner::{PtyServer, RunOptions, SimCore, start_pty};
 use xsel_pendant::sim::{Controller, FaultSpec, Mode, SimSetup};
 
-mod wire;
-use wire::{frame, sc};
+use crate::wire::{frame, sc};
 
 struct Client {
     port: TTYPort,

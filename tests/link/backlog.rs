@@ -1,11 +1,9 @@
 //! A reader that stops reading: the event backlog stays bounded, traffic is left out and
 //! counted exactly, and replies, line state and health are never left out.
 
-mod common;
-
 use std::time::Duration;
 
-use common::*;
+use crate::common::*;
 use xsel_pendant::link::{LinkConfig, LinkEvent, Origin, Polling};
 use xsel_pendant::protocol::Command;
 use xsel_pendant::sim::FaultSpec;

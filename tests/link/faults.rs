@@ -1,11 +1,9 @@
 //! The link's safety rules when the line misbehaves: motion never re-sent, late replies
 //! never credited to a move, a jog stopped when the line stalls, lost and regained lines.
 
-mod common;
-
 use std::time::{Duration, Instant};
 
-use common::*;
+use crate::common::*;
 use xsel_pendant::link::{LinkConfig, LinkEvent, Origin, Priority};
 use xsel_pendant::protocol::{
     Axis, AxisPattern, CentiG, Command, Direction, Jog, JogFrame, JogMotion, Milli, MmPerSec, Reply,

@@ -7,8 +7,7 @@ use std::time::Duration;
 
 use xsel_pendant::sim::{Controller, SimSetup};
 
-mod wire;
-use wire::{frame, sc};
+use crate::wire::{frame, sc};
 
 fn i32hex(v: i32) -> String {
     format!("{:08X}", v as u32)

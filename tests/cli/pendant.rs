@@ -1,8 +1,6 @@
 //! The real `xsel-pendant` binary under bad input: bad flags, a line that cannot be opened,
 //! a closed stdout, a peer that floods bytes, a line that goes down under `--watch`.
 
-mod bin_common;
-
 use std::io::Write;
 use std::net::TcpListener;
 use std::process::{Command, Stdio};
@@ -10,7 +8,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use bin_common::*;
+use crate::bin_common::*;
 
 #[cfg(windows)]
 const MISSING_PORT: &str = "COM199";

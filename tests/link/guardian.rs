@@ -20,8 +20,7 @@ use xsel_pendant::session::{LineOwner, Session};
 use xsel_pendant::sim::runner::{RunOptions, SimCore, TcpServer, start_tcp};
 use xsel_pendant::sim::{Controller, FaultSpec};
 
-mod common;
-use common::{
+use crate::common::{
     answered, eventually, ids_received, jog_x, ready_setup, stop_follows_last_jog, wait_for,
 };
 
@@ -110,7 +109,7 @@ impl Window {
         let mut child = Process::new(std::env::current_exe().expect("the test binary"))
             .args([
                 "--exact",
-                "window_process",
+                "guardian::window_process",
                 "--nocapture",
                 "--test-threads=1",
             ])

@@ -2,12 +2,10 @@
 //! into 10% of its replies. Nothing panics or hangs, every fault shows up as an event,
 //! and the controller receives exactly the motion commands that were submitted.
 
-mod common;
-
 use std::collections::HashSet;
 use std::time::{Duration, Instant};
 
-use common::*;
+use crate::common::*;
 use xsel_pendant::link::{LinkConfig, LinkEvent, NotSentReason, Polling, Priority};
 use xsel_pendant::protocol::{AxisPattern, Command, PositionSystem, ScaraStatusQuery};
 use xsel_pendant::sim::{Fault, FaultSpec};

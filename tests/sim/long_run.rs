@@ -8,8 +8,7 @@ use xsel_pendant::protocol::{Frame, Reply};
 use xsel_pendant::sim::faults::SplitMix64;
 use xsel_pendant::sim::{Controller, Mode, SimSetup};
 
-mod wire;
-use wire::sc;
+use crate::wire::sc;
 
 fn pick<'a>(rng: &mut SplitMix64, items: &[&'a str]) -> &'a str {
     items[rng.range(0, items.len())]

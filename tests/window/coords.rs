@@ -16,8 +16,7 @@ use xsel_pendant::sim::runner::Dir;
 use xsel_pendant::sim::{Fault, FaultSpec};
 use xsel_pendant::ui::{PendantApp, StartOptions};
 
-mod kittest_common;
-use kittest_common::{click, replace_text, show_tab, step_until, step_until_shown};
+use crate::kittest_common::{click, replace_text, show_tab, step_until, step_until_shown};
 
 fn app<'a>() -> Harness<'a, PendantApp> {
     Harness::builder()

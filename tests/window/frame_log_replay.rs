@@ -9,8 +9,7 @@ use xsel_pendant::pendant::frame_log::{Dir, FrameLog};
 use xsel_pendant::robot::RobotModel;
 use xsel_pendant::sim::{Controller, SimSetup};
 
-mod wire;
-use wire::frame as framed;
+use crate::wire::frame as framed;
 
 /// A capture made against one simulator: servo on, home, status reads, a step.
 fn capture() -> FrameLog {

@@ -13,11 +13,9 @@ use xsel_pendant::sim::runner::Dir as SimDir;
 use xsel_pendant::sim::{Fault, FaultSpec};
 use xsel_pendant::ui::{PendantApp, StartOptions};
 
-mod kittest_common;
-use kittest_common::{click, replace_text, step_until, step_until_shown, type_into};
+use crate::kittest_common::{click, replace_text, step_until, step_until_shown, type_into};
 
-mod wire;
-use wire::frame as framed;
+use crate::wire::frame as framed;
 
 fn app<'a>() -> Harness<'a, PendantApp> {
     // Tall enough that the frame log, under the arm view by default, shows its tools and

@@ -3,7 +3,7 @@
 use xsel_pendant::robot::{ModelError, RobotModel};
 use xsel_pendant::session::load_model;
 
-const GOOD: &str = include_str!("../assets/robots/scara-500.toml");
+const GOOD: &str = include_str!("../../assets/robots/scara-500.toml");
 
 /// Replaces the first line that starts with `prefix` inside section `[section]`.
 fn edit(section: &str, prefix: &str, replacement: &str) -> (String, usize) {

@@ -8,8 +8,7 @@ use egui_kittest::kittest::Queryable;
 use xsel_pendant::pendant::NotReady;
 use xsel_pendant::ui::{PendantApp, StartOptions};
 
-mod kittest_common;
-use kittest_common::{alarm_code, click, show_tab, step_until};
+use crate::kittest_common::{alarm_code, click, show_tab, step_until};
 
 #[test]
 fn pressing_e_stop_in_the_simulator_panel_shows_e_stop_and_disables_motion() {

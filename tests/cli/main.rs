@@ -1,0 +1,10 @@
+//! The binaries as processes: the pendant's and the simulator's flags, headless PNG rendering.
+//!
+//! One test binary for the group: each links the whole app, so fewer binaries build faster.
+
+#[path = "../bin_common/mod.rs"]
+mod bin_common;
+
+mod pendant;
+mod render_png;
+mod sim;

@@ -1,0 +1,14 @@
+//! The link over real lines and threads (smoke tests beside the core's virtual-clock tests) and the guardian process.
+//!
+//! One test binary for the group: each links the whole app, so fewer binaries build faster.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod backlog;
+mod faults;
+mod guardian;
+mod probe;
+mod shutdown;
+mod soak;
+mod with_sim;

@@ -1,0 +1,12 @@
+//! The simulated X-SEL: conformance over a pty, the embedded pipe, lines, long runs, stand-in hosts.
+//!
+//! One test binary for the group: each links the whole app, so fewer binaries build faster.
+
+#[path = "../wire/mod.rs"]
+mod wire;
+
+mod conformance;
+mod embedded;
+mod lines;
+mod long_run;
+mod stand_in;

@@ -1,0 +1,16 @@
+//! The whole app driven headless with egui_kittest: the window, its panes, snapshots, the frame log.
+//!
+//! One test binary for the group: each links the whole app, so fewer binaries build faster.
+
+#[path = "../kittest_common/mod.rs"]
+mod kittest_common;
+#[path = "../wire/mod.rs"]
+mod wire;
+
+mod coords;
+mod frame_log;
+mod frame_log_replay;
+mod frame_log_snapshot;
+mod main_window;
+mod simulator;
+mod snapshots;
