@@ -11,8 +11,9 @@ use std::time::{Duration, Instant};
 
 use common::*;
 use criterion::{Criterion, criterion_group, criterion_main};
+use xsel_pendant::line::LineSettings;
 use xsel_pendant::link::timing::Timing;
-use xsel_pendant::link::{LineSettings, LinkEvent, TableRequest};
+use xsel_pendant::link::{LinkEvent, TableRequest};
 use xsel_pendant::pendant::coords::diff;
 use xsel_pendant::protocol::{AxisPattern, CoordKind};
 use xsel_pendant::robot::CoordSystem;

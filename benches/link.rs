@@ -8,8 +8,9 @@ mod common;
 use std::time::{Duration, Instant};
 
 use common::*;
+use xsel_pendant::line::LineSettings;
 use xsel_pendant::link::timing::Timing;
-use xsel_pendant::link::{LineSettings, LinkConfig, LinkEvent, Polling, Priority};
+use xsel_pendant::link::{LinkConfig, LinkEvent, Polling, Priority};
 use xsel_pendant::protocol::{
     AxisPattern, Command, PositionSystem, ScMode, ScaraStatusQuery, Station,
 };

@@ -2,8 +2,7 @@
 
 use clap::Parser;
 
-use crate::link::line::LineSettingsError;
-use crate::link::{LineSettings, Parity};
+use crate::line::{LineSettings, LineSettingsError, Parity};
 use crate::pendant::{ConnectionSettings, LineKind};
 use crate::protocol::Station;
 use crate::robot::RobotModel;

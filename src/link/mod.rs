@@ -24,8 +24,6 @@ pub use event::LinkEvent;
 pub use format_b::{ShutdownReport, StopOutcome};
 pub use handle::{LinkConfig, LinkHandle, Repaint, spawn};
 pub use lease::{JOG_LEASE, RENEW_EVERY};
-// The line settings moved below `link` and `sim`; `link::line` keeps naming them.
-pub use crate::line::{self, LineSettings, Parity};
 pub use reason::{BadInput, IoFailure, LineDownReason, NotSentReason};
 pub use request::{Origin, Priority, RequestId};
 pub use schedule::Polling;

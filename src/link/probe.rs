@@ -11,9 +11,9 @@ use crossbeam_channel::Receiver;
 
 use super::core::{CoreEvent, Input, LineChange, LinkCore, Transmit};
 use super::driver::{self, Connector, DriverHandle};
-use super::line::LineSettings;
 use super::timing::Timing;
 use super::transport::{SerialTransport, Transport};
+use crate::line::LineSettings;
 use crate::protocol::Command;
 
 pub use classify::{Attempt, Outcome, classify};

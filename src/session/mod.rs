@@ -28,11 +28,9 @@ use std::time::Duration;
 use crossbeam_channel::Receiver;
 
 use crate::files;
-use crate::line::{ConnectionSettings, LineKind};
+use crate::line::{ConnectionSettings, LineKind, LineSettings};
 use crate::link::transport::{SerialTransport, StreamTransport, TcpTransport};
-use crate::link::{
-    Connector, LineSettings, LinkConfig, LinkEvent, LinkHandle, Polling, Repaint, Transport,
-};
+use crate::link::{Connector, LinkConfig, LinkEvent, LinkHandle, Polling, Repaint, Transport};
 use crate::link::{Priority, TableRequest};
 use crate::protocol::{AxisPattern, Command, CoordKind, ScMode};
 use crate::robot::RobotModel;

@@ -3,7 +3,7 @@
 use std::fmt;
 use std::io;
 
-use super::super::line::LineSettings;
+use crate::line::LineSettings;
 
 /// What ended a probe before its candidates were done (other than a cancel).
 #[derive(Clone, Debug, PartialEq, Eq)]

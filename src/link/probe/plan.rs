@@ -3,9 +3,9 @@
 use std::fmt;
 use std::time::Duration;
 
-use super::super::line::{LineSettings, Parity};
 use super::super::timing::Timing;
 use super::error::ProbeError;
+use crate::line::{LineSettings, Parity};
 use crate::protocol::{Command, ScMode, Station};
 
 /// Baud rates in the order they are tried: those observed in host programs first
@@ -227,8 +227,8 @@ impl ProbePlan {
 
 #[cfg(test)]
 mod tests {
-    use super::super::super::line::STANDARD_BAUDS;
     use super::*;
+    use crate::line::STANDARD_BAUDS;
 
     #[test]
     fn likely_bauds_are_the_standard_ones_most_likely_first() {
