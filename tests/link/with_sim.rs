@@ -4,9 +4,8 @@
 use std::time::{Duration, Instant};
 
 use crate::common::*;
-use xsel_pendant::link::{
-    LineSettings, LinkConfig, LinkEvent, Origin, Polling, Priority, TableRequest,
-};
+use xsel_pendant::line::LineSettings;
+use xsel_pendant::link::{LinkConfig, LinkEvent, Origin, Polling, Priority, TableRequest};
 use xsel_pendant::protocol::{Command, CoordKind, ErrorCode, Reply};
 use xsel_pendant::sim::FaultSpec;
 
