@@ -1,6 +1,8 @@
-//! Soak: 10,000 transactions through the link against the simulator injecting faults
-//! into 10% of its replies. Nothing panics or hangs, every fault shows up as an event,
-//! and the controller receives exactly the motion commands that were submitted.
+//! Soak, threaded: 1,000 transactions through the link driver, the pipe and the
+//! simulator's thread, injecting faults into 10% of the replies. Nothing panics or hangs,
+//! every fault shows up as an event, and the controller receives exactly the motion
+//! commands that were submitted. (Its twin of 10,000 transactions runs on the virtual
+//! clock in the link core's tests.)
 
 use std::collections::HashSet;
 use std::time::{Duration, Instant};
@@ -10,10 +12,10 @@ use xsel_pendant::link::{LinkConfig, LinkEvent, NotSentReason, Polling, Priority
 use xsel_pendant::protocol::{AxisPattern, Command, PositionSystem, ScaraStatusQuery};
 use xsel_pendant::sim::{Fault, FaultSpec};
 
-const TRANSACTIONS: usize = 10_000;
+const TRANSACTIONS: usize = 1_000;
 
 #[test]
-fn ten_thousand_transactions_with_ten_percent_faults() {
+fn a_thousand_transactions_with_ten_percent_faults() {
     let mut faults = FaultSpec::none()
         .with(Fault::Drop, 0.02)
         .with(Fault::Corrupt, 0.02)
@@ -136,7 +138,7 @@ fn ten_thousand_transactions_with_ten_percent_faults() {
         "moves held back because the line could not be proven in step: {motion_refused_out_of_step}"
     );
     assert!(
-        injected.total() >= 500,
+        injected.total() >= 50,
         "about 10% of replies were faulty: {injected:?}"
     );
     assert!(

@@ -995,3 +995,95 @@ fn a_failed_write_is_not_sent_and_the_line_is_lost() {
         }
     )));
 }
+
+/// The soak of tests/link/soak.rs on the virtual clock: 10,000 transactions against a
+/// simulator that spoils 10% of its replies. Every fault shows as an event, replies pair
+/// with their commands, and the controller receives exactly the moves that went out.
+#[test]
+fn ten_thousand_transactions_with_ten_percent_faults_on_the_virtual_clock() {
+    const TRANSACTIONS: usize = 10_000;
+    let mut faults = FaultSpec::none()
+        .with(Fault::Drop, 0.02)
+        .with(Fault::Corrupt, 0.02)
+        .with(Fault::Garbage, 0.02)
+        .with(Fault::Delay, 0.015)
+        .with(Fault::Truncate, 0.015)
+        .with(Fault::Stall, 0.01)
+        .seeded(20_261_121);
+    faults.delay = Duration::from_millis(40);
+    faults.stall = Duration::from_millis(40);
+    let mut config = LinkConfig {
+        polling: Polling {
+            interval: Some(Duration::ZERO),
+            commands: vec![Command::ScaraStatus(crate::protocol::ScaraStatusQuery {
+                axes: AxisPattern::SCARA_1,
+                system: crate::protocol::PositionSystem::Work,
+            })],
+        },
+        ..LinkConfig::default()
+    };
+    config.timing.margin = Duration::from_millis(15);
+    let mut bench = Bench::new(ready_setup(Duration::ZERO), faults, config);
+    let mut moves = Vec::new();
+    let mut step = 200;
+    let limit = bench.now + Duration::from_secs(3_600);
+    while bench.written.len() < TRANSACTIONS {
+        let before = bench.written.len();
+        assert!(bench.step(limit), "the link went quiet");
+        // A move about every 25 transactions, from the "user".
+        if bench.written.len() / 25 > before / 25 {
+            step = -step;
+            moves.push(bench.submit(step_x(step)));
+        }
+    }
+    // Every move answered (a time-out of a move is final) before the close.
+    while !moves.iter().all(|id| bench.answer_to(*id).is_some()) {
+        assert!(bench.step(limit), "a move was never answered");
+    }
+    bench.control(Control::SetPolling(Polling {
+        interval: None,
+        commands: Vec::new(),
+    }));
+    bench.close();
+    bench.run_for(Duration::from_secs(10));
+    assert!(bench.core.is_closed());
+    let (mut timeouts, mut garbage, mut checksum_errors, mut out_of_step) = (0, 0, 0, 0);
+    for e in &bench.events {
+        match e {
+            LinkEvent::Timeout { .. } => timeouts += 1,
+            LinkEvent::Garbage { error, .. } => {
+                garbage += 1;
+                checksum_errors += u64::from(error.is_checksum());
+            }
+            LinkEvent::NotSent { id, reason, .. } => {
+                assert!(moves.contains(id), "only moves may be held back: {reason}");
+                assert_eq!(*reason, NotSentReason::OutOfStep);
+                out_of_step += 1;
+            }
+            LinkEvent::Reply { command, reply, .. } => {
+                assert_eq!(reply.id(), Some(command.id()), "a reply paired wrongly");
+            }
+            LinkEvent::Disconnected { reason } => panic!("the line was lost: {reason}"),
+            _ => {}
+        }
+    }
+    let injected = bench.sim.faults.counts();
+    assert!(injected.total() >= 800, "about 10% of replies spoilt: {injected:?}");
+    assert!(
+        timeouts >= injected.drop + injected.delay + injected.stall,
+        "every lost, late or stalled reply is a time-out: {timeouts} vs {injected:?}"
+    );
+    assert!(checksum_errors >= injected.corrupt, "{checksum_errors} vs {injected:?}");
+    assert!(timeouts + garbage >= injected.total());
+    let moves_sent = bench
+        .written
+        .iter()
+        .filter(|(_, f)| f.starts_with(b"!992D5"))
+        .count() as u64;
+    assert_eq!(
+        moves_sent + out_of_step,
+        moves.len() as u64,
+        "each move went out once, or was refused and said so"
+    );
+    assert_eq!(bench.sim.controller.counters().motion_received, moves_sent);
+}
