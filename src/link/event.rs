@@ -66,6 +66,8 @@ pub enum LinkEvent {
         command: Command,
         retrying: bool,
         recheck: Option<RequestId>,
+        /// When the reply's time ran out (the frame log puts the row there).
+        at: Instant,
     },
     /// The line was lost while the request waited for its reply: it may or may not have
     /// been carried out. A `Disconnected` follows.

@@ -279,7 +279,7 @@ impl Pendant {
 
     /// Applies one event from the link.
     pub fn handle_event(&mut self, now: Instant, event: LinkEvent) {
-        self.log_traffic(now, &event);
+        self.log_traffic(&event);
         self.link_stop(now, &event);
         match event {
             LinkEvent::Connected { line } | LinkEvent::Reconnected { line } => {

@@ -1068,12 +1068,18 @@ fn ten_thousand_transactions_with_ten_percent_faults_on_the_virtual_clock() {
         }
     }
     let injected = bench.sim.faults.counts();
-    assert!(injected.total() >= 800, "about 10% of replies spoilt: {injected:?}");
+    assert!(
+        injected.total() >= 800,
+        "about 10% of replies spoilt: {injected:?}"
+    );
     assert!(
         timeouts >= injected.drop + injected.delay + injected.stall,
         "every lost, late or stalled reply is a time-out: {timeouts} vs {injected:?}"
     );
-    assert!(checksum_errors >= injected.corrupt, "{checksum_errors} vs {injected:?}");
+    assert!(
+        checksum_errors >= injected.corrupt,
+        "{checksum_errors} vs {injected:?}"
+    );
     assert!(timeouts + garbage >= injected.total());
     let moves_sent = bench
         .written

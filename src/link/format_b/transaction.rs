@@ -346,6 +346,7 @@ impl FormatB {
             command: pending.command,
             retrying,
             recheck,
+            at: now,
         });
         // A stalled line must not leave a jog running (DESIGN.md: STOP wins).
         self.queue_safety_stop();

@@ -10,7 +10,7 @@ use crate::protocol::{Command, Frame, ScMode, checksum};
 
 impl Pendant {
     /// Records traffic (frames, garbage, time-outs, left-out counts) in the frame log.
-    pub(in crate::pendant) fn log_traffic(&mut self, now: Instant, event: &LinkEvent) {
+    pub(in crate::pendant) fn log_traffic(&mut self, event: &LinkEvent) {
         let log = &mut self.frame_log;
         match event {
             LinkEvent::FrameSent { bytes, at, .. } => log.sent(bytes, *at),
@@ -19,7 +19,10 @@ impl Pendant {
             } => log.received(bytes, *first_byte),
             LinkEvent::Garbage { bytes, error, at } => log.garbage(bytes, &error.to_string(), *at),
             LinkEvent::Timeout {
-                command, retrying, ..
+                command,
+                retrying,
+                at,
+                ..
             } => {
                 let text = format!(
                     "no reply to {} ({}){}",
@@ -27,7 +30,7 @@ impl Pendant {
                     name(command),
                     if *retrying { ", sent again" } else { "" }
                 );
-                log.timeout(&text, now);
+                log.timeout(&text, *at);
             }
             LinkEvent::Dropped { frames } => log.link_dropped(*frames),
             LinkEvent::Interrupted { .. } | LinkEvent::Disconnected { .. } => log.line_lost(),
