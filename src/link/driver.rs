@@ -276,7 +276,10 @@ impl<C: LinkCore> Driver<C> {
             .as_ref()
             .map(|_| self.last_line_check + IDLE_CHECK);
         let wait = until([due, look].into_iter().flatten().min(), IDLE_CHECK);
-        if !wait.is_zero() {
+        if self.handle_gone {
+            // No request can come any more (the channels would answer at once): only time.
+            std::thread::sleep(wait);
+        } else if !wait.is_zero() {
             let now = Instant::now();
             select! {
                 recv(self.stops) -> stop => match stop {

@@ -5,9 +5,11 @@ use egui::epaint::text::{FontDefinitions, Fonts, TextOptions};
 use egui::epaint::{Color32, FontId};
 use tiny_skia::Pixmap;
 
-use super::scene::Anchor;
+use std::sync::Arc;
+
+use egui::epaint::Galley;
+
 use super::style::Rgba;
-use super::view::{View, text_top_left};
 
 /// egui's default fonts and their glyph atlas. Making one costs some milliseconds:
 /// keep it for the next picture.
@@ -22,27 +24,23 @@ impl Glyphs {
         }
     }
 
-    /// Draws one line of `text` with its `anchor` at `pos` (pixels), kept inside `view`.
-    pub(super) fn draw(
-        &mut self,
-        pixmap: &mut Pixmap,
-        text: &str,
-        view: &View,
-        pos: [f32; 2],
-        anchor: Anchor,
-        (colour, size): (Rgba, f32),
-    ) {
-        let galley = self.fonts.with_pixels_per_point(1.0).layout_no_wrap(
+    /// One line of `text` at `size` pixels, laid out.
+    pub(super) fn layout(&mut self, text: &str, size: f32) -> Arc<Galley> {
+        self.fonts.with_pixels_per_point(1.0).layout_no_wrap(
             text.to_owned(),
             FontId::proportional(size),
             Color32::WHITE,
-        );
-        let [left, top] = text_top_left(
-            view,
-            pos,
-            anchor.fractions(),
-            [galley.rect.width(), galley.rect.height()],
-        );
+        )
+    }
+
+    /// Draws a laid-out line with its top-left corner at `[left, top]` (pixels).
+    pub(super) fn draw(
+        &mut self,
+        pixmap: &mut Pixmap,
+        galley: &Galley,
+        [left, top]: [f32; 2],
+        colour: Rgba,
+    ) {
         let atlas = self.fonts.texture_atlas().image();
         let (aw, ah) = (atlas.size[0], atlas.size[1]);
         let (pw, ph) = (pixmap.width() as i64, pixmap.height() as i64);

@@ -8,6 +8,7 @@ pub mod build;
 mod envelope;
 mod gauge;
 mod glyphs;
+pub mod labels;
 pub mod paint_egui;
 pub mod paint_png;
 pub mod scene;

@@ -4,11 +4,13 @@
 use egui::epaint::{Mesh, PathShape, PathStroke};
 use egui::{Color32, FontId, Painter, Pos2, Shape as EguiShape, Stroke, pos2};
 
+use super::labels::{self, LabelBox};
 use super::scene::{Mm, Scene, Shape, arc_points};
 use super::style::{Palette, Rgba, Style};
-use super::view::{View, arrow_head, text_top_left, trail_runs};
+use super::view::{View, arrow_head, trail_runs};
 
-/// Paints every item of `scene` seen through `view` (its area in the painter's points).
+/// Paints every item of `scene` seen through `view` (its area in the painter's points);
+/// the labels last, placed clear of each other ([`labels::place`]).
 pub fn paint(painter: &Painter, scene: &Scene, palette: &Palette, view: &View) {
     let mut out = Vec::with_capacity(scene.items.len() + 16);
     out.push(EguiShape::rect_filled(
@@ -16,9 +18,36 @@ pub fn paint(painter: &Painter, scene: &Scene, palette: &Palette, view: &View) {
         0.0,
         colour(palette.background),
     ));
+    let mut texts = Vec::new();
     for item in &scene.items {
         let style = palette.style(item.role);
-        shape(painter, &mut out, view, &item.shape, &style);
+        match &item.shape {
+            Shape::Text {
+                at,
+                text,
+                anchor,
+                offset_px,
+            } => {
+                let (c, size) = style.text;
+                let galley =
+                    painter.layout_no_wrap(text.clone(), FontId::proportional(size), colour(c));
+                let s = view.to_screen(*at);
+                let label = LabelBox {
+                    anchor_pos: [s[0] + offset_px[0], s[1] + offset_px[1]],
+                    fractions: anchor.fractions(),
+                    size: [galley.size().x, galley.size().y],
+                    rank: labels::rank(item.role),
+                };
+                texts.push((galley, c, label));
+            }
+            other => shape(&mut out, view, other, &style),
+        }
+    }
+    let boxes: Vec<LabelBox> = texts.iter().map(|(_, _, b)| *b).collect();
+    for ((galley, c, _), spot) in texts.into_iter().zip(labels::place(view, &boxes)) {
+        if let Some(top_left) = spot {
+            out.push(EguiShape::galley(pos(top_left), galley, colour(c)));
+        }
     }
     painter.extend(out);
 }
@@ -59,7 +88,7 @@ fn line(out: &mut Vec<EguiShape>, points: Vec<Pos2>, closed: bool, style: &Style
     }
 }
 
-fn shape(painter: &Painter, out: &mut Vec<EguiShape>, view: &View, shape: &Shape, style: &Style) {
+fn shape(out: &mut Vec<EguiShape>, view: &View, shape: &Shape, style: &Style) {
     let at = |p: &Mm| pos(view.to_screen(*p));
     match shape {
         Shape::Polyline { points, closed } => {
@@ -129,21 +158,8 @@ fn shape(painter: &Painter, out: &mut Vec<EguiShape>, view: &View, shape: &Shape
                 ));
             }
         }
-        Shape::Text {
-            at: p,
-            text,
-            anchor,
-            offset_px,
-        } => {
-            let (c, size) = style.text;
-            let anchor_pos = at(p) + egui::vec2(offset_px[0], offset_px[1]);
-            let galley =
-                painter.layout_no_wrap(text.clone(), FontId::proportional(size), colour(c));
-            let size = [galley.size().x, galley.size().y];
-            let top_left =
-                text_top_left(view, [anchor_pos.x, anchor_pos.y], anchor.fractions(), size);
-            out.push(EguiShape::galley(pos(top_left), galley, colour(c)));
-        }
+        // Labels are placed together, in `paint`.
+        Shape::Text { .. } => {}
         Shape::Trail { points } => {
             if let Some((c, w)) = style.stroke {
                 out.push(EguiShape::mesh(trail_mesh(view, points, c, w)));

@@ -7,6 +7,7 @@ use tiny_skia::{
 };
 
 use super::glyphs::Glyphs;
+use super::labels::{self, LabelBox};
 use super::scene::{Mm, Scene, Shape, arc_points};
 use super::style::{Palette, Rgba, Style};
 use super::view::{View, trail_runs};
@@ -90,12 +91,39 @@ impl PngPainter {
         encode(&self.render(scene, palette, width, height)?)
     }
 
-    /// Paints the background and every item onto `pixmap`.
+    /// Paints the background and every item onto `pixmap`; the labels last, placed clear
+    /// of each other ([`labels::place`]), as the window does.
     pub fn paint(&mut self, scene: &Scene, palette: &Palette, view: &View, pixmap: &mut Pixmap) {
         pixmap.fill(color(palette.background));
+        let mut texts = Vec::new();
         for item in &scene.items {
             let style = palette.style(item.role);
-            self.shape(pixmap, view, &item.shape, &style);
+            match &item.shape {
+                Shape::Text {
+                    at,
+                    text,
+                    anchor,
+                    offset_px,
+                } => {
+                    let (colour, size) = style.text;
+                    let galley = self.glyphs.layout(text, size);
+                    let s = view.to_screen(*at);
+                    let label = LabelBox {
+                        anchor_pos: [s[0] + offset_px[0], s[1] + offset_px[1]],
+                        fractions: anchor.fractions(),
+                        size: [galley.rect.width(), galley.rect.height()],
+                        rank: labels::rank(item.role),
+                    };
+                    texts.push((galley, colour, label));
+                }
+                other => self.shape(pixmap, view, other, &style),
+            }
+        }
+        let boxes: Vec<LabelBox> = texts.iter().map(|(_, _, b)| *b).collect();
+        for ((galley, colour, _), spot) in texts.into_iter().zip(labels::place(view, &boxes)) {
+            if let Some(top_left) = spot {
+                self.glyphs.draw(pixmap, &galley, top_left, colour);
+            }
         }
     }
 
@@ -171,16 +199,8 @@ impl PngPainter {
                     fill(pm, &head, colour);
                 }
             }
-            Shape::Text {
-                at: p,
-                text,
-                anchor,
-                offset_px,
-            } => {
-                let s = at(p);
-                let pos = [s[0] + offset_px[0], s[1] + offset_px[1]];
-                self.glyphs.draw(pm, text, view, pos, *anchor, style.text);
-            }
+            // Labels are placed together, in `paint`.
+            Shape::Text { .. } => {}
             Shape::Trail { points } => {
                 let Some((colour, width)) = style.stroke else {
                     return;

@@ -98,6 +98,8 @@ pub struct PendantApp {
     /// Link events that woke the window so far.
     link_wakes: std::sync::Arc<std::sync::atomic::AtomicU64>,
     dock: egui_tiles::Tree<Tab>,
+    /// Where each pane shown in the last frame was drawn.
+    pane_rects: Vec<(Tab, egui::Rect)>,
     started: Instant,
     help_open: bool,
     applied_theme: Option<bool>,
@@ -182,6 +184,7 @@ impl PendantApp {
             live_log_shown: Default::default(),
             link_wakes: Default::default(),
             dock: layout::checked_layout(saved_layout),
+            pane_rects: Vec::new(),
             started: now,
             help_open: false,
             applied_theme: None,
@@ -212,6 +215,15 @@ impl PendantApp {
     }
 
     /// The frame log pane, to drive it from tests and benches.
+    /// Where the pane `tab` was drawn in the last frame, if it was shown (a tab behind
+    /// another is not).
+    pub fn pane_rect(&self, tab: Tab) -> Option<egui::Rect> {
+        self.pane_rects
+            .iter()
+            .find(|(t, _)| *t == tab)
+            .map(|(_, r)| *r)
+    }
+
     pub fn frame_log_panel_mut(&mut self) -> &mut FrameLogPanel {
         &mut self.frame_log
     }
@@ -448,7 +460,9 @@ impl eframe::App for PendantApp {
                 sim_action: &mut sim_action,
                 now,
                 started: self.started,
+                pane_rects: &mut self.pane_rects,
             };
+            tabs.pane_rects.clear();
             layout::show(ui, &mut self.dock, &mut tabs);
         });
         self.live_log_shown.store(

@@ -92,7 +92,7 @@ pub fn default_layout() -> Tree<Tab> {
     let root = tiles.insert_container(Linear::new_binary(
         LinearDir::Horizontal,
         [left, right],
-        0.6,
+        0.56,
     ));
     Tree::new(egui::Id::unique("centre-layout"), root, tiles)
 }
@@ -122,6 +122,8 @@ pub struct Tabs<'a> {
     pub sim_action: &'a mut Option<crate::session::simulator::OperatorAction>,
     pub now: Instant,
     pub started: Instant,
+    /// Where each pane shown this frame was drawn (for the size tests).
+    pub pane_rects: &'a mut Vec<(Tab, egui::Rect)>,
 }
 
 impl Behavior<Tab> for Tabs<'_> {
@@ -130,6 +132,8 @@ impl Behavior<Tab> for Tabs<'_> {
     }
 
     fn pane_ui(&mut self, ui: &mut Ui, _tile: TileId, pane: &mut Tab) -> UiResponse {
+        self.pane_rects
+            .push((*pane, ui.clip_rect().intersect(ui.max_rect())));
         let mut ui = ui.new_child(egui::UiBuilder::new().max_rect(ui.max_rect().shrink(6.0)));
         let ui = &mut ui;
         match pane {

@@ -29,4 +29,5 @@ mod widgets;
 mod work_files;
 
 pub use app::{APP_ID, PendantApp, StartOptions};
+pub use layout::Tab;
 pub use run::run_window;

@@ -8,6 +8,10 @@ use egui::{RichText, Ui};
 use super::widgets::AMBER;
 use crate::pendant::Pendant;
 
+/// Below this width or height the readout is drawn compact.
+const WIDE_WIDTH: f32 = 340.0;
+const WIDE_HEIGHT: f32 = 170.0;
+
 const ROWS: [(&str, &str, &str, &str); 4] = [
     ("X", "J1", "mm", "deg"),
     ("Y", "J2", "mm", "deg"),
@@ -28,34 +32,70 @@ pub fn show(ui: &mut Ui, pendant: &Pendant, now: Instant) {
         sample.map(|(_, b)| b.to_array()),
         c.joint_position().map(|j| j.to_array()),
     ];
+    // A narrow or short pane (a small window) gets the compact readout: the joint named
+    // beside the axis, units once under the grid, smaller figures, tighter rows; nothing
+    // is left out.
+    let compact = ui.available_width() < WIDE_WIDTH || ui.available_height() < WIDE_HEIGHT;
+    let (size, spacing) = if compact {
+        (14.0, [6.0, 2.0])
+    } else {
+        (17.0, [10.0, 8.0])
+    };
     let value = |v: Option<[f64; 4]>, i: usize| {
-        let text = v.map_or_else(|| "-".to_owned(), |v| format!("{:9.3}", v[i]));
-        let rich = RichText::new(text).monospace().size(17.0);
+        let text = v.map_or_else(
+            || "-".to_owned(),
+            |v| {
+                if compact {
+                    format!("{:8.3}", v[i])
+                } else {
+                    format!("{:9.3}", v[i])
+                }
+            },
+        );
+        let rich = RichText::new(text).monospace().size(size);
         if stale { rich.color(AMBER) } else { rich }
     };
     egui::Grid::new("position-readout")
-        .num_columns(7)
-        .spacing([10.0, 8.0])
+        .num_columns(if compact { 4 } else { 7 })
+        .spacing(spacing)
         .show(ui, |ui| {
             ui.label("");
-            for head in ["Work", "", "Base", "", "Joints", ""] {
-                ui.label(RichText::new(head).strong());
+            let heads: &[&str] = if compact {
+                &["Work", "Base", "Joints"]
+            } else {
+                &["Work", "", "Base", "", "Joints", ""]
+            };
+            for head in heads {
+                ui.label(RichText::new(*head).strong());
             }
             ui.end_row();
             for (i, (axis, joint, unit, joint_unit)) in ROWS.iter().enumerate() {
-                ui.label(RichText::new(*axis).size(18.0).strong());
-                ui.label(value(columns[0], i));
-                ui.label(*unit);
-                ui.label(value(columns[1], i));
-                ui.label(*unit);
-                ui.horizontal(|ui| {
-                    ui.label(RichText::new(*joint).size(14.0));
+                if compact {
+                    ui.horizontal(|ui| {
+                        ui.label(RichText::new(*axis).size(size + 1.0).strong());
+                        ui.label(RichText::new(*joint).size(size - 3.0));
+                    });
+                    ui.label(value(columns[0], i));
+                    ui.label(value(columns[1], i));
                     ui.label(value(columns[2], i));
-                });
-                ui.label(*joint_unit);
+                } else {
+                    ui.label(RichText::new(*axis).size(size + 1.0).strong());
+                    ui.label(value(columns[0], i));
+                    ui.label(*unit);
+                    ui.label(value(columns[1], i));
+                    ui.label(*unit);
+                    ui.horizontal(|ui| {
+                        ui.label(RichText::new(*joint).size(size - 3.0));
+                        ui.label(value(columns[2], i));
+                    });
+                    ui.label(*joint_unit);
+                }
                 ui.end_row();
             }
         });
+    if compact {
+        ui.label(RichText::new("mm; R and joints in deg; J3 (Z) in mm").small());
+    }
     if let Some(w) = pendant.controller.work.map(|s| s.value) {
         ui.label(format!(
             "{}, work No. {}, tool No. {}",

@@ -10,6 +10,9 @@ use crate::pendant::{Intent, MotionPhase, Pendant};
 use crate::protocol::HomeState;
 
 const AXIS_NAMES: [&str; 4] = ["1 (J1 / X)", "2 (J2 / Y)", "3 (Z)", "4 (R)"];
+const SHORT_AXIS_NAMES: [&str; 4] = ["1 J1", "2 J2", "3 Z", "4 R"];
+/// Below this width the axis grid is drawn narrow.
+const WIDE_GRID: f32 = 360.0;
 
 pub fn show(ui: &mut Ui, pendant: &Pendant, now: Instant, intents: &mut Vec<Intent>) {
     let ready = pendant.controller_ready(now);
@@ -83,17 +86,32 @@ fn axis_grid(ui: &mut Ui, pendant: &Pendant) {
         ui.label("no axis status yet");
         return;
     };
+    // A narrow pane (a small window) gets short axis names and tight columns.
+    let narrow = ui.available_width() < WIDE_GRID;
+    let names = if narrow { SHORT_AXIS_NAMES } else { AXIS_NAMES };
     egui::Grid::new("axis-status")
         .striped(true)
         .num_columns(6)
+        .spacing(if narrow { [5.0, 3.0] } else { [8.0, 3.0] })
+        .min_col_width(if narrow {
+            0.0
+        } else {
+            ui.spacing().interact_size.x
+        })
         .show(ui, |ui| {
-            for h in ["Axis", "Servo", "Home", "In use", "Completed", "Error"] {
-                ui.label(RichText::new(h).strong());
+            let completed = if narrow { "Done" } else { "Completed" };
+            for h in ["Axis", "Servo", "Home", "In use", completed, "Error"] {
+                ui.label(RichText::new(h).strong())
+                    .on_hover_text(if h == "Done" {
+                        "Completed normally"
+                    } else {
+                        ""
+                    });
             }
             ui.end_row();
             for (i, (_, a)) in axes.iter().enumerate() {
                 let st = a.status;
-                ui.label(AXIS_NAMES.get(i).copied().unwrap_or("?"));
+                ui.label(names.get(i).copied().unwrap_or("?"));
                 yes_no(ui, st.servo_on(), "on", "off");
                 let home = match st.home_state() {
                     HomeState::Done => RichText::new("homed").color(GREEN),

@@ -13,4 +13,5 @@ mod frame_log_replay;
 mod frame_log_snapshot;
 mod main_window;
 mod simulator;
+mod sizes;
 mod snapshots;
