@@ -339,17 +339,39 @@ fn start_in(dir: &std::path::Path, fresh: bool) -> Harness<'static, PendantApp> 
         .build_eframe(move |cc| PendantApp::new(cc, options))
 }
 
-/// Records the current pose as `name` from the Teach list tab.
+/// Records the current pose as `name` from the Teach list tab, as an operator does: on a
+/// fresh position, and again if the position went out of date before the click landed (a
+/// busy machine can delay a poll past the staleness limit; the pendant then refuses).
 fn record(h: &mut Harness<'_, PendantApp>, name: &str) {
-    step_until(h, "a position to record", |a| {
-        a.pendant().controller.work.is_some()
-    });
     show_tab(h, "Teach list");
     type_into(h, "Name", name);
-    click(h, "Record");
-    step_until(h, "the point recorded", |a| {
-        a.pendant().teach.list().position(name).is_some()
-    });
+    let refusals = |a: &PendantApp| {
+        a.pendant()
+            .messages
+            .iter()
+            .filter(|m| m.text.contains("not recorded"))
+            .count()
+    };
+    let deadline = std::time::Instant::now() + crate::kittest_common::DEADLINE;
+    loop {
+        step_until(h, "a fresh position to record", |a| {
+            let c = &a.pendant().controller;
+            c.work.is_some() && !c.is_stale(std::time::Instant::now())
+        });
+        let before = refusals(h.state());
+        click(h, "Record");
+        step_until(h, "the point recorded or refused", |a| {
+            a.pendant().teach.list().position(name).is_some() || refusals(a) > before
+        });
+        if h.state().pendant().teach.list().position(name).is_some() {
+            return;
+        }
+        assert!(
+            std::time::Instant::now() < deadline,
+            "never recorded: {:?}",
+            h.state().pendant().messages.back()
+        );
+    }
 }
 
 #[test]
