@@ -8,9 +8,10 @@ use egui::{RichText, Ui};
 use super::widgets::AMBER;
 use crate::pendant::Pendant;
 
-/// Below this width or height the readout is drawn compact.
-const WIDE_WIDTH: f32 = 340.0;
-const WIDE_HEIGHT: f32 = 170.0;
+/// Below this width or height the readout is drawn compact: the wide grid with figures in
+/// every cell needs about 400 points across and 170 down (measured at the default size).
+const WIDE_WIDTH: f32 = 410.0;
+const WIDE_HEIGHT: f32 = 190.0;
 
 const ROWS: [(&str, &str, &str, &str); 4] = [
     ("X", "J1", "mm", "deg"),
@@ -20,6 +21,9 @@ const ROWS: [(&str, &str, &str, &str); 4] = [
 ];
 
 pub fn show(ui: &mut Ui, pendant: &Pendant, now: Instant) {
+    // Chosen from the pane's room before anything is drawn, so a line that comes and goes
+    // (out of date) never switches the layout frame by frame.
+    let compact = ui.available_width() < WIDE_WIDTH || ui.available_height() < WIDE_HEIGHT;
     let stale = pendant.controller.is_stale(now);
     if stale && pendant.line.is_up() {
         ui.label(RichText::new("out of date: no fresh status from the controller").color(AMBER));
@@ -35,7 +39,6 @@ pub fn show(ui: &mut Ui, pendant: &Pendant, now: Instant) {
     // A narrow or short pane (a small window) gets the compact readout: the joint named
     // beside the axis, units once under the grid, smaller figures, tighter rows; nothing
     // is left out.
-    let compact = ui.available_width() < WIDE_WIDTH || ui.available_height() < WIDE_HEIGHT;
     let (size, spacing) = if compact {
         (14.0, [6.0, 2.0])
     } else {
