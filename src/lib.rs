@@ -41,6 +41,7 @@ pub mod pendant;
 pub mod protocol;
 pub mod render;
 pub mod render_cli;
+pub mod rmc;
 pub mod robot;
 pub mod robot_wire;
 pub mod session;

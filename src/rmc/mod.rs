@@ -1,0 +1,12 @@
+//! Delta RMC151 over Modbus/TCP (RMC.md), sans-IO: the register map, typed commands and
+//! status, Modbus/TCP framing, and the link core the shared driver runs.
+
+pub mod command;
+pub mod modbus;
+pub mod registers;
+pub mod status;
+pub mod words;
+
+pub use command::{Command, CommandError, MoveRelative};
+pub use registers::{AxisId, MAX_AXES};
+pub use status::{AxisStatus, ControllerStatus, ErrorBits, StatusBits, TgPhase};
