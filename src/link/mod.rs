@@ -3,7 +3,7 @@
 //! through. Queue, priorities, time-outs, polling and the safety STOPs live in the core.
 
 pub mod core;
-mod driver;
+pub(crate) mod driver;
 pub mod event;
 mod event_out;
 pub mod format_b;

@@ -10,3 +10,8 @@ pub mod words;
 pub use command::{Command, CommandError, MoveRelative};
 pub use registers::{AxisId, MAX_AXES};
 pub use status::{AxisStatus, ControllerStatus, ErrorBits, StatusBits, TgPhase};
+pub mod handle;
+pub mod link;
+
+pub use handle::{RmcHandle, RmcRepaint, spawn};
+pub use link::{HoldJog, RmcCore, RmcEvent, RmcLinkConfig, RmcRequest};

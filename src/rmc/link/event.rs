@@ -1,0 +1,138 @@
+//! What the RMC link core asks for and reports: the application's requests and the events
+//! that answer them.
+
+use std::time::{Duration, Instant};
+
+use crate::link::RequestId;
+use crate::link::core::CoreEvent;
+use crate::rmc::modbus::ExceptionCode;
+use crate::rmc::{AxisId, AxisStatus, Command, ControllerStatus};
+
+/// A held jog on one axis: a chain of short Move Relative (21) moves relative to the
+/// Target, renewed while the lease is (RMC.md section 6).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HoldJog {
+    /// +1.0 or −1.0.
+    pub direction: f32,
+    /// pu/s.
+    pub speed: f32,
+    pub accel: f32,
+    pub decel: f32,
+}
+
+/// A request from the application.
+#[derive(Clone, Debug, PartialEq)]
+pub enum RmcRequest {
+    /// Send one command to one axis (checked first; motion only once the axis's
+    /// positions have been read on this connection).
+    Send {
+        id: RequestId,
+        axis: AxisId,
+        command: Command,
+    },
+    /// Start a held jog on `axis`; it runs while the lease is renewed.
+    Hold {
+        id: RequestId,
+        axis: AxisId,
+        jog: HoldJog,
+    },
+    /// The held jog's input let go: Stop (Closed Loop) (6) for that axis.
+    Release { axis: AxisId },
+    /// STOP: Stop (Closed Loop) (6) for every enabled axis, ahead of everything; queued
+    /// motion is dropped.
+    StopAll,
+    /// Close and reopen the connection.
+    Reconnect,
+    /// Time between two status rounds (every shown axis, then the controller).
+    SetPollInterval(Duration),
+}
+
+/// Why the core sent Stop (6) of its own.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SafetyStop {
+    /// The held jog's lease was not renewed in time.
+    LeaseLapsed,
+    /// The connection came back while motion may have been running.
+    Reconnected,
+    /// The link is closing.
+    Closing,
+}
+
+impl SafetyStop {
+    pub fn text(self) -> &'static str {
+        match self {
+            SafetyStop::LeaseLapsed => "the jog lease lapsed",
+            SafetyStop::Reconnected => "the connection came back after motion",
+            SafetyStop::Closing => "the link is closing",
+        }
+    }
+}
+
+/// What the core reports.
+#[derive(Clone, Debug, PartialEq)]
+pub enum RmcEvent {
+    /// The connection is open.
+    LineUp { name: String, at: Instant },
+    /// The connection is down, and why.
+    LineDown { reason: String, at: Instant },
+    /// The CPU Module ID read after connecting (17 on an RMC151E).
+    Module { cpu_id: u32 },
+    /// Controller Status Bits, polled.
+    Controller { status: ControllerStatus, at: Instant },
+    /// An axis's status as polled; `trusted` is false while a command's ACK is awaited
+    /// (its In Position and TG bits are not valid then, RMC.md section 5).
+    Status {
+        axis: AxisId,
+        status: AxisStatus,
+        trusted: bool,
+        at: Instant,
+    },
+    /// A command went out (`id` is `None` for the core's own: zeros, STOP, hold chunks).
+    Sent {
+        id: Option<RequestId>,
+        axis: AxisId,
+        command: Command,
+        req: bool,
+        at: Instant,
+    },
+    /// A status read showed ACK = REQ for that command.
+    Acknowledged {
+        id: Option<RequestId>,
+        axis: AxisId,
+        at: Instant,
+    },
+    /// A request that never reached the controller, and why.
+    NotSent { id: RequestId, reason: String },
+    /// A write timed out and ACK did not match afterwards: the command may not have
+    /// arrived; it is not sent again.
+    Unconfirmed { id: Option<RequestId>, axis: AxisId },
+    /// The controller answered a request with an exception.
+    Exception {
+        id: Option<RequestId>,
+        function: u8,
+        code: ExceptionCode,
+    },
+    /// The core sent Stop (6) of its own to these axes.
+    SafetyStop { why: SafetyStop, axes: Vec<AxisId> },
+    /// A held jog ended by itself (the axis halted); no more moves go out for it.
+    JogEnded { axis: AxisId, why: String },
+    /// A reply that answered nothing in flight (late, or unreadable), left out.
+    Ignored { why: String },
+    /// Traffic events left out while the reader was behind.
+    Dropped(u64),
+    /// The core has finished.
+    Closed,
+}
+
+impl CoreEvent for RmcEvent {
+    fn is_traffic(&self) -> bool {
+        matches!(
+            self,
+            RmcEvent::Status { .. } | RmcEvent::Controller { .. } | RmcEvent::Ignored { .. }
+        )
+    }
+
+    fn dropped(frames: u64) -> Option<Self> {
+        Some(RmcEvent::Dropped(frames))
+    }
+}
