@@ -10,8 +10,8 @@
 //!   embedded simulator and its front panel -> [`link`], [`sim`].
 //! - [`link`]: one driver thread per line running a sans-IO protocol core (Format B in
 //!   `link::format_b`, the port probe) -> [`protocol`], [`line`](mod@line).
-//! - [`sim`]: the simulated controller -> [`robot_wire`], [`robot`], [`protocol`],
-//!   [`line`](mod@line).
+//! - [`sim`]: the simulated controllers (X-SEL, and the RMC151 in `sim::rmc`) ->
+//!   [`robot_wire`], [`robot`], [`protocol`], [`rmc`], [`line`](mod@line).
 //! - [`robot_wire`]: wire codes <-> robot types (arm policy, jog frame, arm system, table
 //!   kind), the one place that knows both [`protocol`] and [`robot`].
 //! - [`files`]: files the user names, read with a size bound and written whole, and the

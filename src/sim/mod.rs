@@ -5,6 +5,7 @@
 //! - [`runner::start_pty`] / [`runner::start_tcp`]: serving a pseudo-terminal or TCP port.
 //! - [`errors::CODE_TABLE`]: the error codes of `&` replies.
 //! - [`console`]: operator states (E-stop, mode, cut-off, alarms) from outside the protocol.
+//! - [`rmc`]: a simulated Delta RMC151E axis controller over Modbus/TCP.
 
 pub mod console;
 mod control;
@@ -17,6 +18,7 @@ pub mod log_limit;
 pub mod motion;
 pub mod panel;
 pub mod pipe;
+pub mod rmc;
 pub mod runner;
 mod servers;
 pub mod state;

@@ -1,0 +1,219 @@
+//! The simulated RMC served over Modbus/TCP on std threads: a listener thread and one
+//! thread per connection, the controller locked only while a request is answered.
+
+use std::io::{self, Read, Write};
+use std::net::{SocketAddr, TcpListener, TcpStream};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use super::connection::RmcConnection;
+use super::controller::{RmcConfig, RmcController};
+
+/// Connections served at once (RMC.md section 1: up to 64); one more is closed at once.
+pub const MAX_CONNECTIONS: usize = 64;
+/// How often the listener looks for a shutdown, and a connection's read timeout.
+const POLL: Duration = Duration::from_millis(20);
+/// A client that takes longer than this to take a reply is dropped.
+const WRITE_TIMEOUT: Duration = Duration::from_secs(2);
+
+/// Something that happened to a connection, for a log.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum ServerEvent {
+    Opened(SocketAddr),
+    /// Refused: [`MAX_CONNECTIONS`] are open already.
+    Refused(SocketAddr),
+    /// Closed, and why ("closed by the client", "not Modbus/TCP: …", an IO error).
+    Closed(SocketAddr, String),
+}
+
+/// Called from the server's threads with each [`ServerEvent`].
+pub type EventLog = Arc<dyn Fn(ServerEvent) + Send + Sync>;
+
+/// A running server; dropping it stops accepting, closes every connection and joins the
+/// threads (within about [`POLL`]).
+pub struct RmcServer {
+    addr: SocketAddr,
+    stop: Arc<AtomicBool>,
+    open: Arc<AtomicUsize>,
+    listener: Option<JoinHandle<()>>,
+    controller: Arc<Mutex<RmcController>>,
+}
+
+/// What every thread of one server shares.
+#[derive(Clone)]
+struct Shared {
+    stop: Arc<AtomicBool>,
+    open: Arc<AtomicUsize>,
+    controller: Arc<Mutex<RmcController>>,
+    log: Option<EventLog>,
+}
+
+impl Shared {
+    fn log(&self, event: ServerEvent) {
+        if let Some(log) = &self.log {
+            log(event);
+        }
+    }
+}
+
+fn lock(c: &Mutex<RmcController>) -> MutexGuard<'_, RmcController> {
+    // A connection thread never panics while holding it; if one did, the state is whole.
+    c.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+impl RmcServer {
+    /// Serves `listener` with a controller of `config`.
+    pub fn start(listener: TcpListener, config: RmcConfig) -> io::Result<RmcServer> {
+        Self::start_logged(listener, config, None)
+    }
+
+    /// As [`start`](Self::start), calling `log` with each connection opened or closed.
+    pub fn start_logged(
+        listener: TcpListener,
+        config: RmcConfig,
+        log: Option<EventLog>,
+    ) -> io::Result<RmcServer> {
+        let addr = listener.local_addr()?;
+        listener.set_nonblocking(true)?;
+        let shared = Shared {
+            stop: Arc::new(AtomicBool::new(false)),
+            open: Arc::new(AtomicUsize::new(0)),
+            controller: Arc::new(Mutex::new(RmcController::new(config, Instant::now()))),
+            log,
+        };
+        let (stop, open, controller) = (
+            shared.stop.clone(),
+            shared.open.clone(),
+            shared.controller.clone(),
+        );
+        let thread = std::thread::Builder::new()
+            .name("rmc-listener".into())
+            .spawn(move || accept_loop(&listener, &shared))?;
+        Ok(RmcServer {
+            addr,
+            stop,
+            open,
+            listener: Some(thread),
+            controller,
+        })
+    }
+
+    pub fn local_addr(&self) -> SocketAddr {
+        self.addr
+    }
+
+    /// Connections open now.
+    pub fn connections(&self) -> usize {
+        self.open.load(Ordering::SeqCst)
+    }
+
+    /// The controller, for a caller that looks inside (lock it briefly).
+    pub fn controller(&self) -> Arc<Mutex<RmcController>> {
+        self.controller.clone()
+    }
+}
+
+impl Drop for RmcServer {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::SeqCst);
+        if let Some(thread) = self.listener.take() {
+            let _ = thread.join();
+        }
+    }
+}
+
+/// Accepts until the stop flag is set, then joins every connection thread.
+fn accept_loop(listener: &TcpListener, shared: &Shared) {
+    let mut threads: Vec<JoinHandle<()>> = Vec::new();
+    while !shared.stop.load(Ordering::SeqCst) {
+        match listener.accept() {
+            Ok((stream, peer)) => {
+                threads.retain(|t| !t.is_finished());
+                if shared.open.load(Ordering::SeqCst) >= MAX_CONNECTIONS {
+                    shared.log(ServerEvent::Refused(peer));
+                    drop(stream);
+                    continue;
+                }
+                shared.open.fetch_add(1, Ordering::SeqCst);
+                shared.log(ServerEvent::Opened(peer));
+                let conn = shared.clone();
+                let spawned = std::thread::Builder::new()
+                    .name(format!("rmc-{peer}"))
+                    .spawn(move || {
+                        let why = serve(stream, &conn);
+                        conn.open.fetch_sub(1, Ordering::SeqCst);
+                        conn.log(ServerEvent::Closed(peer, why));
+                    });
+                match spawned {
+                    Ok(t) => threads.push(t),
+                    Err(e) => {
+                        shared.open.fetch_sub(1, Ordering::SeqCst);
+                        shared.log(ServerEvent::Closed(peer, format!("no thread: {e}")));
+                    }
+                }
+            }
+            Err(e) if e.kind() == io::ErrorKind::WouldBlock => std::thread::sleep(POLL),
+            // A connection that failed before it was accepted: go on.
+            Err(_) => std::thread::sleep(POLL),
+        }
+    }
+    for t in threads {
+        let _ = t.join();
+    }
+}
+
+/// Serves one connection until it closes, it sends bytes that are not Modbus/TCP, or the
+/// server stops; returns why it ended.
+fn serve(mut stream: TcpStream, shared: &Shared) -> String {
+    // Accepted sockets inherit non-blocking mode on some platforms (Windows).
+    let setup = stream
+        .set_nonblocking(false)
+        .and_then(|()| stream.set_read_timeout(Some(POLL)))
+        .and_then(|()| stream.set_write_timeout(Some(WRITE_TIMEOUT)));
+    if let Err(e) = setup {
+        return e.to_string();
+    }
+    let _ = stream.set_nodelay(true);
+    let mut connection = RmcConnection::new();
+    let mut buf = [0u8; 1024];
+    loop {
+        if shared.stop.load(Ordering::SeqCst) {
+            return "the server stopped".into();
+        }
+        let n = match stream.read(&mut buf) {
+            Ok(0) => return "closed by the client".into(),
+            Ok(n) => n,
+            Err(e) if is_timeout(&e) => continue,
+            Err(e) => return e.to_string(),
+        };
+        let reply = {
+            let mut controller = lock(&shared.controller);
+            connection.handle_bytes(
+                &mut controller,
+                Instant::now(),
+                buf.get(..n).unwrap_or_default(),
+            )
+        };
+        match reply {
+            Ok(bytes) if bytes.is_empty() => {}
+            Ok(bytes) => {
+                if let Err(e) = stream.write_all(&bytes) {
+                    return e.to_string();
+                }
+            }
+            Err(e) => {
+                let _ = stream.shutdown(std::net::Shutdown::Both);
+                return format!("not Modbus/TCP: {e}");
+            }
+        }
+    }
+}
+
+fn is_timeout(e: &io::Error) -> bool {
+    matches!(
+        e.kind(),
+        io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut | io::ErrorKind::Interrupted
+    )
+}
