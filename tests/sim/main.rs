@@ -1,4 +1,5 @@
-//! The simulated X-SEL: conformance over a pty, the embedded pipe, lines, long runs, stand-in hosts.
+//! The simulated X-SEL: conformance over a pty, the embedded pipe, lines, long runs, stand-in hosts;
+//! and the simulated RMC151 (`rmc-sim`) over TCP.
 //!
 //! One test binary for the group: each links the whole app, so fewer binaries build faster.
 
@@ -9,4 +10,5 @@ mod conformance;
 mod embedded;
 mod lines;
 mod long_run;
+mod rmc;
 mod stand_in;

@@ -122,7 +122,7 @@ impl RmcController {
         }
         // Whole 32-bit registers: even address and count [I: RMC.md section 7 leaves the
         // code for a misaligned request open].
-        if address % 2 != 0 || count % 2 != 0 {
+        if !address.is_multiple_of(2) || !count.is_multiple_of(2) {
             return Err(ADDRESS);
         }
         let mut words = Vec::with_capacity(usize::from(count));
@@ -138,7 +138,7 @@ impl RmcController {
         if words.is_empty() || words.len() > usize::from(MAX_WRITE) {
             return Err(VALUE);
         }
-        if address % 2 != 0 || words.len() % 2 != 0 {
+        if !address.is_multiple_of(2) || !words.len().is_multiple_of(2) {
             return Err(ADDRESS);
         }
         let end = usize::from(address) + words.len();

@@ -231,3 +231,25 @@ fn requests_are_answered_in_order_and_only_once_whole() {
     let (h, _) = decode_response(&out).unwrap();
     assert_eq!(h.transaction, 9);
 }
+
+#[test]
+fn the_server_counts_connections_and_stops_promptly() {
+    use std::io::Read;
+    use std::time::Duration;
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let server = RmcServer::start(listener, RmcConfig::default()).unwrap();
+    let mut client = std::net::TcpStream::connect(server.local_addr()).unwrap();
+    client
+        .set_read_timeout(Some(Duration::from_secs(5)))
+        .unwrap();
+    let deadline = Instant::now() + Duration::from_secs(5);
+    while server.connections() != 1 {
+        assert!(Instant::now() < deadline, "the connection is never counted");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let started = Instant::now();
+    drop(server);
+    assert!(started.elapsed() < Duration::from_secs(1));
+    let mut b = [0u8; 8];
+    assert!(matches!(client.read(&mut b), Ok(0) | Err(_)));
+}

@@ -1,0 +1,102 @@
+//! `rmc-sim`: a simulated Delta RMC151E motion controller served over Modbus/TCP, so any
+//! Modbus client (the pendant's RMC link among them) can drive its axes.
+
+use std::io::Write;
+use std::net::TcpListener;
+use std::process::ExitCode;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+use clap::Parser;
+use xsel_pendant::flags::parse_or_exit;
+use xsel_pendant::sim::rmc::{RmcConfig, RmcServer, ServerEvent};
+
+const AFTER_HELP: &str = "\
+Modbus/TCP, function codes 3, 16 and 23, any unit ID (echoed). Per axis n (0-based):
+status file (116 registers, Status Bits through Command Velocity) at 4096 + 512n,
+Command Area at 20480 + 20n (and its low copy at 1024 + 20n), Position Scale at
+12288 + 512n, In Position Tolerance at 12400 + 512n; CPU Module ID (17) at 3588,
+Controller Status Bits at 22542. Commands: 0 No-op, 1 Closed Loop Halt, 4 Clear
+Faults, 5 Hold Current Position, 6 Stop (Closed Loop), 21 Move Relative, 97
+Enable/Disable Axis; +256 sets REQ, echoed in ACK (Status Bits bit 31) on the same
+connection. Axes start disabled at position 0, soft travel limits -1000 to 1000 pu.
+
+The first line of stdout is `listening on ADDR` (the bound address, so --tcp
+127.0.0.1:0 picks a free port). Connections opened and closed are logged on stderr.
+Runs until Ctrl-C. A bad option ends it with exit code 2 and one line on stderr.";
+
+/// A simulated Delta RMC151E motion controller on Modbus/TCP.
+#[derive(Parser, Debug)]
+#[command(version, after_help = AFTER_HELP)]
+struct Args {
+    /// Serve Modbus/TCP on this address. The RMC itself listens on port 502 [inferred],
+    /// which needs privileges on Unix; the default port 5020 does not.
+    #[arg(long, value_name = "ADDR", default_value = "127.0.0.1:5020")]
+    tcp: String,
+    /// Axes, 1 to 8.
+    #[arg(long, value_name = "N", default_value_t = 2, value_parser = clap::value_parser!(u8).range(1..=8))]
+    axes: u8,
+}
+
+fn say(line: &str) {
+    let _ = writeln!(std::io::stderr(), "{line}");
+}
+
+fn main() -> ExitCode {
+    let args: Args = parse_or_exit("rmc-sim");
+    // An address that names nothing is a bad flag (exit 2), like every other one.
+    if let Err(e) = std::net::ToSocketAddrs::to_socket_addrs(args.tcp.as_str()) {
+        say(&format!(
+            "rmc-sim: --tcp {}: not an address to listen on ({e})",
+            args.tcp
+        ));
+        return ExitCode::from(2);
+    }
+    let listener = match TcpListener::bind(args.tcp.as_str()) {
+        Ok(l) => l,
+        Err(e) => {
+            say(&format!("rmc-sim: cannot listen on {}: {e}", args.tcp));
+            return ExitCode::FAILURE;
+        }
+    };
+    let config = RmcConfig {
+        axes: usize::from(args.axes),
+        ..RmcConfig::default()
+    };
+    let log = Arc::new(|event: ServerEvent| match event {
+        ServerEvent::Opened(peer) => say(&format!("rmc-sim: {peer} connected")),
+        ServerEvent::Refused(peer) => say(&format!(
+            "rmc-sim: {peer} refused: {} connections are open",
+            xsel_pendant::sim::rmc::MAX_CONNECTIONS
+        )),
+        ServerEvent::Closed(peer, why) => say(&format!("rmc-sim: {peer} closed: {why}")),
+    });
+    let server = match RmcServer::start_logged(listener, config, Some(log)) {
+        Ok(s) => s,
+        Err(e) => {
+            say(&format!("rmc-sim: cannot serve {}: {e}", args.tcp));
+            return ExitCode::FAILURE;
+        }
+    };
+    let mut out = std::io::stdout();
+    let _ = writeln!(out, "listening on {}", server.local_addr());
+    let _ = out.flush();
+    let stop = Arc::new(AtomicBool::new(false));
+    {
+        let stop = stop.clone();
+        if let Err(e) = ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst)) {
+            say(&format!("rmc-sim: cannot catch Ctrl-C: {e}"));
+        }
+    }
+    say(&format!(
+        "rmc-sim: RMC151E with {} axes; Ctrl-C to stop",
+        args.axes
+    ));
+    while !stop.load(Ordering::SeqCst) {
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    drop(server);
+    say("rmc-sim: stopped");
+    ExitCode::SUCCESS
+}
