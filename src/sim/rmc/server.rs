@@ -32,7 +32,7 @@ pub enum ServerEvent {
 pub type EventLog = Arc<dyn Fn(ServerEvent) + Send + Sync>;
 
 /// A running server; dropping it stops accepting, closes every connection and joins the
-/// threads (within about [`POLL`]).
+/// threads (within a poll interval, 20 ms).
 pub struct RmcServer {
     addr: SocketAddr,
     stop: Arc<AtomicBool>,
