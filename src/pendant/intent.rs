@@ -76,6 +76,8 @@ pub enum Intent {
     UiScale(f32),
     /// A file was read or written here: its folder is the one names are taken in next.
     FileUsed(std::path::PathBuf),
+    /// The RMC151's axis panel.
+    Axes(super::axes::AxisIntent),
 }
 
 /// The smallest and largest window scale kept (egui's own zoom keys stay in this range).
@@ -122,6 +124,11 @@ impl Pendant {
             Intent::FileUsed(path) => {
                 self.settings.last_folder = path.parent().map(std::path::Path::to_path_buf);
             }
+            Intent::Axes(intent) => {
+                if let Some((level, text)) = self.axes.apply(intent, &mut self.settings.rmc, now) {
+                    self.say(level, text, now);
+                }
+            }
             Intent::SendRaw(body) => {
                 // The outcome is kept for the frame log pane and said in Messages.
                 self.raw_sent = Some(self.send_raw(&body, now).map(|c| c.id().to_string()));
@@ -133,7 +140,9 @@ impl Pendant {
     /// input down this frame), then STOPs, then the rest in order.
     pub fn apply_all(&mut self, intents: impl IntoIterator<Item = Intent>, now: Instant) {
         let rank = |i: &Intent| match i {
-            Intent::Jog(..) | Intent::FocusLost => 0,
+            Intent::Jog(..)
+            | Intent::FocusLost
+            | Intent::Axes(super::axes::AxisIntent::Jog(..)) => 0,
             Intent::Stop(_) => 1,
             _ => 2,
         };

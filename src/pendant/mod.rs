@@ -3,6 +3,7 @@
 //! events come in through [`Pendant::handle_event`], and what must go to the link comes
 //! out of [`Pendant::take_requests`].
 
+pub mod axes;
 pub mod connection;
 pub mod controller;
 pub mod coords;
@@ -58,6 +59,8 @@ pub struct Settings {
     /// The folder of the last file read or written: a name typed without a folder goes
     /// there (None: the user's documents).
     pub last_folder: Option<std::path::PathBuf>,
+    /// The Delta RMC151 beside the robot.
+    pub rmc: axes::RmcSettings,
 }
 
 /// What the pendant asks of the link. The window runs these after drawing a frame;
@@ -82,6 +85,8 @@ pub enum Request {
     Connect,
     /// Close the line.
     Disconnect,
+    /// A call for the RMC151's link.
+    Axes(axes::AxisCall),
 }
 
 /// How a message to the operator is shown.
@@ -149,6 +154,8 @@ pub struct Pendant {
     pub teach: teach::book::TeachBook,
     /// The teach pane's last word on a file (loaded, refused, undone).
     pub teach_feedback: Option<(Level, String)>,
+    /// The RMC151's axes.
+    pub axes: axes::RmcAxes,
 }
 
 impl Pendant {
@@ -156,6 +163,7 @@ impl Pendant {
         let log_cap = settings.frame_log_cap.unwrap_or(frame_log::DEFAULT_CAP);
         let teach = teach::book::TeachBook::new(std::mem::take(&mut settings.legacy_teach));
         Self {
+            axes: axes::RmcAxes::new(settings.rmc.axis_count()),
             teach,
             teach_feedback: None,
             coords: coords::CoordEditor::new(model.work_table_size, model.tool_table_size),
@@ -198,7 +206,16 @@ impl Pendant {
 
     /// The requests collected since the last call, in order.
     pub fn take_requests(&mut self) -> Vec<Request> {
-        std::mem::take(&mut self.requests)
+        let mut requests = std::mem::take(&mut self.requests);
+        requests.extend(self.axes.take_calls().into_iter().map(Request::Axes));
+        requests
+    }
+
+    /// Applies one event from the RMC151's link.
+    pub fn handle_axes_event(&mut self, now: Instant, event: crate::rmc::RmcEvent) {
+        if let Some((level, text)) = self.axes.handle_event(now, event) {
+            self.say(level, text, now);
+        }
     }
 
     /// Adds a message for the operator (the window reports its file work through it).
@@ -519,6 +536,7 @@ impl Pendant {
             .retain(|r| !matches!(r, Request::Submit(c) if c.moves_arm()));
         self.requests.push(Request::Stop);
         self.jog.hold.stop(cause);
+        self.axes.stop(cause);
         self.jog.confirm = None;
         if let Some(f) = self.jog.followed.as_mut() {
             f.stopped.get_or_insert(now);

@@ -4,6 +4,7 @@
 //! TCP bridge may be owned by a guardian process (`guardian/`) that outlives the window.
 
 pub mod guardian;
+pub mod rmc;
 
 /// What the window's Simulator pane needs of the built-in simulator: its front panel and
 /// the operator's actions (the simulator itself stays below the session).

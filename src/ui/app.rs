@@ -20,12 +20,14 @@ use super::teach::TeachPanel;
 use super::wake::{IDLE_WAKE, LINK_REPAINT, Wake, WakeFilter};
 use super::work_files::WorkFiles;
 use super::{safety_band, top_bar};
+use crate::pendant::axes::{AxisCall, AxisIntent};
 use crate::pendant::{
     ConnectionSettings, Intent, JogInput, Pendant, Press, Request, Settings, StopCause,
 };
 use crate::protocol::CoordKind;
 use crate::robot::RobotModel;
 use crate::session::SimHandle;
+use crate::session::rmc::RmcSession;
 use crate::session::{LineOwner, Session, load_model};
 
 /// The storage key and window title.
@@ -80,6 +82,9 @@ impl StartOptions {
 pub struct PendantApp {
     pendant: Pendant,
     session: Option<Session>,
+    /// The RMC151's connection, apart from the robot's line: motion on one never waits
+    /// for the other.
+    rmc: Option<RmcSession>,
     line_owner: LineOwner,
     connection: ConnectionPanel,
     jog: JogPanel,
@@ -160,6 +165,9 @@ impl PendantApp {
         } else if !options.offline {
             pendant.connect(now);
         }
+        if !options.offline && pendant.settings.rmc.enabled {
+            pendant.apply(Intent::Axes(crate::pendant::axes::AxisIntent::Connect), now);
+        }
         if let Some(rows) = std::env::var("XSEL_PENDANT_BENCH_LOG_ROWS")
             .ok()
             .and_then(|v| v.parse::<u64>().ok())
@@ -170,6 +178,7 @@ impl PendantApp {
         let mut app = Self {
             pendant,
             session: None,
+            rmc: None,
             line_owner: options.line_owner.clone(),
             connection: ConnectionPanel::default(),
             jog: JogPanel::default(),
@@ -239,6 +248,11 @@ impl PendantApp {
         self.link_wakes.load(std::sync::atomic::Ordering::Relaxed)
     }
 
+    /// The RMC151's session (tests reach its built-in simulator).
+    pub fn rmc(&self) -> Option<&RmcSession> {
+        self.rmc.as_ref()
+    }
+
     pub fn sim(&self) -> Option<&SimHandle> {
         self.session.as_ref().and_then(|s| s.sim.as_ref())
     }
@@ -250,17 +264,34 @@ impl PendantApp {
 
     /// Closes the session as the window does on exit: the link stops any jog or move.
     pub fn close(&mut self) {
-        if self.pendant.held_jog().is_some() {
+        if self.pendant.held_jog().is_some() || self.pendant.axes.hold.jog().is_some() {
             let now = Instant::now();
             self.pendant.apply(Intent::Stop(StopCause::Exit), now);
             if let Some(s) = &self.session {
                 s.link.stop_all();
             }
+            if let Some(r) = &self.rmc {
+                r.link.stop_all();
+            }
         }
-        self.session = None;
+        // Both links close at once, each sending its STOPs; the window waits for both.
+        std::thread::scope(|scope| {
+            let rmc = self.rmc.take();
+            scope.spawn(move || drop(rmc));
+            self.session = None;
+        });
     }
 
     fn drain_events(&mut self, now: Instant) {
+        let deadline = now + EVENT_BUDGET;
+        if let Some(rmc) = &self.rmc {
+            while let Ok(event) = rmc.events.try_recv() {
+                self.pendant.handle_axes_event(Instant::now(), event);
+                if Instant::now() >= deadline {
+                    break;
+                }
+            }
+        }
         let Some(session) = &mut self.session else {
             return;
         };
@@ -274,7 +305,6 @@ impl PendantApp {
             self.simulator.done(format!("Simulator: {line}"));
             self.pendant.note(format!("simulator: {line}"), now);
         }
-        let deadline = now + EVENT_BUDGET;
         while let Ok(event) = session.events.try_recv() {
             self.pendant.handle_event(Instant::now(), event);
             if Instant::now() >= deadline {
@@ -286,10 +316,13 @@ impl PendantApp {
     fn run_requests(&mut self, ctx: &egui::Context, now: Instant) {
         let requests = self.pendant.take_requests();
         // STOP first, whatever else was asked this frame.
-        if requests.contains(&Request::Stop)
-            && let Some(s) = &self.session
-        {
-            s.stop_all();
+        if requests.contains(&Request::Stop) {
+            if let Some(s) = &self.session {
+                s.stop_all();
+            }
+            if let Some(r) = &self.rmc {
+                r.link.stop_all();
+            }
         }
         for request in requests {
             match request {
@@ -326,6 +359,67 @@ impl PendantApp {
                 },
                 Request::Connect => self.open_session(ctx, now),
                 Request::Disconnect => self.session = None,
+                Request::Axes(call) => self.axes_call(ctx, call, now),
+            }
+        }
+    }
+
+    fn axes_call(&mut self, ctx: &egui::Context, call: AxisCall, now: Instant) {
+        if let AxisCall::Connect = call {
+            return self.open_rmc(ctx, now);
+        }
+        if let AxisCall::Disconnect = call {
+            self.rmc = None;
+            return;
+        }
+        let Some(rmc) = &self.rmc else {
+            return;
+        };
+        match call {
+            AxisCall::Send(axis, command) => {
+                let id = rmc.link.send(axis, command);
+                self.pendant.axes.sent(id, axis, command);
+            }
+            AxisCall::Hold(axis, jog) => {
+                let id = rmc.link.hold(axis, jog);
+                let command = crate::rmc::Command::MoveRelative(crate::rmc::MoveRelative {
+                    distance: jog.direction,
+                    speed: jog.speed,
+                    accel: jog.accel,
+                    decel: jog.decel,
+                    relative_to: crate::robot::RelativeTo::Target,
+                });
+                self.pendant.axes.sent(id, axis, command);
+            }
+            AxisCall::Release(axis) => rmc.link.release(axis),
+            AxisCall::RenewLease => rmc.link.renew_lease(),
+            AxisCall::Connect | AxisCall::Disconnect => {}
+        }
+    }
+
+    /// Opens the RMC151's connection in the settings (closing the current one).
+    fn open_rmc(&mut self, ctx: &egui::Context, now: Instant) {
+        self.rmc = None;
+        let repaint_ctx = ctx.clone();
+        let wakes = self.link_wakes.clone();
+        let last = std::sync::Mutex::new(RmcWake::default());
+        let repaint = std::sync::Arc::new(move |event: &crate::rmc::RmcEvent| {
+            // A poll that reads what is already shown wakes nobody.
+            if last.lock().map_or(true, |mut l| l.changed(event)) {
+                wakes.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                repaint_ctx.request_repaint_after(LINK_REPAINT);
+            }
+        });
+        match RmcSession::open(&self.pendant.settings.rmc, repaint) {
+            Ok(session) => self.rmc = Some(session),
+            Err(e) => {
+                let axes = &mut self.pendant.axes;
+                axes.line = crate::pendant::LineState::Down {
+                    reason: e.clone(),
+                    since: now,
+                };
+                self.pendant
+                    .say(crate::pendant::Level::Error, format!("RMC: {e}"), now);
             }
         }
     }
@@ -384,7 +478,7 @@ impl eframe::App for PendantApp {
         }
         self.pendant.tick(now);
         self.run_requests(ctx, now);
-        if self.pendant.held_jog().is_some() {
+        if self.pendant.held_jog().is_some() || self.pendant.axes.hold.jog().is_some() {
             // While a continuous jog is held the window runs at least this often.
             ctx.request_repaint_after(crate::pendant::RENEW_EVERY);
         } else if self.session.is_some() {
@@ -420,6 +514,7 @@ impl eframe::App for PendantApp {
         Panel::top("safety-band").show(ui, |ui| safety_band::show(ui, &self.pendant, now));
         let mut sim_action = None;
         let mut pad = PadOutput::default();
+        let mut axes_pad = super::axes::AxesPadOutput::default();
         // The jog panel first, at the top of the column: the pad never moves.
         Panel::left("left")
             .resizable(true)
@@ -461,6 +556,7 @@ impl eframe::App for PendantApp {
                 now,
                 started: self.started,
                 pane_rects: &mut self.pane_rects,
+                axes_pad: &mut axes_pad,
             };
             tabs.pane_rects.clear();
             layout::show(ui, &mut self.dock, &mut tabs);
@@ -480,6 +576,19 @@ impl eframe::App for PendantApp {
             (true, None) => Press::Aside,
         };
         intents.push(Intent::Jog(JogInput::Pointer, press));
+        // The same pointer on the RMC axis buttons: one hold machine each, one STOP.
+        if let Some(target) = axes_pad.tapped {
+            intents.push(Intent::Axes(AxisIntent::Jog(
+                JogInput::Pointer,
+                Press::On(target),
+            )));
+        }
+        let axes_press = match (ctx.input(|i| i.pointer.primary_down()), axes_pad.held_on) {
+            (false, _) => Press::Up,
+            (true, Some(target)) => Press::On(target),
+            (true, None) => Press::Aside,
+        };
+        intents.push(Intent::Axes(AxisIntent::Jog(JogInput::Pointer, axes_press)));
         self.pendant.apply_all(intents, now);
         if let Some(action) = sim_action
             && let Some(panel) = self.panel()
@@ -537,5 +646,39 @@ fn first_frame_probe(ctx: &egui::Context, app_started: Instant) {
     }
     if on("XSEL_PENDANT_EXIT_AFTER_FIRST_FRAME") {
         ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+    }
+}
+
+/// What the window last showed of the RMC, so a poll that reads the same asks for no
+/// repaint.
+#[derive(Default)]
+struct RmcWake {
+    statuses: Vec<Option<(crate::rmc::AxisStatus, bool)>>,
+    controller: Option<crate::rmc::ControllerStatus>,
+}
+
+impl RmcWake {
+    fn changed(&mut self, event: &crate::rmc::RmcEvent) -> bool {
+        use crate::rmc::RmcEvent;
+        match event {
+            RmcEvent::Status {
+                axis,
+                status,
+                trusted,
+                ..
+            } => {
+                let i = axis.index();
+                if self.statuses.len() <= i {
+                    self.statuses.resize(i + 1, None);
+                }
+                let new = Some((*status, *trusted));
+                std::mem::replace(&mut self.statuses[i], new) != new
+            }
+            RmcEvent::Controller { status, .. } => {
+                self.controller.replace(*status) != Some(*status)
+            }
+            RmcEvent::Ignored { .. } | RmcEvent::Dropped(_) => false,
+            _ => true,
+        }
     }
 }

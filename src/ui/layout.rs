@@ -35,6 +35,7 @@ pub enum Tab {
     Coords,
     FrameLog,
     Simulator,
+    Axes,
 }
 
 impl Tab {
@@ -48,11 +49,12 @@ impl Tab {
             Tab::Coords => "Coordinate tables",
             Tab::FrameLog => "Frame log",
             Tab::Simulator => "Simulator",
+            Tab::Axes => "RMC axes",
         }
     }
 }
 
-const ALL: [Tab; 8] = [
+const ALL: [Tab; 9] = [
     Tab::Arm,
     Tab::Position,
     Tab::Status,
@@ -61,6 +63,7 @@ const ALL: [Tab; 8] = [
     Tab::Coords,
     Tab::FrameLog,
     Tab::Simulator,
+    Tab::Axes,
 ];
 
 /// The first layout: the arm view large on the left over the messages and the frame log
@@ -76,7 +79,13 @@ pub fn default_layout() -> Tree<Tab> {
     let position = tabs(&mut tiles, &[Tab::Position]);
     let status = tabs(
         &mut tiles,
-        &[Tab::Status, Tab::Teach, Tab::Coords, Tab::Simulator],
+        &[
+            Tab::Status,
+            Tab::Axes,
+            Tab::Teach,
+            Tab::Coords,
+            Tab::Simulator,
+        ],
     );
     let traffic = tabs(&mut tiles, &[Tab::Messages, Tab::FrameLog]);
     let left = tiles.insert_container(Linear::new_binary(
@@ -124,6 +133,8 @@ pub struct Tabs<'a> {
     pub started: Instant,
     /// Where each pane shown this frame was drawn (for the size tests).
     pub pane_rects: &'a mut Vec<(Tab, egui::Rect)>,
+    /// What the RMC axis buttons saw this frame.
+    pub axes_pad: &'a mut super::axes::AxesPadOutput,
 }
 
 impl Behavior<Tab> for Tabs<'_> {
@@ -159,6 +170,11 @@ impl Behavior<Tab> for Tabs<'_> {
             Tab::FrameLog => {
                 self.frame_log
                     .show(ui, self.pendant, self.folder, self.now, self.intents)
+            }
+            Tab::Axes => {
+                egui::ScrollArea::vertical().show(ui, |ui| {
+                    super::axes::show(ui, self.pendant, self.intents, self.axes_pad)
+                });
             }
             Tab::Simulator => match self.sim.map(|panel| panel.state()) {
                 Some(Some(state)) => {

@@ -5,6 +5,7 @@
 pub mod app;
 mod arm_export;
 pub mod arm_view;
+mod axes;
 mod connection;
 mod coords;
 mod coords_table;

@@ -53,13 +53,14 @@ impl JogInput {
     }
 }
 
-/// What one jog input is doing this frame.
+/// What one jog input is doing this frame (on the arm's pad by default, or on another
+/// device's jog controls).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Press {
+pub enum Press<T = JogTarget> {
     /// Not down.
     Up,
     /// Down on this jog control (a pad button, a jog key while no text field types).
-    On(JogTarget),
+    On(T),
     /// Down, but not on a jog control: the pointer pressed elsewhere or moved off its
     /// button, a key held while a text field has the keyboard. Never starts anything.
     Aside,
@@ -110,41 +111,53 @@ impl StopCause {
 
 /// A continuous jog this machine drives: the input holding it and since when.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct HeldJog {
-    pub target: JogTarget,
+pub struct HeldJog<T = JogTarget> {
+    pub target: T,
     pub input: JogInput,
     pub since: Instant,
 }
 
 /// What the pendant must do after an input report.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum HoldAction {
+pub enum HoldAction<T = JogTarget> {
     /// Nothing.
     None,
     /// A fresh press of this target: a step, or the start of a continuous jog.
-    Press(JogTarget),
+    Press(T),
     /// The held jog's input is still on it: renew the lease.
     Renew,
     /// The held jog's input let go (or moved off): send STOP.
     Release,
     /// A fresh press that the latch swallowed.
-    Latched(JogTarget),
+    Latched(T),
 }
 
 /// The hold-to-run state: inputs down, the jog they drive, the latch.
-#[derive(Clone, Debug, Default)]
-pub struct HoldMachine {
+/// Written once for any jog target: the arm's pad ([`JogTarget`]) and an RMC axis's jog
+/// buttons keep the same rules.
+#[derive(Clone, Debug)]
+pub struct HoldMachine<T = JogTarget> {
     /// Every input down now, with the control it is on (`None`: aside).
-    down: BTreeMap<JogInput, Option<JogTarget>>,
+    down: BTreeMap<JogInput, Option<T>>,
     /// The continuous jog running on an input's hold.
-    jog: Option<HeldJog>,
+    jog: Option<HeldJog<T>>,
     /// STOP latched (and why): nothing starts until every input is up.
     latch: Option<StopCause>,
 }
 
-impl HoldMachine {
+impl<T> Default for HoldMachine<T> {
+    fn default() -> Self {
+        Self {
+            down: BTreeMap::new(),
+            jog: None,
+            latch: None,
+        }
+    }
+}
+
+impl<T: Copy + PartialEq> HoldMachine<T> {
     /// One input's state this frame.
-    pub fn report(&mut self, input: JogInput, press: Press) -> HoldAction {
+    pub fn report(&mut self, input: JogInput, press: Press<T>) -> HoldAction<T> {
         let driving = self.jog.filter(|j| j.input == input);
         match press {
             Press::Up => {
@@ -173,7 +186,7 @@ impl HoldMachine {
         }
     }
 
-    fn end_jog_of(&mut self, driving: Option<HeldJog>) -> HoldAction {
+    fn end_jog_of(&mut self, driving: Option<HeldJog<T>>) -> HoldAction<T> {
         if driving.is_some() {
             self.jog = None;
             HoldAction::Release
@@ -183,7 +196,7 @@ impl HoldMachine {
     }
 
     /// The continuous jog of `target` went out, held by `input`.
-    pub fn started(&mut self, input: JogInput, target: JogTarget, now: Instant) {
+    pub fn started(&mut self, input: JogInput, target: T, now: Instant) {
         self.jog = Some(HeldJog {
             target,
             input,
@@ -193,7 +206,7 @@ impl HoldMachine {
 
     /// STOP, whoever sent it: the jog ends and, while any input is down, the latch holds.
     /// Answers the jog that was running.
-    pub fn stop(&mut self, cause: StopCause) -> Option<HeldJog> {
+    pub fn stop(&mut self, cause: StopCause) -> Option<HeldJog<T>> {
         if !self.down.is_empty() {
             self.latch = Some(cause);
         }
@@ -202,7 +215,7 @@ impl HoldMachine {
 
     /// The window lost focus: it will see no release, so the jog ends and every input
     /// counts as down-and-spent until it is reported up.
-    pub fn focus_lost(&mut self) -> Option<HeldJog> {
+    pub fn focus_lost(&mut self) -> Option<HeldJog<T>> {
         for target in self.down.values_mut() {
             *target = None;
         }
@@ -210,7 +223,7 @@ impl HoldMachine {
     }
 
     /// The continuous jog running, if any.
-    pub fn jog(&self) -> Option<HeldJog> {
+    pub fn jog(&self) -> Option<HeldJog<T>> {
         self.jog
     }
 
@@ -225,7 +238,7 @@ impl HoldMachine {
     }
 
     /// The control `input` is down on, if any.
-    pub fn on(&self, input: JogInput) -> Option<JogTarget> {
+    pub fn on(&self, input: JogInput) -> Option<T> {
         self.down.get(&input).copied().flatten()
     }
 

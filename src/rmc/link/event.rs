@@ -78,7 +78,10 @@ pub enum RmcEvent {
     /// The CPU Module ID read after connecting (17 on an RMC151E).
     Module { cpu_id: u32 },
     /// Controller Status Bits, polled.
-    Controller { status: ControllerStatus, at: Instant },
+    Controller {
+        status: ControllerStatus,
+        at: Instant,
+    },
     /// An axis's status as polled; `trusted` is false while a command's ACK is awaited
     /// (its In Position and TG bits are not valid then, RMC.md section 5).
     Status {

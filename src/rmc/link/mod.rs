@@ -7,12 +7,14 @@
 mod axis;
 pub mod event;
 #[cfg(test)]
+mod harness;
+#[cfg(test)]
 mod tests;
 
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
-use self::axis::{AxisLink, Awaiting, Chain};
+use self::axis::{Awaiting, AxisLink, Chain};
 pub use self::event::{HoldJog, RmcEvent, RmcRequest, SafetyStop};
 use crate::line::LineSettings;
 use crate::link::RequestId;
@@ -116,7 +118,9 @@ pub struct RmcCore {
 
 impl RmcCore {
     pub fn new(config: RmcLinkConfig, now: Instant) -> Self {
-        let axes = AxisId::first(config.axes.max(1)).map(AxisLink::new).collect();
+        let axes = AxisId::first(config.axes.max(1))
+            .map(AxisLink::new)
+            .collect();
         Self {
             config,
             line: Line::Down { retry_at: now },
@@ -180,10 +184,8 @@ impl RmcCore {
             }
         }
         if !stopped.is_empty() {
-            self.events.push_back(RmcEvent::SafetyStop {
-                why,
-                axes: stopped,
-            });
+            self.events
+                .push_back(RmcEvent::SafetyStop { why, axes: stopped });
         }
     }
 
@@ -221,7 +223,10 @@ impl RmcCore {
     /// Why motion cannot be queued for `axis` now, if it cannot.
     fn motion_refusal(&self, axis: AxisId) -> Option<String> {
         let Some(a) = self.axes.get(axis.index()) else {
-            return Some(format!("{axis} is not one of the {} axes polled", self.axes.len()));
+            return Some(format!(
+                "{axis} is not one of the {} axes polled",
+                self.axes.len()
+            ));
         };
         if self.closing.is_some() {
             return Some("the link is closing".into());
@@ -245,7 +250,10 @@ impl RmcCore {
         let refusal = if command.moves() {
             self.motion_refusal(axis)
         } else if axis.index() >= self.axes.len() {
-            Some(format!("{axis} is not one of the {} axes polled", self.axes.len()))
+            Some(format!(
+                "{axis} is not one of the {} axes polled",
+                self.axes.len()
+            ))
         } else if self.closing.is_some() {
             Some("the link is closing".into())
         } else {
@@ -302,7 +310,11 @@ impl RmcCore {
         if !self.module_read {
             return Some(Purpose::Module);
         }
-        if let Some(a) = self.axes.iter().find(|a| a.read_wanted || a.awaiting.is_some()) {
+        if let Some(a) = self
+            .axes
+            .iter()
+            .find(|a| a.read_wanted || a.awaiting.is_some())
+        {
             return Some(Purpose::Status(a.id));
         }
         if let Some(&(id, axis, command)) = self.queue.front() {
@@ -442,7 +454,8 @@ impl RmcCore {
                 a.stop_owed = true;
             }
         }
-        self.events.push_back(RmcEvent::LineDown { reason, at: now });
+        self.events
+            .push_back(RmcEvent::LineDown { reason, at: now });
     }
 
     fn complete(&mut self, now: Instant, flight: InFlight, response: Response) {
@@ -471,7 +484,8 @@ impl RmcCore {
                 if purpose == Purpose::Module {
                     self.module_read = true;
                 }
-                self.events.push_back(RmcEvent::Exception { id, function, code });
+                self.events
+                    .push_back(RmcEvent::Exception { id, function, code });
             }
             (Purpose::Zeros(axis), Response::Written { .. }) => {
                 if let Some(a) = self.axis(axis) {
@@ -487,7 +501,8 @@ impl RmcCore {
             }
             (Purpose::Controller, Response::Registers { words, .. }) => {
                 let status = ControllerStatus(dword_at(&words, 0).unwrap_or(0));
-                self.events.push_back(RmcEvent::Controller { status, at: now });
+                self.events
+                    .push_back(RmcEvent::Controller { status, at: now });
             }
             (Purpose::Status(axis), Response::Registers { words, .. }) => {
                 match AxisStatus::decode(&words) {
@@ -531,15 +546,13 @@ impl RmcCore {
                 if a.chain.take().is_some() {
                     a.stop_owed = true;
                 }
-                self.events.push_back(RmcEvent::Unconfirmed { id: w.id, axis });
+                self.events
+                    .push_back(RmcEvent::Unconfirmed { id: w.id, axis });
             } else {
                 trusted = false;
             }
         }
-        if trusted
-            && (status.bits.halted() || status.errors.any())
-            && a.chain.take().is_some()
-        {
+        if trusted && (status.bits.halted() || status.errors.any()) && a.chain.take().is_some() {
             // A halted axis (a travel limit, a fault) is not pushed on by more moves.
             self.events.push_back(RmcEvent::JogEnded {
                 axis,
@@ -636,7 +649,10 @@ impl LinkCore for RmcCore {
             let decoded = frame.and_then(|f| modbus::decode_response(&f));
             match decoded {
                 Err(e) => {
-                    self.lose_line(now, format!("the RMC sent bytes that are not Modbus/TCP: {e}"));
+                    self.lose_line(
+                        now,
+                        format!("the RMC sent bytes that are not Modbus/TCP: {e}"),
+                    );
                     self.drop_line = true;
                     return;
                 }
@@ -764,7 +780,10 @@ impl LinkCore for RmcCore {
             .any(|a| a.chain.is_some())
             .then(|| self.lease_renewed.map(|at| at + self.config.lease))
             .flatten();
-        [flight, line, lease, self.closing].into_iter().flatten().min()
+        [flight, line, lease, self.closing]
+            .into_iter()
+            .flatten()
+            .min()
     }
 
     fn awaits_bytes(&self) -> bool {

@@ -1,0 +1,343 @@
+//! The RMC link core on a virtual clock against the simulated RMC151: REQ/ACK, no blind
+//! re-send, zeros first, STOP first, and the held jog's chain.
+
+use std::time::Duration;
+
+use super::harness::{Bench, Fault, axis};
+use super::{HoldJog, RmcEvent, RmcLinkConfig, RmcRequest, SafetyStop};
+use crate::link::core::{Input, LinkCore};
+use crate::rmc::{Command, MoveRelative};
+use crate::robot::RelativeTo;
+
+fn move_by(distance: f32, relative_to: RelativeTo) -> Command {
+    Command::MoveRelative(MoveRelative {
+        distance,
+        speed: 50.0,
+        accel: 500.0,
+        decel: 500.0,
+        relative_to,
+    })
+}
+
+const SECOND: Duration = Duration::from_secs(1);
+
+#[test]
+fn every_connection_starts_with_zeros_and_each_command_toggles_req() {
+    let mut b = Bench::enabled();
+    let id = b.send(axis(0), move_by(10.0, RelativeTo::Command));
+    assert!(b.run_until(2 * SECOND, |b| {
+        b.core
+            .last_status(axis(0))
+            .is_some_and(|s| s.bits.in_position() && s.command_position == 10.0)
+    }));
+    let written = b.commands_to(axis(0));
+    assert_eq!(
+        written[0],
+        (Command::NoOp, false),
+        "zeros first: {written:?}"
+    );
+    assert_eq!(written[1], (Command::Enable(true), true));
+    assert_eq!(written[2], (move_by(10.0, RelativeTo::Command), false));
+    assert_eq!(written.len(), 3, "nothing else written: {written:?}");
+    assert_eq!(b.core.last_status(axis(0)).unwrap().command_position, 10.0);
+    assert!(b.events.iter().any(|(_, e)| matches!(
+        e,
+        RmcEvent::Acknowledged { id: Some(i), .. } if *i == id
+    )));
+}
+
+#[test]
+fn status_is_not_trusted_until_ack_equals_req() {
+    let mut b = Bench::enabled();
+    let before = b.core.last_status(axis(0)).unwrap();
+    assert!(before.bits.in_position());
+    b.faults.extend([Fault::AckLate, Fault::AckLate]);
+    let id = b.send(axis(0), move_by(5.0, RelativeTo::Command));
+    let acked = |b: &Bench| {
+        b.events
+            .iter()
+            .any(|(_, e)| matches!(e, RmcEvent::Acknowledged { id: Some(i), .. } if *i == id))
+    };
+    assert!(b.run_until(SECOND, acked));
+    let statuses: Vec<bool> = b
+        .events
+        .iter()
+        .skip_while(|(_, e)| !matches!(e, RmcEvent::Sent { id: Some(i), .. } if *i == id))
+        .filter_map(|(_, e)| match e {
+            RmcEvent::Status {
+                axis: a, trusted, ..
+            } if *a == axis(0) => Some(*trusted),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(
+        &statuses[..3],
+        &[false, false, true],
+        "two late reads, then ACK = REQ"
+    );
+    // While untrusted, the In Position of the old state was never taken for the move's.
+    let moving = b.events.iter().find_map(|(_, e)| match e {
+        RmcEvent::Status {
+            axis: a,
+            status,
+            trusted: true,
+            ..
+        } if *a == axis(0) && status.command_position == 5.0 => Some(*status),
+        _ => None,
+    });
+    assert!(
+        moving.is_some_and(|s| !s.bits.in_position()),
+        "the first trusted status is the move's"
+    );
+}
+
+#[test]
+fn a_timed_out_write_whose_ack_matches_is_not_sent_again() {
+    let mut b = Bench::enabled();
+    b.faults.push(Fault::LoseNextWriteReply);
+    let id = b.send(axis(0), move_by(10.0, RelativeTo::Command));
+    assert!(b.run_until(2 * SECOND, |b| {
+        b.events
+            .iter()
+            .any(|(_, e)| matches!(e, RmcEvent::Acknowledged { id: Some(i), .. } if *i == id))
+    }));
+    b.run_for(SECOND, None);
+    let moves = b
+        .commands_to(axis(0))
+        .iter()
+        .filter(|(c, _)| c.moves())
+        .count();
+    assert_eq!(moves, 1, "the move arrived: it is not written again");
+    assert_eq!(
+        b.truth(axis(0)).command_position,
+        10.0,
+        "it moved once, not twice"
+    );
+}
+
+#[test]
+fn a_lost_write_is_reported_and_never_sent_again() {
+    let mut b = Bench::enabled();
+    b.faults.push(Fault::LoseNextWrite);
+    let id = b.send(axis(0), move_by(10.0, RelativeTo::Command));
+    assert!(b.run_until(2 * SECOND, |b| {
+        b.events
+            .iter()
+            .any(|(_, e)| matches!(e, RmcEvent::Unconfirmed { id: Some(i), .. } if *i == id))
+    }));
+    b.run_for(SECOND, None);
+    let moves = b
+        .commands_to(axis(0))
+        .iter()
+        .filter(|(c, _)| c.moves())
+        .count();
+    assert_eq!(moves, 1, "written once, never again");
+    assert_eq!(b.truth(axis(0)).command_position, 0.0, "it never arrived");
+    // The next command works, with REQ back in step with ACK.
+    b.send(axis(0), move_by(2.0, RelativeTo::Command));
+    assert!(b.run_until(2 * SECOND, |b| b.truth(axis(0)).command_position == 2.0));
+}
+
+#[test]
+fn a_reconnect_writes_zeros_first_then_stops_what_may_be_moving() {
+    let mut b = Bench::enabled();
+    b.send(axis(0), move_by(100.0, RelativeTo::Command));
+    b.run_for(Duration::from_millis(300), None);
+    assert!(b.truth(axis(0)).target_velocity > 0.0, "moving");
+    b.lose_line();
+    let cut_at = b.wire.len();
+    assert!(
+        b.run_until(2 * SECOND, |b| b.core.last_status(axis(0)).is_some()
+            && b.wire.len() > cut_at + 4)
+    );
+    b.run_for(Duration::from_millis(200), None);
+    let after: Vec<_> = b.wire[cut_at..]
+        .iter()
+        .filter_map(|(_, r)| match r {
+            crate::rmc::modbus::Request::Write { address, words } => {
+                Some((*address, Command::from_block(words).ok()))
+            }
+            _ => None,
+        })
+        .collect();
+    assert_eq!(
+        after[0],
+        (axis(0).command_block(), Some((Command::NoOp, false)))
+    );
+    assert_eq!(
+        after[1],
+        (axis(1).command_block(), Some((Command::NoOp, false)))
+    );
+    assert!(
+        matches!(after[2], (a, Some((Command::Stop { .. }, true))) if a == axis(0).command_block()),
+        "then Stop (6) to the axis that was moving: {after:?}"
+    );
+    assert!(
+        after
+            .iter()
+            .all(|(_, c)| !c.is_some_and(|(c, _)| c.moves())),
+        "no move re-sent"
+    );
+    assert!(b.events.iter().any(|(_, e)| matches!(
+        e,
+        RmcEvent::SafetyStop {
+            why: SafetyStop::Reconnected,
+            ..
+        }
+    )));
+    assert!(b.run_until(2 * SECOND, |b| b.truth(axis(0)).target_velocity == 0.0));
+    assert!(
+        b.truth(axis(0)).target_position < 100.0,
+        "stopped short of the move's end"
+    );
+}
+
+#[test]
+fn stop_goes_ahead_of_a_queued_move_which_is_dropped() {
+    let mut b = Bench::enabled();
+    // A read is in flight; a move and then STOP arrive before it is answered.
+    b.run_until(SECOND, |b| b.core.awaits_bytes());
+    let id = b.send(axis(0), move_by(10.0, RelativeTo::Command));
+    b.request(RmcRequest::StopAll);
+    b.run_for(Duration::from_millis(100), None);
+    let written = b.commands_to(axis(0));
+    assert!(
+        matches!(written.last(), Some((Command::Stop { .. }, _))),
+        "{written:?}"
+    );
+    assert!(
+        written.iter().all(|(c, _)| !c.moves()),
+        "the move never went out"
+    );
+    assert!(
+        b.events
+            .iter()
+            .any(|(_, e)| matches!(e, RmcEvent::NotSent { id: i, .. } if *i == id))
+    );
+}
+
+fn hold() -> HoldJog {
+    HoldJog {
+        direction: 1.0,
+        speed: 50.0,
+        accel: 500.0,
+        decel: 500.0,
+    }
+}
+
+#[test]
+fn a_held_jog_runs_smoothly_while_renewed_and_stops_on_release() {
+    let mut b = Bench::enabled();
+    let id = b.next_id();
+    b.request(RmcRequest::Hold {
+        id,
+        axis: axis(0),
+        jog: hold(),
+    });
+    // Half a second of renewals at 40 ms: after the ramp the target runs at full speed
+    // all the time (the chain never lets it slow down).
+    b.run_for(Duration::from_millis(200), Some(Duration::from_millis(40)));
+    for _ in 0..100 {
+        b.run_for(Duration::from_millis(5), Some(Duration::from_millis(40)));
+        assert_eq!(
+            b.truth(axis(0)).target_velocity,
+            50.0,
+            "at {:?}",
+            b.now - b.start
+        );
+    }
+    b.request(RmcRequest::Release { axis: axis(0) });
+    let at = b.truth(axis(0)).target_position;
+    assert!(b.run_until(SECOND, |b| b.truth(axis(0)).target_velocity == 0.0));
+    let stopped = b.truth(axis(0)).target_position;
+    // 50 pu/s at 1000 pu/s² (STOP's deceleration) stops within 1.25 pu.
+    assert!(
+        stopped - at <= 1.3,
+        "stopped {} after release",
+        stopped - at
+    );
+    assert!(matches!(
+        b.commands_to(axis(0)).last(),
+        Some((Command::Stop { .. }, _))
+    ));
+}
+
+#[test]
+fn a_held_jog_stops_within_one_chunk_when_the_pendant_goes_quiet() {
+    let lease = RmcLinkConfig::default().lease.as_secs_f32();
+    let chunk = 50.0 * lease + 50.0 * 50.0 / (2.0 * 500.0);
+    // The window freezes: no more renewals, the link core goes on and sends Stop (6).
+    let mut b = Bench::enabled();
+    let id = b.next_id();
+    b.request(RmcRequest::Hold {
+        id,
+        axis: axis(0),
+        jog: hold(),
+    });
+    b.run_for(Duration::from_millis(500), Some(Duration::from_millis(40)));
+    let quiet_at = b.truth(axis(0)).target_position;
+    assert!(
+        b.run_until(2 * SECOND, |b| b.truth(axis(0)).target_velocity == 0.0
+            && b.truth(axis(0)).target_position > quiet_at)
+    );
+    let ran = b.truth(axis(0)).target_position - quiet_at;
+    assert!(
+        ran <= chunk,
+        "ran {ran} after the last renewal; one chunk is {chunk}"
+    );
+    assert!(b.events.iter().any(|(_, e)| matches!(
+        e,
+        RmcEvent::SafetyStop {
+            why: SafetyStop::LeaseLapsed,
+            ..
+        }
+    )));
+    // The whole pendant dies (no link either): the axis runs out its last move only.
+    let mut b = Bench::enabled();
+    let id = b.next_id();
+    b.request(RmcRequest::Hold {
+        id,
+        axis: axis(0),
+        jog: hold(),
+    });
+    b.run_for(Duration::from_millis(500), Some(Duration::from_millis(40)));
+    let died_at = b.truth(axis(0)).target_position;
+    let mut sim = b.sim.clone();
+    let mut t = b.now;
+    for _ in 0..3000 {
+        t += Duration::from_millis(1);
+        sim.advance(t);
+    }
+    let s = sim.status(axis(0)).unwrap();
+    assert_eq!(s.target_velocity, 0.0, "it stops by itself");
+    let ran = s.target_position - died_at;
+    assert!(
+        ran <= chunk,
+        "ran {ran} after the pendant died; one chunk is {chunk}"
+    );
+}
+
+#[test]
+fn closing_stops_a_moving_axis_before_the_line_closes() {
+    let mut b = Bench::enabled();
+    b.send(axis(0), move_by(100.0, RelativeTo::Command));
+    b.run_for(Duration::from_millis(300), None);
+    b.core.handle_request(b.now, Input::Close);
+    assert!(b.run_until(SECOND, |b| b.core.is_closed()));
+    assert!(matches!(
+        b.commands_to(axis(0)).last(),
+        Some((Command::Stop { .. }, _))
+    ));
+    assert!(b.events.iter().any(|(_, e)| matches!(e, RmcEvent::Closed)));
+}
+
+#[test]
+fn motion_to_a_disabled_axis_is_refused_before_sending() {
+    let mut b = Bench::new(RmcLinkConfig::default());
+    b.run_until(SECOND, |b| b.core.last_status(axis(1)).is_some());
+    let id = b.send(axis(1), move_by(1.0, RelativeTo::Command));
+    assert!(b.events.iter().any(|(_, e)| matches!(
+        e, RmcEvent::NotSent { id: i, reason } if *i == id && reason.contains("not enabled")
+    )));
+    assert!(b.commands_to(axis(1)).iter().all(|(c, _)| !c.moves()));
+}

@@ -1,0 +1,534 @@
+//! The Delta RMC151's axes beside the arm (DESIGN.md "Devices"): the connection, each
+//! axis's last status, the commands sent and what became of them, and steps and
+//! hold-to-run on an axis with the arm's hold machine and STOP latch. Sans-IO: link
+//! events and the time come in, calls for the RMC link go out.
+
+pub mod settings;
+#[cfg(test)]
+mod tests;
+
+use std::collections::VecDeque;
+use std::time::Instant;
+
+use super::connection::LineState;
+use super::jog::JogMode;
+use super::jog::hold::{HoldAction, HoldMachine, JogInput, Press, StopCause};
+use super::{Level, Message};
+use crate::link::RequestId;
+use crate::protocol::Direction;
+use crate::rmc::{
+    AxisId, AxisStatus, Command, ControllerStatus, HoldJog, MoveRelative, RmcEvent, TgPhase,
+};
+pub use settings::{RmcJogSettings, RmcSettings};
+
+/// Commands kept in the axis panel's log.
+const KEEP_LOG: usize = 200;
+
+/// One of an axis's jog buttons: the axis and a direction.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct AxisJog {
+    pub axis: AxisId,
+    pub direction: Direction,
+}
+
+impl AxisJog {
+    fn sign(self) -> f32 {
+        match self.direction {
+            Direction::Positive => 1.0,
+            Direction::Negative => -1.0,
+        }
+    }
+
+    /// "Axis 1+".
+    pub fn label(self) -> String {
+        let sign = if self.sign() > 0.0 { "+" } else { "-" };
+        format!("{}{sign}", self.axis)
+    }
+}
+
+/// What the axis panel asks for.
+#[derive(Clone, Debug, PartialEq)]
+pub enum AxisIntent {
+    /// A jog input on an axis's − or + (reported every frame while down, once when up).
+    Jog(JogInput, Press<AxisJog>),
+    /// Enable/Disable Axis (97).
+    Enable(AxisId, bool),
+    /// Clear Faults (4).
+    ClearFaults(AxisId),
+    /// The panel's new jog choices.
+    Settings(RmcJogSettings),
+    /// The RMC's connection settings (applied on Connect).
+    Connection(RmcSettings),
+    /// Open the RMC's connection (closing the current one).
+    Connect,
+    /// Close it.
+    Disconnect,
+}
+
+/// What the pendant asks of the RMC link.
+#[derive(Clone, Debug, PartialEq)]
+pub enum AxisCall {
+    Send(AxisId, Command),
+    Hold(AxisId, HoldJog),
+    Release(AxisId),
+    RenewLease,
+    Connect,
+    Disconnect,
+}
+
+/// An axis as last polled.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AxisView {
+    /// The last status whose ACK matched REQ (its In Position and TG bits are valid).
+    pub status: Option<AxisStatus>,
+    /// The last status read at all (positions are valid even while ACK is awaited).
+    pub latest: Option<AxisStatus>,
+    pub at: Option<Instant>,
+    /// A command sent whose ACK is awaited.
+    pub awaiting: bool,
+    /// The move acknowledged and followed until the target generator is done.
+    pub following: Option<Command>,
+}
+
+impl AxisView {
+    pub fn enabled(&self) -> bool {
+        self.status.is_some_and(|s| s.bits.enabled())
+    }
+
+    pub fn phase(&self) -> TgPhase {
+        self.status.map_or(TgPhase::Complete, |s| s.bits.phase())
+    }
+}
+
+/// One line of the command log: what was sent and what became of it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LogLine {
+    pub at: Instant,
+    pub axis: Option<AxisId>,
+    pub text: String,
+}
+
+/// The RMC151 as the pendant knows it.
+pub struct RmcAxes {
+    pub line: LineState,
+    /// CPU Module ID (17 on an RMC151E).
+    pub module: Option<u32>,
+    pub controller: Option<ControllerStatus>,
+    pub axes: Vec<AxisView>,
+    pub log: VecDeque<LogLine>,
+    pub hold: HoldMachine<AxisJog>,
+    /// The last word beside the axis buttons.
+    pub feedback: Option<Message>,
+    /// Requests sent and not yet answered, with what they were.
+    pending: Vec<(RequestId, AxisId, Command)>,
+    calls: Vec<AxisCall>,
+}
+
+impl RmcAxes {
+    pub fn new(axes: usize) -> Self {
+        Self {
+            line: LineState::Closed,
+            module: None,
+            controller: None,
+            axes: vec![AxisView::default(); axes],
+            log: VecDeque::new(),
+            hold: HoldMachine::default(),
+            feedback: None,
+            pending: Vec::new(),
+            calls: Vec::new(),
+        }
+    }
+
+    pub fn take_calls(&mut self) -> Vec<AxisCall> {
+        std::mem::take(&mut self.calls)
+    }
+
+    pub fn view(&self, axis: AxisId) -> Option<&AxisView> {
+        self.axes.get(axis.index())
+    }
+
+    fn log(&mut self, now: Instant, axis: Option<AxisId>, text: String) {
+        if self.log.len() >= KEEP_LOG {
+            self.log.pop_front();
+        }
+        self.log.push_back(LogLine {
+            at: now,
+            axis,
+            text,
+        });
+    }
+
+    fn says(&mut self, level: Level, text: String, now: Instant) -> (Level, String) {
+        self.feedback = Some(Message {
+            level,
+            text: text.clone(),
+            at: now,
+            detail: None,
+        });
+        (level, text)
+    }
+
+    /// The id of a call sent: the link numbers its requests in the order they came.
+    pub fn sent(&mut self, id: RequestId, axis: AxisId, command: Command) {
+        self.pending.push((id, axis, command));
+    }
+
+    /// Applies one intent; what the operator should read comes back.
+    pub fn apply(
+        &mut self,
+        intent: AxisIntent,
+        settings: &mut RmcSettings,
+        now: Instant,
+    ) -> Option<(Level, String)> {
+        match intent {
+            AxisIntent::Jog(input, press) => self.jog_input(input, press, settings.jog, now),
+            AxisIntent::Enable(axis, on) => self.send(axis, Command::Enable(on), now),
+            AxisIntent::ClearFaults(axis) => self.send(axis, Command::ClearFaults, now),
+            AxisIntent::Settings(jog) => {
+                settings.jog = jog;
+                None
+            }
+            AxisIntent::Connection(s) => {
+                *settings = s;
+                None
+            }
+            AxisIntent::Connect => {
+                self.line = LineState::Opening;
+                self.axes = vec![AxisView::default(); settings.axis_count()];
+                self.calls.push(AxisCall::Connect);
+                None
+            }
+            AxisIntent::Disconnect => {
+                self.stop(StopCause::LineLost);
+                self.line = LineState::Closed;
+                self.calls.push(AxisCall::Disconnect);
+                None
+            }
+        }
+    }
+
+    fn send(&mut self, axis: AxisId, command: Command, now: Instant) -> Option<(Level, String)> {
+        if !self.line.is_up() {
+            return Some(self.says(
+                Level::Warning,
+                format!(
+                    "{} not sent to {axis}: the RMC is not connected",
+                    command.name()
+                ),
+                now,
+            ));
+        }
+        self.calls.push(AxisCall::Send(axis, command));
+        None
+    }
+
+    fn jog_input(
+        &mut self,
+        input: JogInput,
+        press: Press<AxisJog>,
+        jog: RmcJogSettings,
+        now: Instant,
+    ) -> Option<(Level, String)> {
+        let before = self.hold.jog();
+        match self.hold.report(input, press) {
+            HoldAction::None => None,
+            HoldAction::Renew => {
+                self.calls.push(AxisCall::RenewLease);
+                None
+            }
+            HoldAction::Release => {
+                if let Some(j) = before {
+                    self.calls.push(AxisCall::Release(j.target.axis));
+                }
+                None
+            }
+            HoldAction::Latched(target) => Some(self.says(
+                Level::Warning,
+                format!(
+                    "{} not started: {}",
+                    target.label(),
+                    self.hold.latch_text().unwrap_or_default()
+                ),
+                now,
+            )),
+            HoldAction::Press(target) => self.press(input, target, jog, now),
+        }
+    }
+
+    fn press(
+        &mut self,
+        input: JogInput,
+        target: AxisJog,
+        jog: RmcJogSettings,
+        now: Instant,
+    ) -> Option<(Level, String)> {
+        let refuse = |why: String| format!("{} refused: {why}", target.label());
+        if let Err(why) = jog.check() {
+            return Some(self.says(Level::Warning, refuse(why), now));
+        }
+        if !self.line.is_up() {
+            return Some(self.says(
+                Level::Warning,
+                refuse("the RMC is not connected".into()),
+                now,
+            ));
+        }
+        let view = self.view(target.axis).copied().unwrap_or_default();
+        if !view.enabled() {
+            return Some(self.says(
+                Level::Warning,
+                refuse(format!("{} is not enabled: enable it first", target.axis)),
+                now,
+            ));
+        }
+        match jog.mode {
+            JogMode::Step => {
+                let command = Command::MoveRelative(MoveRelative {
+                    distance: target.sign() * jog.step,
+                    speed: jog.speed,
+                    accel: jog.accel,
+                    decel: jog.decel,
+                    relative_to: jog.relative_to,
+                });
+                self.calls.push(AxisCall::Send(target.axis, command));
+                Some(self.says(
+                    Level::Info,
+                    format!(
+                        "{}: Move Relative {} relative to {}",
+                        target.label(),
+                        target.sign() * jog.step,
+                        jog.relative_to.name()
+                    ),
+                    now,
+                ))
+            }
+            JogMode::Continuous => {
+                let hold = HoldJog {
+                    direction: target.sign(),
+                    speed: jog.speed,
+                    accel: jog.accel,
+                    decel: jog.decel,
+                };
+                self.calls.push(AxisCall::Hold(target.axis, hold));
+                self.hold.started(input, target, now);
+                Some(self.says(Level::Info, format!("jogging {}", target.label()), now))
+            }
+        }
+    }
+}
+
+impl RmcAxes {
+    /// STOP, whoever sent it: a held axis jog ends and latches while its input is down.
+    /// (The window sends Stop (6) to every axis through the link.)
+    pub fn stop(&mut self, cause: StopCause) {
+        // Motion asked for earlier this frame has not gone out: it never will.
+        self.calls.retain(|c| match c {
+            AxisCall::Send(_, command) => !command.moves(),
+            AxisCall::Hold(..) => false,
+            _ => true,
+        });
+        if let Some(j) = self.hold.stop(cause) {
+            self.calls.push(AxisCall::Release(j.target.axis));
+        }
+    }
+
+    /// The window lost the keyboard and pointer: a held axis jog stops.
+    pub fn focus_lost(&mut self) {
+        if let Some(j) = self.hold.focus_lost() {
+            self.calls.push(AxisCall::Release(j.target.axis));
+        }
+    }
+
+    fn command_of(&mut self, id: Option<RequestId>, remove: bool) -> Option<(AxisId, Command)> {
+        let id = id?;
+        let at = self.pending.iter().position(|(p, ..)| *p == id)?;
+        let (_, axis, command) = if remove {
+            self.pending.remove(at)
+        } else {
+            *self.pending.get(at)?
+        };
+        Some((axis, command))
+    }
+
+    /// Applies one event from the RMC link; what the operator should read comes back.
+    pub fn handle_event(&mut self, now: Instant, event: RmcEvent) -> Option<(Level, String)> {
+        match event {
+            RmcEvent::LineUp { name, .. } => {
+                self.line = LineState::Up {
+                    line: name.clone(),
+                    since: now,
+                };
+                Some((Level::Info, format!("RMC connected: {name}")))
+            }
+            RmcEvent::LineDown { reason, .. } => {
+                self.stop(StopCause::LineLost);
+                self.pending.clear();
+                for v in &mut self.axes {
+                    v.awaiting = false;
+                    v.following = None;
+                }
+                self.line = LineState::Down {
+                    reason: reason.clone(),
+                    since: now,
+                };
+                Some(self.says(Level::Error, format!("RMC line down: {reason}"), now))
+            }
+            RmcEvent::Module { cpu_id } => {
+                self.module = Some(cpu_id);
+                match cpu_id {
+                    crate::rmc::registers::RMC151E_ID | 16 => None,
+                    other => Some((
+                        Level::Warning,
+                        format!(
+                            "the RMC reports CPU Module ID {other}, not an RMC150E/151E (16/17)"
+                        ),
+                    )),
+                }
+            }
+            RmcEvent::Controller { status, .. } => {
+                self.controller = Some(status);
+                None
+            }
+            RmcEvent::Status {
+                axis,
+                status,
+                trusted,
+                at,
+            } => {
+                let done = self.axes.get_mut(axis.index()).and_then(|v| {
+                    v.latest = Some(status);
+                    v.at = Some(at);
+                    v.awaiting = !trusted;
+                    if !trusted {
+                        return None;
+                    }
+                    v.status = Some(status);
+                    let finished = status.bits.tg_done() && status.target_velocity == 0.0;
+                    v.following.take_if(|_| finished)
+                });
+                if let Some(command) = done {
+                    let s = status;
+                    let in_pos = if s.bits.in_position() {
+                        "in position"
+                    } else {
+                        "not in position"
+                    };
+                    self.log(
+                        now,
+                        Some(axis),
+                        format!(
+                            "{} done: command {:.3}, actual {:.3}, {in_pos}",
+                            command.name(),
+                            s.command_position,
+                            s.actual_position
+                        ),
+                    );
+                }
+                None
+            }
+            RmcEvent::Sent {
+                id,
+                axis,
+                command,
+                req,
+                ..
+            } => {
+                let who = if id.is_some() {
+                    ""
+                } else {
+                    " (the link's own)"
+                };
+                self.log(
+                    now,
+                    Some(axis),
+                    format!("sent {command}, REQ {}{who}", u8::from(req)),
+                );
+                if let Some(v) = self.axes.get_mut(axis.index()) {
+                    v.awaiting = true;
+                    v.following = None;
+                }
+                None
+            }
+            RmcEvent::Acknowledged { id, axis, .. } => {
+                let command = self.command_of(id, true).map(|(_, c)| c);
+                let name = command.map_or("the link's command", |c| c.name());
+                self.log(now, Some(axis), format!("ACK = REQ: {name} received"));
+                if let Some(v) = self.axes.get_mut(axis.index()) {
+                    v.following = command.filter(Command::moves);
+                }
+                None
+            }
+            RmcEvent::NotSent { id, reason } => {
+                let what = self.command_of(Some(id), true);
+                self.stop_jog_of(what.map(|(a, _)| a), StopCause::Refused);
+                let name = what.map_or("command", |(_, c)| c.name());
+                Some(self.says(Level::Warning, format!("{name} not sent: {reason}"), now))
+            }
+            RmcEvent::Unconfirmed { id, axis } => {
+                let name = self
+                    .command_of(id, true)
+                    .map_or("a command", |(_, c)| c.name());
+                self.stop_jog_of(Some(axis), StopCause::Refused);
+                Some(self.says(
+                    Level::Error,
+                    format!(
+                        "{axis}: no reply to {name}, and ACK did not change: it did not arrive \
+                         and is not sent again"
+                    ),
+                    now,
+                ))
+            }
+            RmcEvent::Exception { id, function, code } => {
+                let what = self.command_of(id, true);
+                self.stop_jog_of(what.map(|(a, _)| a), StopCause::Refused);
+                let name = what.map_or("a request".to_string(), |(a, c)| {
+                    format!("{} to {a}", c.name())
+                });
+                Some(self.says(
+                    Level::Error,
+                    format!(
+                        "the RMC refused {name}: Modbus exception {:02} ({}) to function {function}",
+                        code.0,
+                        code.name()
+                    ),
+                    now,
+                ))
+            }
+            RmcEvent::SafetyStop { why, axes } => {
+                if why == crate::rmc::link::SafetyStop::LeaseLapsed {
+                    self.stop(StopCause::LeaseLapsed);
+                }
+                let names: Vec<String> = axes.iter().map(|a| a.to_string()).collect();
+                Some(self.says(
+                    Level::Warning,
+                    format!(
+                        "Stop (6) sent by the link to {}: {}",
+                        names.join(", "),
+                        why.text()
+                    ),
+                    now,
+                ))
+            }
+            RmcEvent::JogEnded { axis, why } => {
+                self.stop_jog_of(Some(axis), StopCause::Refused);
+                Some(self.says(Level::Warning, format!("jog ended: {why}"), now))
+            }
+            RmcEvent::Ignored { why } => {
+                self.log(now, None, format!("ignored: {why}"));
+                None
+            }
+            RmcEvent::Dropped(_) => None,
+            RmcEvent::Closed => {
+                self.line = LineState::Closed;
+                None
+            }
+        }
+    }
+
+    /// A held jog on `axis` ends and latches (its move was refused).
+    fn stop_jog_of(&mut self, axis: Option<AxisId>, cause: StopCause) {
+        if self.hold.jog().is_some_and(|j| Some(j.target.axis) == axis) {
+            self.stop(cause);
+        }
+    }
+}

@@ -1,0 +1,168 @@
+//! The axis panel's model: steps, hold-to-run with the STOP latch, refusals, events.
+
+use std::time::{Duration, Instant};
+
+use super::*;
+use crate::rmc::{ErrorBits, StatusBits};
+
+fn axis(i: usize) -> AxisId {
+    AxisId::new(i).unwrap()
+}
+
+fn plus(i: usize) -> AxisJog {
+    AxisJog {
+        axis: axis(i),
+        direction: Direction::Positive,
+    }
+}
+
+/// Connected, axis 0 enabled.
+fn ready(now: Instant) -> (RmcAxes, RmcSettings) {
+    let mut r = RmcAxes::new(2);
+    r.handle_event(
+        now,
+        RmcEvent::LineUp {
+            name: "sim".into(),
+            at: now,
+        },
+    );
+    let status = AxisStatus {
+        bits: StatusBits(0).with(StatusBits::ENABLED, true),
+        ..Default::default()
+    };
+    r.handle_event(
+        now,
+        RmcEvent::Status {
+            axis: axis(0),
+            status,
+            trusted: true,
+            at: now,
+        },
+    );
+    (r, RmcSettings::default())
+}
+
+fn press(r: &mut RmcAxes, s: &mut RmcSettings, p: Press<AxisJog>, now: Instant) {
+    r.apply(AxisIntent::Jog(JogInput::Pointer, p), s, now);
+}
+
+#[test]
+fn a_press_in_step_mode_is_one_move_relative_with_the_chosen_reference() {
+    let now = Instant::now();
+    let (mut r, mut s) = ready(now);
+    s.jog.relative_to = crate::robot::RelativeTo::Target;
+    for _ in 0..30 {
+        press(&mut r, &mut s, Press::On(plus(0)), now);
+    }
+    press(&mut r, &mut s, Press::Up, now);
+    let calls = r.take_calls();
+    let moves: Vec<_> = calls
+        .iter()
+        .filter_map(|c| match c {
+            AxisCall::Send(a, Command::MoveRelative(m)) => Some((*a, *m)),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(
+        moves.len(),
+        1,
+        "one step per press, never on a level: {calls:?}"
+    );
+    assert_eq!(moves[0].0, axis(0));
+    assert_eq!(moves[0].1.distance, 10.0);
+    assert_eq!(moves[0].1.relative_to, crate::robot::RelativeTo::Target);
+}
+
+#[test]
+fn a_hold_renews_while_down_releases_on_up_and_stop_latches_until_release() {
+    let now = Instant::now();
+    let (mut r, mut s) = ready(now);
+    s.jog.mode = JogMode::Continuous;
+    press(&mut r, &mut s, Press::On(plus(0)), now);
+    press(&mut r, &mut s, Press::On(plus(0)), now);
+    let calls = r.take_calls();
+    assert!(matches!(calls[0], AxisCall::Hold(a, _) if a == axis(0)));
+    assert_eq!(calls[1], AxisCall::RenewLease);
+    r.stop(StopCause::Esc);
+    assert_eq!(r.take_calls(), vec![AxisCall::Release(axis(0))]);
+    // Still held: nothing restarts by itself.
+    for _ in 0..20 {
+        press(
+            &mut r,
+            &mut s,
+            Press::On(plus(0)),
+            now + Duration::from_millis(100),
+        );
+    }
+    assert!(r.take_calls().is_empty());
+    assert!(r.hold.latch_text().is_some());
+    press(&mut r, &mut s, Press::Up, now);
+    assert!(r.hold.latch_text().is_none());
+    press(&mut r, &mut s, Press::On(plus(0)), now);
+    assert!(
+        matches!(r.take_calls()[..], [AxisCall::Hold(..)]),
+        "a fresh press starts again"
+    );
+    press(&mut r, &mut s, Press::Up, now);
+    assert_eq!(r.take_calls(), vec![AxisCall::Release(axis(0))]);
+}
+
+#[test]
+fn a_disabled_axis_or_a_down_line_refuses_with_a_reason() {
+    let now = Instant::now();
+    let (mut r, mut s) = ready(now);
+    press(&mut r, &mut s, Press::On(plus(1)), now);
+    assert!(r.take_calls().is_empty());
+    assert!(r.feedback.as_ref().unwrap().text.contains("not enabled"));
+    press(&mut r, &mut s, Press::Up, now);
+    r.handle_event(
+        now,
+        RmcEvent::LineDown {
+            reason: "reset".into(),
+            at: now,
+        },
+    );
+    press(&mut r, &mut s, Press::On(plus(0)), now);
+    assert!(r.take_calls().is_empty());
+    assert!(r.feedback.as_ref().unwrap().text.contains("not connected"));
+}
+
+#[test]
+fn a_stop_drops_motion_asked_for_this_frame() {
+    let now = Instant::now();
+    let (mut r, mut s) = ready(now);
+    press(&mut r, &mut s, Press::On(plus(0)), now);
+    r.apply(AxisIntent::ClearFaults(axis(0)), &mut s, now);
+    r.stop(StopCause::Button);
+    assert_eq!(
+        r.take_calls(),
+        vec![AxisCall::Send(axis(0), Command::ClearFaults)]
+    );
+}
+
+#[test]
+fn a_lapsed_lease_latches_and_a_halt_ends_the_jog() {
+    let now = Instant::now();
+    let (mut r, mut s) = ready(now);
+    s.jog.mode = JogMode::Continuous;
+    press(&mut r, &mut s, Press::On(plus(0)), now);
+    r.take_calls();
+    r.handle_event(
+        now,
+        RmcEvent::SafetyStop {
+            why: crate::rmc::link::SafetyStop::LeaseLapsed,
+            axes: vec![axis(0)],
+        },
+    );
+    assert!(r.hold.jog().is_none());
+    assert!(
+        r.hold.latch_text().is_some(),
+        "latched while the button is still down"
+    );
+    // Errors are named for the operator.
+    let status = AxisStatus {
+        errors: ErrorBits(1 << ErrorBits::POSITIVE_LIMIT),
+        ..Default::default()
+    };
+    assert_eq!(status.errors.names(), ["positive limit"]);
+}

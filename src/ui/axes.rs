@@ -1,0 +1,324 @@
+//! The RMC151's axis panel: the connection, the jog choices, and per axis its lamps
+//! (Enabled, In Position, TG Done, the phase, Halted, errors), its Command, Target and
+//! Actual positions, Enable, Clear faults and the − / + buttons; the command log below.
+
+use egui::{Button, ComboBox, DragValue, Pos2, RichText, Ui};
+
+use super::widgets::{AMBER, GREEN, GREY, RED, lamp, level_color, reserved_line};
+use crate::pendant::axes::{AxisIntent, AxisJog, AxisView, RmcSettings};
+use crate::pendant::{Intent, JogInput, JogMode, LineState, Pendant};
+use crate::protocol::Direction;
+use crate::rmc::{AxisId, TgPhase};
+use crate::robot::RelativeTo;
+
+/// What the axis buttons saw this frame (as the arm's pad reports its own).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct AxesPadOutput {
+    /// The button the primary pointer button is held on (pressed on it, still over it).
+    pub held_on: Option<AxisJog>,
+    /// A button pressed and released within this one frame.
+    pub tapped: Option<AxisJog>,
+}
+
+/// Size of a − / + button: the same in every state, so nothing moves under the pointer.
+const JOG_BUTTON: [f32; 2] = [46.0, 30.0];
+
+/// Draws the panel; intents go to `intents`, the buttons' pointer state to `pad`.
+pub fn show(ui: &mut Ui, pendant: &Pendant, intents: &mut Vec<Intent>, pad: &mut AxesPadOutput) {
+    let rmc = &pendant.axes;
+    connection(ui, pendant, intents);
+    ui.separator();
+    jog_choices(ui, pendant, intents);
+    let feedback = rmc
+        .feedback
+        .as_ref()
+        .map(|m| (level_color(m.level), m.text.as_str()));
+    let latch = rmc.hold.latch_text();
+    match latch.as_deref() {
+        Some(text) => reserved_line(ui, Some((RED, text)), None),
+        None => reserved_line(ui, feedback, None),
+    }
+    ui.separator();
+    let mut row = Row {
+        pendant,
+        up: rmc.line.is_up(),
+        intents,
+        pad,
+    };
+    for (index, view) in rmc.axes.iter().enumerate() {
+        let Some(axis) = AxisId::new(index) else {
+            continue;
+        };
+        row.show(ui, axis, view);
+        ui.separator();
+    }
+    egui::CollapsingHeader::new("Command log")
+        .default_open(false)
+        .show(ui, |ui| {
+            for line in rmc.log.iter().rev().take(40) {
+                let axis = line.axis.map(|a| format!("{a}: ")).unwrap_or_default();
+                ui.label(
+                    RichText::new(format!("{axis}{}", line.text))
+                        .monospace()
+                        .size(11.0),
+                );
+            }
+        });
+}
+
+fn connection(ui: &mut Ui, pendant: &Pendant, intents: &mut Vec<Intent>) {
+    let rmc = &pendant.axes;
+    let mut edited: RmcSettings = pendant.settings.rmc.clone();
+    ui.horizontal_wrapped(|ui| {
+        ui.label(RichText::new("RMC151").strong());
+        let (color, text) = match &rmc.line {
+            LineState::Closed => (GREY, "not connected".to_string()),
+            LineState::Opening => (AMBER, "connecting...".to_string()),
+            LineState::Up { line, .. } => (GREEN, format!("connected: {line}")),
+            LineState::Down { reason, .. } => (RED, format!("down: {reason}")),
+        };
+        ui.label(RichText::new(text).color(color));
+        if let Some(id) = rmc.module {
+            let name = match id {
+                17 => "RMC151E",
+                16 => "RMC150E",
+                _ => "unknown module",
+            };
+            ui.label(format!("CPU Module ID {id} ({name})"));
+        }
+        if let Some(c) = rmc.controller {
+            lamp(
+                ui,
+                c.run_mode(),
+                GREEN,
+                if c.run_mode() { "RUN" } else { "PROGRAM" },
+            );
+            lamp(ui, c.enabled(), GREEN, "Controller enabled");
+        }
+    });
+    ui.horizontal_wrapped(|ui| {
+        ui.label("Address");
+        ui.add(
+            egui::TextEdit::singleline(&mut edited.address)
+                .hint_text("built-in RMC151")
+                .desired_width(150.0),
+        )
+        .on_hover_text("host:port of the RMC151 (502 when no port is given); empty: the built-in simulated RMC151");
+        ui.label("Axes");
+        ui.add(DragValue::new(&mut edited.axes).range(1..=crate::rmc::MAX_AXES));
+        ui.label("Unit");
+        ui.add(DragValue::new(&mut edited.unit).range(0..=255))
+            .on_hover_text("Modbus unit ID (not documented by Delta; 1 by default)");
+        if ui.button("Connect").clicked() {
+            intents.push(Intent::Axes(AxisIntent::Connect));
+        }
+        if ui
+            .add_enabled(!matches!(rmc.line, LineState::Closed), Button::new("Disconnect"))
+            .clicked()
+        {
+            intents.push(Intent::Axes(AxisIntent::Disconnect));
+        }
+    });
+    if edited != pendant.settings.rmc {
+        intents.push(Intent::Axes(AxisIntent::Connection(edited)));
+    }
+}
+
+fn jog_choices(ui: &mut Ui, pendant: &Pendant, intents: &mut Vec<Intent>) {
+    let units = pendant.settings.rmc.units.clone();
+    let mut jog = pendant.settings.rmc.jog;
+    ui.horizontal_wrapped(|ui| {
+        ui.selectable_value(&mut jog.mode, JogMode::Step, "Step")
+            .on_hover_text("one Move Relative (21) per press");
+        ui.selectable_value(&mut jog.mode, JogMode::Continuous, "Hold")
+            .on_hover_text("moves while held: short Move Relative moves relative to the Target, renewed while the button is down; Stop (6) on release");
+        ui.label("Step");
+        ui.add(DragValue::new(&mut jog.step).speed(0.1).range(0.001..=10_000.0).max_decimals(3).suffix(format!(" {units}")));
+        ui.label("Relative to");
+        ComboBox::from_id_salt("rmc-relative-to")
+            .selected_text(jog.relative_to.name())
+            .show_ui(ui, |ui| {
+                for r in RelativeTo::ALL {
+                    ui.selectable_value(&mut jog.relative_to, r, r.name());
+                }
+            });
+    });
+    ui.horizontal_wrapped(|ui| {
+        ui.label("Speed");
+        ui.add(
+            DragValue::new(&mut jog.speed)
+                .range(0.001..=100_000.0)
+                .suffix(format!(" {units}/s")),
+        );
+        ui.label("Accel");
+        ui.add(
+            DragValue::new(&mut jog.accel)
+                .range(0.001..=1_000_000.0)
+                .suffix(format!(" {units}/s²")),
+        );
+        ui.label("Decel");
+        ui.add(
+            DragValue::new(&mut jog.decel)
+                .range(0.001..=1_000_000.0)
+                .suffix(format!(" {units}/s²")),
+        );
+    });
+    if jog != pendant.settings.rmc.jog {
+        intents.push(Intent::Axes(AxisIntent::Settings(jog)));
+    }
+}
+
+/// What every axis row draws with.
+struct Row<'a> {
+    pendant: &'a Pendant,
+    /// The RMC's line is up.
+    up: bool,
+    intents: &'a mut Vec<Intent>,
+    pad: &'a mut AxesPadOutput,
+}
+
+impl Row<'_> {
+    fn show(&mut self, ui: &mut Ui, axis: AxisId, view: &AxisView) {
+        let (pendant, up) = (self.pendant, self.up);
+        axis_row(ui, pendant, axis, view, up, self.intents, self.pad);
+    }
+}
+
+fn axis_row(
+    ui: &mut Ui,
+    pendant: &Pendant,
+    axis: AxisId,
+    view: &AxisView,
+    up: bool,
+    intents: &mut Vec<Intent>,
+    pad: &mut AxesPadOutput,
+) {
+    let units = &pendant.settings.rmc.units;
+    let enabled = view.enabled();
+    ui.horizontal(|ui| {
+        ui.label(RichText::new(axis.to_string()).strong().size(15.0));
+        let (text, on) = if enabled {
+            ("Disable", false)
+        } else {
+            ("Enable", true)
+        };
+        if ui
+            .add_enabled(up, Button::new(text).min_size([70.0, 0.0].into()))
+            .clicked()
+        {
+            intents.push(Intent::Axes(AxisIntent::Enable(axis, on)));
+        }
+        if ui.add_enabled(up, Button::new("Clear faults")).clicked() {
+            intents.push(Intent::Axes(AxisIntent::ClearFaults(axis)));
+        }
+        let can_move = up && enabled;
+        for direction in [Direction::Negative, Direction::Positive] {
+            jog_button(ui, pendant, AxisJog { axis, direction }, can_move, pad);
+        }
+    });
+    let status = view.status;
+    ui.horizontal_wrapped(|ui| {
+        let bits = status.map(|s| s.bits);
+        lamp(ui, bits.is_some_and(|b| b.enabled()), GREEN, "Enabled");
+        lamp(
+            ui,
+            bits.is_some_and(|b| b.in_position()),
+            GREEN,
+            "In Position",
+        );
+        lamp(ui, bits.is_some_and(|b| b.tg_done()), GREEN, "TG Done");
+        let phase = view.phase();
+        let moving = phase != TgPhase::Complete;
+        lamp(ui, moving, AMBER, phase.name());
+        lamp(ui, bits.is_some_and(|b| b.halted()), RED, "Halted");
+        if view.awaiting {
+            ui.label(RichText::new("ACK awaited").color(AMBER))
+                .on_hover_text("status is not trusted until ACK = REQ (RMC.md section 5)");
+        }
+    });
+    let errors = status.map(|s| s.errors.names()).unwrap_or_default();
+    let error_text = if errors.is_empty() {
+        None
+    } else {
+        Some(format!("Errors: {}", errors.join(", ")))
+    };
+    reserved_line(ui, error_text.as_deref().map(|t| (RED, t)), None);
+    // Positions from the latest read (valid while ACK is awaited), the lamps from the last
+    // trusted one.
+    let s = view.latest.or(status);
+    let value = |v: Option<f32>| v.map_or("—".to_string(), |v| format!("{v:.3}"));
+    egui::Grid::new(("rmc-axis-grid", axis.index()))
+        .num_columns(4)
+        .spacing([14.0, 2.0])
+        .show(ui, |ui| {
+            for (name, v) in [
+                ("Command", s.map(|s| s.command_position)),
+                ("Target", s.map(|s| s.target_position)),
+                ("Actual", s.map(|s| s.actual_position)),
+            ] {
+                ui.label(name);
+                ui.label(RichText::new(value(v)).monospace().size(15.0));
+            }
+            ui.end_row();
+            for (name, v) in [
+                ("Target vel.", s.map(|s| s.target_velocity)),
+                ("Actual vel.", s.map(|s| s.actual_velocity)),
+                ("Following err.", s.map(|s| s.following_error())),
+            ] {
+                ui.label(name);
+                ui.label(RichText::new(value(v)).monospace());
+            }
+            ui.end_row();
+        });
+    ui.label(
+        RichText::new(format!("positions in {units}, velocities in {units}/s"))
+            .size(11.0)
+            .color(GREY),
+    );
+}
+
+fn jog_button(
+    ui: &mut Ui,
+    pendant: &Pendant,
+    target: AxisJog,
+    enabled: bool,
+    pad: &mut AxesPadOutput,
+) {
+    let text = match target.direction {
+        Direction::Negative => "−",
+        Direction::Positive => "+",
+    };
+    let running = pendant.axes.hold.jog().is_some_and(|j| j.target == target);
+    let held = pendant.axes.hold.on(JogInput::Pointer) == Some(target) || running;
+    let resp = ui
+        .add_enabled(
+            enabled,
+            Button::new(RichText::new(text).size(18.0))
+                .min_size(JOG_BUTTON.into())
+                .selected(held),
+        )
+        .on_hover_text(target.label())
+        .on_disabled_hover_text(format!(
+            "{}: connect and enable the axis first",
+            target.label()
+        ));
+    let rect = resp.rect;
+    let (down, origin, pos, pressed_now) = ui.input(|i| {
+        (
+            i.pointer.primary_down(),
+            i.pointer.press_origin(),
+            i.pointer.latest_pos(),
+            i.pointer.primary_pressed(),
+        )
+    });
+    if !enabled {
+        return;
+    }
+    let inside = |p: Option<Pos2>| p.is_some_and(|p| rect.contains(p));
+    if down && inside(origin) && inside(pos) {
+        pad.held_on = Some(target);
+    }
+    if !down && pressed_now && resp.clicked() {
+        pad.tapped = Some(target);
+    }
+}
