@@ -302,6 +302,9 @@ fn jog_button(
             "{}: connect and enable the axis first",
             target.label()
         ));
+    // Named for what it does ("Axis 1+"), as screen readers and tests find it.
+    let label = target.label();
+    resp.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Button, enabled, &label));
     let rect = resp.rect;
     let (down, origin, pos, pressed_now) = ui.input(|i| {
         (

@@ -7,6 +7,7 @@ mod kittest_common;
 #[path = "../wire/mod.rs"]
 mod wire;
 
+mod axes;
 mod coords;
 mod frame_log;
 mod frame_log_replay;

@@ -77,7 +77,7 @@ pub enum AxisCall {
 }
 
 /// An axis as last polled.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct AxisView {
     /// The last status whose ACK matched REQ (its In Position and TG bits are valid).
     pub status: Option<AxisStatus>,
@@ -88,6 +88,9 @@ pub struct AxisView {
     pub awaiting: bool,
     /// The move acknowledged and followed until the target generator is done.
     pub following: Option<Command>,
+    /// The target generator's phases seen (trusted statuses, each change once) since the
+    /// last move was acknowledged: the lamps' history of that move.
+    pub phases: Vec<TgPhase>,
 }
 
 impl AxisView {
@@ -273,8 +276,8 @@ impl RmcAxes {
                 now,
             ));
         }
-        let view = self.view(target.axis).copied().unwrap_or_default();
-        if !view.enabled() {
+        let enabled = self.view(target.axis).is_some_and(AxisView::enabled);
+        if !enabled {
             return Some(self.says(
                 Level::Warning,
                 refuse(format!("{} is not enabled: enable it first", target.axis)),
@@ -403,6 +406,10 @@ impl RmcAxes {
                         return None;
                     }
                     v.status = Some(status);
+                    let phase = status.bits.phase();
+                    if v.phases.last() != Some(&phase) {
+                        v.phases.push(phase);
+                    }
                     let finished = status.bits.tg_done() && status.target_velocity == 0.0;
                     v.following.take_if(|_| finished)
                 });
@@ -455,6 +462,9 @@ impl RmcAxes {
                 self.log(now, Some(axis), format!("ACK = REQ: {name} received"));
                 if let Some(v) = self.axes.get_mut(axis.index()) {
                     v.following = command.filter(Command::moves);
+                    if v.following.is_some() {
+                        v.phases.clear();
+                    }
                 }
                 None
             }

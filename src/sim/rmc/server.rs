@@ -39,6 +39,7 @@ pub struct RmcServer {
     open: Arc<AtomicUsize>,
     listener: Option<JoinHandle<()>>,
     controller: Arc<Mutex<RmcController>>,
+    unplugged: Arc<AtomicBool>,
 }
 
 /// What every thread of one server shares.
@@ -48,6 +49,8 @@ struct Shared {
     open: Arc<AtomicUsize>,
     controller: Arc<Mutex<RmcController>>,
     log: Option<EventLog>,
+    /// The cable is cut: bytes received are lost, nothing is answered.
+    unplugged: Arc<AtomicBool>,
 }
 
 impl Shared {
@@ -82,7 +85,9 @@ impl RmcServer {
             open: Arc::new(AtomicUsize::new(0)),
             controller: Arc::new(Mutex::new(RmcController::new(config, Instant::now()))),
             log,
+            unplugged: Arc::new(AtomicBool::new(false)),
         };
+        let unplugged = shared.unplugged.clone();
         let (stop, open, controller) = (
             shared.stop.clone(),
             shared.open.clone(),
@@ -97,6 +102,7 @@ impl RmcServer {
             open,
             listener: Some(thread),
             controller,
+            unplugged,
         })
     }
 
@@ -107,6 +113,13 @@ impl RmcServer {
     /// Connections open now.
     pub fn connections(&self) -> usize {
         self.open.load(Ordering::SeqCst)
+    }
+
+    /// Cuts (or mends) the cable: while cut, connections stay open but every byte sent to
+    /// the controller is lost and nothing is answered, as when an Ethernet cable is pulled
+    /// (the axes run on: the RMC has no host watchdog, RMC.md section 6).
+    pub fn unplug(&self, cut: bool) {
+        self.unplugged.store(cut, Ordering::SeqCst);
     }
 
     /// The controller, for a caller that looks inside (lock it briefly).
@@ -188,6 +201,9 @@ fn serve(mut stream: TcpStream, shared: &Shared) -> String {
             Err(e) if is_timeout(&e) => continue,
             Err(e) => return e.to_string(),
         };
+        if shared.unplugged.load(Ordering::SeqCst) {
+            continue;
+        }
         let reply = {
             let mut controller = lock(&shared.controller);
             connection.handle_bytes(

@@ -1,0 +1,165 @@
+//! The RMC axes pane on the real app with the built-in RMC151: enable, step, STOP, hold.
+//! Waits have deadlines; no fixed sleeps before asserting.
+
+use std::time::{Duration, Instant};
+
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use xsel_pendant::pendant::axes::{AxisIntent, AxisView, RmcJogSettings};
+use xsel_pendant::pendant::{Intent, JogMode};
+use xsel_pendant::rmc::{AxisId, AxisStatus, TgPhase};
+use xsel_pendant::robot::RelativeTo;
+use xsel_pendant::ui::{PendantApp, StartOptions};
+
+use crate::kittest_common::{click, show_tab, step_until};
+
+fn axis0() -> AxisId {
+    AxisId::new(0).unwrap()
+}
+
+fn view(a: &PendantApp) -> AxisView {
+    a.pendant().axes.axes.first().cloned().unwrap_or_default()
+}
+
+/// The built-in RMC's own state of axis 1 (its loop run up to now).
+fn truth(a: &PendantApp) -> AxisStatus {
+    let server = a
+        .rmc()
+        .and_then(|r| r.sim.as_ref())
+        .expect("the built-in RMC");
+    let controller = server.controller();
+    let mut c = controller.lock().unwrap();
+    c.advance(Instant::now());
+    c.status(axis0()).unwrap()
+}
+
+/// The app on the built-in simulators, the RMC axes pane shown, axis 1 enabled, and the
+/// jog choices given.
+fn enabled(jog: RmcJogSettings) -> Harness<'static, PendantApp> {
+    let mut h = Harness::builder()
+        .with_size([1280.0, 900.0])
+        .build_eframe(|cc| PendantApp::new(cc, StartOptions::fresh_simulator()));
+    step_until(&mut h, "the RMC's first status", |a| {
+        view(a).status.is_some()
+    });
+    show_tab(&mut h, "RMC axes");
+    h.get_all_by_label("Enable").next().unwrap().click();
+    h.step();
+    step_until(&mut h, "axis 1 enabled", |a| view(a).enabled());
+    h.state_mut()
+        .pendant_mut()
+        .apply(Intent::Axes(AxisIntent::Settings(jog)), Instant::now());
+    h.step();
+    h
+}
+
+fn slow_step(step: f32, mode: JogMode) -> RmcJogSettings {
+    RmcJogSettings {
+        mode,
+        step,
+        speed: 20.0,
+        accel: 100.0,
+        decel: 100.0,
+        relative_to: RelativeTo::Command,
+    }
+}
+
+#[test]
+fn a_step_of_ten_relative_to_command_lands_and_the_lamps_pass_through_the_phases() {
+    let mut h = enabled(slow_step(10.0, JogMode::Step));
+    let start = view(h.state()).status.unwrap().command_position;
+    click(&mut h, "Axis 1+");
+    step_until(&mut h, "the step to end in position", |a| {
+        view(a)
+            .status
+            .is_some_and(|s| s.command_position == start + 10.0 && s.bits.in_position())
+    });
+    assert_eq!(
+        view(h.state()).phases,
+        [
+            TgPhase::Accelerating,
+            TgPhase::ConstantVelocity,
+            TgPhase::Decelerating,
+            TgPhase::Complete
+        ],
+        "accelerate 0.2 s, cruise 0.3 s, decelerate 0.2 s at 20 pu/s"
+    );
+    assert!(
+        h.query_all_by_label(&format!("{:.3}", start + 10.0))
+            .count()
+            >= 1,
+        "the pane shows the Command Position"
+    );
+    assert_eq!(truth(h.state()).command_position, start + 10.0);
+}
+
+#[test]
+fn stop_mid_move_stops_the_axis_short() {
+    let mut h = enabled(slow_step(100.0, JogMode::Step));
+    click(&mut h, "Axis 1+");
+    step_until(&mut h, "the axis to move", |a| {
+        truth(a).target_velocity > 5.0
+    });
+    click(&mut h, "STOP");
+    step_until(&mut h, "the axis to stop", |a| {
+        truth(a).target_velocity == 0.0
+    });
+    let s = truth(h.state());
+    assert!(
+        s.target_position < 90.0,
+        "stopped short: {}",
+        s.target_position
+    );
+    assert!(
+        !s.bits.in_position(),
+        "In Position is never set after Stop (6)"
+    );
+}
+
+#[test]
+fn a_held_axis_jog_stops_on_release_and_within_one_chunk_when_the_cable_is_cut() {
+    let mut h = enabled(slow_step(10.0, JogMode::Continuous));
+    let plus = h.get_by_label("Axis 1+").rect().center();
+    h.hover_at(plus);
+    h.drag_at(plus);
+    step_until(&mut h, "the jog to run", |a| {
+        truth(a).target_velocity == 20.0
+    });
+    let end = Instant::now() + Duration::from_millis(500);
+    while Instant::now() < end {
+        h.step();
+    }
+    h.drop_at(plus);
+    let released = truth(h.state()).target_position;
+    step_until(&mut h, "the axis to stop", |a| {
+        truth(a).target_velocity == 0.0
+    });
+    // 20 pu/s at STOP's 1000 pu/s² stops within 0.2 pu; allow the poll's delay.
+    let ran = truth(h.state()).target_position - released;
+    assert!(ran < 2.0, "ran {ran} after release");
+
+    // Held again, then the cable is cut: nothing more reaches the RMC, which runs out its
+    // last move of the chain only (speed × lease plus the stopping distance).
+    h.step();
+    h.hover_at(plus);
+    h.drag_at(plus);
+    step_until(&mut h, "the jog to run again", |a| {
+        truth(a).target_velocity == 20.0
+    });
+    h.state()
+        .rmc()
+        .and_then(|r| r.sim.as_ref())
+        .unwrap()
+        .unplug(true);
+    let cut = truth(h.state()).target_position;
+    let stopped = |a: &PendantApp| truth(a).target_velocity == 0.0;
+    step_until(&mut h, "the axis to stop by itself", stopped);
+    let ran = truth(h.state()).target_position - cut;
+    let chunk = 20.0 * 0.25 + 20.0 * 20.0 / (2.0 * 100.0);
+    assert!(
+        ran <= chunk,
+        "ran {ran} after the cut; one chunk is {chunk}"
+    );
+    h.drop_at(plus);
+    h.step();
+}
