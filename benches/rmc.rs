@@ -123,8 +123,11 @@ fn codec() {
     });
 }
 
+/// Every request the relay saw, with when it arrived whole.
+type Seen = Arc<Mutex<Vec<(Instant, Request)>>>;
+
 /// A relay between the link and `rmc-sim` that notes when each request arrived whole.
-fn relay(to: String) -> (String, Arc<Mutex<Vec<(Instant, Request)>>>) {
+fn relay(to: String) -> (String, Seen) {
     let listener = TcpListener::bind("127.0.0.1:0").unwrap();
     let addr = listener.local_addr().unwrap().to_string();
     let seen = Arc::new(Mutex::new(Vec::new()));

@@ -132,16 +132,20 @@ fn jog_choices(ui: &mut Ui, pendant: &Pendant, intents: &mut Vec<Intent>) {
             .on_hover_text("one Move Relative (21) per press");
         ui.selectable_value(&mut jog.mode, JogMode::Continuous, "Hold")
             .on_hover_text("moves while held: short Move Relative moves relative to the Target, renewed while the button is down; Stop (6) on release");
-        ui.label("Step");
-        ui.add(DragValue::new(&mut jog.step).speed(0.1).range(0.001..=10_000.0).max_decimals(3).suffix(format!(" {units}")));
-        ui.label("Relative to");
-        ComboBox::from_id_salt("rmc-relative-to")
-            .selected_text(jog.relative_to.name())
-            .show_ui(ui, |ui| {
-                for r in RelativeTo::ALL {
-                    ui.selectable_value(&mut jog.relative_to, r, r.name());
-                }
-            });
+        // A held jog always moves relative to the Target, by its own distances: the step's
+        // choices are disabled, not removed, so nothing moves under the pointer.
+        ui.add_enabled_ui(jog.mode == JogMode::Step, |ui| {
+            ui.label("Step");
+            ui.add(DragValue::new(&mut jog.step).speed(0.1).range(0.001..=10_000.0).max_decimals(3).suffix(format!(" {units}")));
+            ui.label("Relative to");
+            ComboBox::from_id_salt("rmc-relative-to")
+                .selected_text(jog.relative_to.name())
+                .show_ui(ui, |ui| {
+                    for r in RelativeTo::ALL {
+                        ui.selectable_value(&mut jog.relative_to, r, r.name());
+                    }
+                });
+        });
     });
     ui.horizontal_wrapped(|ui| {
         ui.label("Speed");
@@ -217,8 +221,9 @@ fn axis_row(
         }
     });
     let status = view.status;
-    ui.horizontal_wrapped(|ui| {
-        let bits = status.map(|s| s.bits);
+    let bits = status.map(|s| s.bits);
+    let phase = view.phase();
+    ui.horizontal(|ui| {
         lamp(ui, bits.is_some_and(|b| b.enabled()), GREEN, "Enabled");
         lamp(
             ui,
@@ -227,54 +232,72 @@ fn axis_row(
             "In Position",
         );
         lamp(ui, bits.is_some_and(|b| b.tg_done()), GREEN, "TG Done");
-        let phase = view.phase();
-        let moving = phase != TgPhase::Complete;
-        lamp(ui, moving, AMBER, phase.name());
         lamp(ui, bits.is_some_and(|b| b.halted()), RED, "Halted");
-        if view.awaiting {
-            ui.label(RichText::new("ACK awaited").color(AMBER))
-                .on_hover_text("status is not trusted until ACK = REQ (RMC.md section 5)");
+    });
+    ui.horizontal(|ui| {
+        for (p, name) in [
+            (TgPhase::Accelerating, "Accel"),
+            (TgPhase::ConstantVelocity, "Constant"),
+            (TgPhase::Decelerating, "Decel"),
+        ] {
+            lamp(ui, status.is_some() && phase == p, AMBER, name);
         }
     });
     let errors = status.map(|s| s.errors.names()).unwrap_or_default();
-    let error_text = if errors.is_empty() {
-        None
+    let line = if !errors.is_empty() {
+        Some((RED, format!("Errors: {}", errors.join(", "))))
+    } else if view.awaiting {
+        Some((AMBER, "ACK awaited: lamps as last acknowledged".to_string()))
     } else {
-        Some(format!("Errors: {}", errors.join(", ")))
+        None
     };
-    reserved_line(ui, error_text.as_deref().map(|t| (RED, t)), None);
+    reserved_line(ui, line.as_ref().map(|(c, t)| (*c, t.as_str())), None);
     // Positions from the latest read (valid while ACK is awaited), the lamps from the last
     // trusted one.
     let s = view.latest.or(status);
     let value = |v: Option<f32>| v.map_or("—".to_string(), |v| format!("{v:.3}"));
     egui::Grid::new(("rmc-axis-grid", axis.index()))
-        .num_columns(4)
-        .spacing([14.0, 2.0])
+        .num_columns(3)
+        .spacing([18.0, 1.0])
         .show(ui, |ui| {
-            for (name, v) in [
-                ("Command", s.map(|s| s.command_position)),
-                ("Target", s.map(|s| s.target_position)),
-                ("Actual", s.map(|s| s.actual_position)),
-            ] {
-                ui.label(name);
-                ui.label(RichText::new(value(v)).monospace().size(15.0));
-            }
+            ui.label("");
+            ui.label(
+                RichText::new(format!("Position ({units})"))
+                    .size(11.0)
+                    .color(GREY),
+            );
+            ui.label(
+                RichText::new(format!("Velocity ({units}/s)"))
+                    .size(11.0)
+                    .color(GREY),
+            );
             ui.end_row();
-            for (name, v) in [
-                ("Target vel.", s.map(|s| s.target_velocity)),
-                ("Actual vel.", s.map(|s| s.actual_velocity)),
-                ("Following err.", s.map(|s| s.following_error())),
+            for (name, position, velocity) in [
+                (
+                    "Command",
+                    s.map(|s| s.command_position),
+                    s.map(|s| s.command_velocity),
+                ),
+                (
+                    "Target",
+                    s.map(|s| s.target_position),
+                    s.map(|s| s.target_velocity),
+                ),
+                (
+                    "Actual",
+                    s.map(|s| s.actual_position),
+                    s.map(|s| s.actual_velocity),
+                ),
             ] {
                 ui.label(name);
-                ui.label(RichText::new(value(v)).monospace());
+                ui.label(RichText::new(value(position)).monospace().size(15.0));
+                ui.label(RichText::new(value(velocity)).monospace());
+                ui.end_row();
             }
+            ui.label("Following error");
+            ui.label(RichText::new(value(s.map(|s| s.following_error()))).monospace());
             ui.end_row();
         });
-    ui.label(
-        RichText::new(format!("positions in {units}, velocities in {units}/s"))
-            .size(11.0)
-            .color(GREY),
-    );
 }
 
 fn jog_button(

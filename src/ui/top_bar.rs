@@ -58,6 +58,7 @@ pub fn show(ui: &mut Ui, pendant: &Pendant, now: Instant, intents: &mut Vec<Inte
             {
                 intents.push(Intent::LightTheme(!light));
             }
+            rmc_lamp(ui, pendant);
         });
     });
 }
@@ -114,4 +115,17 @@ fn system_lamps(ui: &mut Ui, pendant: &Pendant, now: Instant, intents: &mut Vec<
             }
         });
     });
+}
+
+/// The RMC151's line at a glance (its axes are in the RMC axes tab).
+fn rmc_lamp(ui: &mut Ui, pendant: &Pendant) {
+    let (color, hover) = match &pendant.axes.line {
+        LineState::Closed => return,
+        LineState::Opening => (AMBER, "RMC151: connecting".to_owned()),
+        LineState::Up { line, .. } => (GREEN, format!("RMC151 connected: {line}")),
+        LineState::Down { reason, .. } => (RED, format!("RMC151 line down: {reason}")),
+    };
+    ui.scope(|ui| lamp(ui, true, color, "RMC"))
+        .response
+        .on_hover_text(hover);
 }
