@@ -10,6 +10,9 @@ use crate::link::Connector;
 use crate::link::transport::{TcpTransport, Transport};
 use crate::pendant::axes::RmcSettings;
 use crate::rmc::{RmcEvent, RmcHandle, RmcLinkConfig, RmcRepaint};
+use crate::session::LineOwner;
+use crate::session::guardian::GuardianLine;
+use crate::session::guardian::wire::RmcLine;
 use crate::sim::rmc::{RmcConfig, RmcServer};
 
 /// The Modbus/TCP port an address without one gets (RMC.md section 1: 502 [I]).
@@ -49,7 +52,13 @@ pub fn rmc_address(typed: &str) -> Result<String, String> {
 
 impl RmcSession {
     /// Starts the RMC link on the controller in `settings` (or a built-in one).
-    pub fn open(settings: &RmcSettings, repaint: RmcRepaint) -> Result<Self, String> {
+    /// A real RMC's connection is owned by a guardian process when `owner` says so (the
+    /// built-in one lives in the window's process and dies with it).
+    pub fn open(
+        settings: &RmcSettings,
+        repaint: RmcRepaint,
+        owner: &LineOwner,
+    ) -> Result<Self, String> {
         let axes = settings.axis_count();
         let (address, sim) = if settings.address.trim().is_empty() {
             let listener = TcpListener::bind("127.0.0.1:0")
@@ -64,14 +73,29 @@ impl RmcSession {
         } else {
             (rmc_address(&settings.address)?, None)
         };
-        let to = address.clone();
-        let connector: Connector = Box::new(move |_| {
-            TcpTransport::connect(&to, CONNECT_TIMEOUT).map(|t| Box::new(t) as Box<dyn Transport>)
-        });
         let config = RmcLinkConfig {
             unit: settings.unit,
             axes,
             ..RmcLinkConfig::default()
+        };
+        let to = address.clone();
+        let connector: Connector = match owner {
+            LineOwner::Guardian { exe } if sim.is_none() => {
+                let (exe, lease) = (exe.clone(), config.lease);
+                let line = RmcLine {
+                    address: to,
+                    unit: settings.unit,
+                    stop_decel: config.stop_decel,
+                };
+                Box::new(move |_| {
+                    GuardianLine::open_rmc(&exe, line.clone(), lease)
+                        .map(|t| Box::new(t) as Box<dyn Transport>)
+                })
+            }
+            _ => Box::new(move |_| {
+                TcpTransport::connect(&to, CONNECT_TIMEOUT)
+                    .map(|t| Box::new(t) as Box<dyn Transport>)
+            }),
         };
         let (link, events) = crate::rmc::spawn(connector, config, repaint)
             .map_err(|e| format!("cannot start the RMC link thread: {e}"))?;

@@ -410,7 +410,7 @@ impl PendantApp {
                 repaint_ctx.request_repaint_after(LINK_REPAINT);
             }
         });
-        match RmcSession::open(&self.pendant.settings.rmc, repaint) {
+        match RmcSession::open(&self.pendant.settings.rmc, repaint, &self.line_owner) {
             Ok(session) => self.rmc = Some(session),
             Err(e) => {
                 let axes = &mut self.pendant.axes;

@@ -9,6 +9,7 @@ mod backlog;
 mod faults;
 mod guardian;
 mod probe;
+mod rmc_guardian;
 mod shutdown;
 mod soak;
 mod with_sim;

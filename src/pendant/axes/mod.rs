@@ -505,8 +505,10 @@ impl RmcAxes {
                 ))
             }
             RmcEvent::SafetyStop { why, axes } => {
-                if why == crate::rmc::link::SafetyStop::LeaseLapsed {
-                    self.stop(StopCause::LeaseLapsed);
+                match why {
+                    crate::rmc::link::SafetyStop::LeaseLapsed => self.stop(StopCause::LeaseLapsed),
+                    crate::rmc::link::SafetyStop::Guardian => self.stop(StopCause::Guardian),
+                    _ => {}
                 }
                 let names: Vec<String> = axes.iter().map(|a| a.to_string()).collect();
                 Some(self.says(

@@ -56,6 +56,9 @@ pub enum SafetyStop {
     Reconnected,
     /// The link is closing.
     Closing,
+    /// The guardian process that owns the connection stopped the axes (the window fell
+    /// silent).
+    Guardian,
 }
 
 impl SafetyStop {
@@ -64,6 +67,7 @@ impl SafetyStop {
             SafetyStop::LeaseLapsed => "the jog lease lapsed",
             SafetyStop::Reconnected => "the connection came back after motion",
             SafetyStop::Closing => "the link is closing",
+            SafetyStop::Guardian => "the guardian process stopped them (the window was silent)",
         }
     }
 }

@@ -636,7 +636,25 @@ impl LinkCore for RmcCore {
                 });
             }
             LineChange::Lost(reason) => self.lose_line(now, reason.to_string()),
-            LineChange::GuardianStopped(_) => {}
+            LineChange::GuardianStopped(why) => {
+                // The guardian wrote Stop (6) with REQs of its own: held jogs end, and
+                // zeros go out again so REQ and ACK are in step before anything else.
+                let mut stopped = Vec::new();
+                for a in &mut self.axes {
+                    if a.chain.take().is_some() || a.may_move {
+                        stopped.push(a.id);
+                    }
+                    a.may_move = false;
+                    a.reconnected();
+                }
+                self.events.push_back(RmcEvent::SafetyStop {
+                    why: SafetyStop::Guardian,
+                    axes: stopped,
+                });
+                self.events.push_back(RmcEvent::Ignored {
+                    why: format!("the guardian process stopped the axes: {why}"),
+                });
+            }
         }
     }
 

@@ -12,7 +12,7 @@ use std::time::{Duration, Instant};
 
 use crossbeam_channel::{Receiver, RecvTimeoutError, unbounded};
 
-use super::wire::{self, FromGuardian, OpenLine, ToGuardian};
+use super::wire::{self, FromGuardian, OpenLine, RmcLine, ToGuardian};
 use super::{GUARDIAN_FLAG, HEARTBEAT};
 use crate::line::ConnectionSettings;
 use crate::link::Transport;
@@ -45,6 +45,30 @@ impl GuardianLine {
     /// Starts the guardian (`exe --guardian`), has it open the line of `settings`, and
     /// waits until it says the line is open or why not.
     pub fn open(exe: &Path, settings: &ConnectionSettings, lease: Duration) -> io::Result<Self> {
+        Self::start(
+            exe,
+            OpenLine {
+                connection: settings.clone(),
+                lease_ms: u64::try_from(lease.as_millis()).unwrap_or(u64::MAX),
+                rmc: None,
+            },
+        )
+    }
+
+    /// Starts a guardian that owns the connection to the RMC151 `rmc` and stops its
+    /// moving axes when the window dies or falls silent longer than `lease`.
+    pub fn open_rmc(exe: &Path, rmc: RmcLine, lease: Duration) -> io::Result<Self> {
+        Self::start(
+            exe,
+            OpenLine {
+                connection: ConnectionSettings::default(),
+                lease_ms: u64::try_from(lease.as_millis()).unwrap_or(u64::MAX),
+                rmc: Some(rmc),
+            },
+        )
+    }
+
+    fn start(exe: &Path, open: OpenLine) -> io::Result<Self> {
         let mut process = Process::new(exe);
         process
             .arg(GUARDIAN_FLAG)
@@ -61,10 +85,7 @@ impl GuardianLine {
             let _ = child.wait();
             return Err(io::Error::other("the guardian process has no pipes"));
         };
-        let open = ToGuardian::Open(OpenLine {
-            connection: settings.clone(),
-            lease_ms: u64::try_from(lease.as_millis()).unwrap_or(u64::MAX),
-        });
+        let open = ToGuardian::Open(open);
         if let Err(e) = wire::send(&mut stdin, &open) {
             let _ = child.kill();
             let _ = child.wait();

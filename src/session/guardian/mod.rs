@@ -11,7 +11,9 @@
 
 pub mod client;
 pub mod core;
+pub mod guard;
 pub mod process;
+pub mod rmc_core;
 pub mod wire;
 
 use std::time::Duration;

@@ -12,6 +12,8 @@ use std::time::{Duration, Instant};
 use crossbeam_channel::{Receiver, RecvTimeoutError, Sender, unbounded};
 
 use super::core::GuardianCore;
+use super::guard::Guard;
+use super::rmc_core::RmcGuardianCore;
 use super::wire::{self, FromGuardian, OpenLine, ToGuardian};
 use crate::line::LineKind;
 use crate::link::Transport;
@@ -78,18 +80,28 @@ pub fn run() -> ExitCode {
     let done = Arc::new(AtomicBool::new(false));
     let reader = read_line(line, events, done.clone());
     let settings = &open.connection;
-    let timing = Timing {
-        line: settings.line(),
-        ..Timing::default()
-    };
     let lease = Duration::from_millis(open.lease_ms);
-    let mut core = GuardianCore::new(
-        Instant::now(),
-        crate::protocol::Station(settings.station),
-        lease,
-        timing,
-    );
-    relay(&mut core, writer, &from, &mut out);
+    let mut core: Box<dyn Guard> = match &open.rmc {
+        Some(rmc) => Box::new(RmcGuardianCore::new(
+            Instant::now(),
+            rmc.unit,
+            lease,
+            rmc.stop_decel,
+        )),
+        None => {
+            let timing = Timing {
+                line: settings.line(),
+                ..Timing::default()
+            };
+            Box::new(GuardianCore::new(
+                Instant::now(),
+                crate::protocol::Station(settings.station),
+                lease,
+                timing,
+            ))
+        }
+    };
+    relay(core.as_mut(), writer, &from, &mut out);
     done.store(true, Ordering::Relaxed);
     if let Some(reader) = reader {
         let _ = reader.join();
@@ -104,6 +116,11 @@ fn log(text: &str) {
 
 /// Opens a serial port or a TCP bridge; the built-in simulator lives in the window.
 fn open_line(open: &OpenLine) -> Result<Box<dyn Transport>, String> {
+    if let Some(rmc) = &open.rmc {
+        return crate::link::TcpTransport::connect(&rmc.address, Duration::from_secs(2))
+            .map(|t| Box::new(t) as Box<dyn Transport>)
+            .map_err(|e| format!("cannot connect to the RMC151: {e}"));
+    }
     let settings = &open.connection;
     if settings.kind == LineKind::Simulator {
         return Err("the built-in simulator runs in the window, not in a guardian".into());
@@ -183,7 +200,7 @@ fn read_line(
 /// The loop: each event into the core, then the core's frames onto the line and its
 /// messages to the window, until it is done (or the line is lost).
 fn relay(
-    core: &mut GuardianCore,
+    core: &mut dyn Guard,
     mut writer: Box<dyn Write + Send>,
     events: &Receiver<Event>,
     out: &mut impl Write,
@@ -241,7 +258,7 @@ fn relay(
 }
 
 /// The line is gone: the window hears it (its link reconnects with a new guardian).
-fn line_lost(core: &mut GuardianCore, out: &mut impl Write, why: &str) {
+fn line_lost(core: &mut dyn Guard, out: &mut impl Write, why: &str) {
     while let Some(text) = core.poll_log() {
         log(&text);
     }

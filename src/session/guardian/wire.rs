@@ -28,6 +28,19 @@ pub enum ToGuardian {
 pub struct OpenLine {
     pub connection: ConnectionSettings,
     pub lease_ms: u64,
+    /// An RMC151 at this address instead of the X-SEL's line (`connection` then unused).
+    #[serde(default)]
+    pub rmc: Option<RmcLine>,
+}
+
+/// The RMC151 a guardian connects to, and how it stops its axes.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RmcLine {
+    /// `host:port`.
+    pub address: String,
+    pub unit: u8,
+    /// Stop (Closed Loop) (6)'s deceleration, pu/s².
+    pub stop_decel: f32,
 }
 
 /// The guardian to the window.
