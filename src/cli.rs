@@ -53,6 +53,13 @@ pub struct Args {
     /// switch and E-stop in the controller's safety circuit.
     #[arg(long)]
     pub no_guardian: bool,
+    /// A Delta RMC151 beside the robot, as HOST[:PORT] (port 502 when none is given), or
+    /// `sim` for the built-in simulated RMC151 (the default, or the saved address).
+    #[arg(long, value_name = "ADDR", value_parser = parse_rmc, conflicts_with = "no_rmc")]
+    pub rmc: Option<String>,
+    /// No RMC151: its axes tab stays disconnected.
+    #[arg(long)]
+    pub no_rmc: bool,
     /// Text mode: no window; print the controller's state once (see --watch).
     #[arg(long)]
     pub headless: bool,
@@ -112,14 +119,18 @@ pub enum Renderer {
     Wgpu,
 }
 
-/// Whether the command line (program name first) names a connection: any flag or value
-/// but `--renderer`, which only says how to draw.
+/// Whether the command line (program name first) names the robot's connection: any flag
+/// or value but `--renderer` (how to draw) and `--rmc` / `--no-rmc` (the RMC151).
 pub fn names_a_connection(argv: impl IntoIterator<Item = std::ffi::OsString>) -> bool {
     let mut args = argv.into_iter().skip(1);
     while let Some(a) = args.next() {
-        if a == "--renderer" {
+        // The renderer and the RMC151 are not the robot's line.
+        if a == "--renderer" || a == "--rmc" {
             args.next();
-        } else if !a.to_string_lossy().starts_with("--renderer=") {
+        } else if !["--renderer=", "--rmc=", "--no-rmc"]
+            .iter()
+            .any(|p| a.to_string_lossy().starts_with(p))
+        {
             return true;
         }
     }
@@ -308,6 +319,12 @@ mod tests {
             "xsel-pendant",
             "--renderer=glow"
         ])));
+        assert!(!names_a_connection(argv(&[
+            "xsel-pendant",
+            "--rmc",
+            "10.0.0.5",
+            "--no-rmc"
+        ])));
         assert!(names_a_connection(argv(&[
             "xsel-pendant",
             "--renderer",
@@ -331,4 +348,12 @@ mod tests {
         let e = connection(&args).err().map(|e| e.to_string());
         assert!(e.is_some_and(|e| e.starts_with("--robot: `no-such-robot.toml`")));
     }
+}
+
+/// `--rmc`: `sim` (the built-in RMC151, kept as an empty address) or HOST[:PORT].
+fn parse_rmc(s: &str) -> Result<String, String> {
+    if s.trim().eq_ignore_ascii_case("sim") {
+        return Ok(String::new());
+    }
+    crate::session::rmc::rmc_address(s)
 }

@@ -33,6 +33,11 @@ fn main() -> ExitCode {
     }
     let options = StartOptions {
         connection: named.then(|| args.connection_settings()),
+        rmc: match (&args.rmc, args.no_rmc) {
+            (_, true) => Some(None),
+            (Some(address), false) => Some(Some(address.clone())),
+            (None, false) => None,
+        },
         fresh: false,
         offline: false,
         data_dir: None,

@@ -45,6 +45,9 @@ const PANEL_ANSWER: Duration = Duration::from_millis(60);
 pub struct StartOptions {
     /// A connection given on the command line replaces the saved one.
     pub connection: Option<ConnectionSettings>,
+    /// The RMC151 named on the command line: `Some(None)` none at all, `Some(Some(""))`
+    /// the built-in one, `Some(Some(addr))` a real one; `None` the saved choice.
+    pub rmc: Option<Option<String>>,
     /// Ignore saved settings (tests, a clean start).
     pub fresh: bool,
     /// Open no line at start (image tests drive the pendant with scripted events).
@@ -63,6 +66,7 @@ impl StartOptions {
     pub fn fresh_simulator() -> Self {
         Self {
             connection: None,
+            rmc: None,
             fresh: true,
             offline: false,
             data_dir: None,
@@ -143,6 +147,14 @@ impl PendantApp {
             Some(c) => settings.connection = c,
             // No line named: the built-in simulator, the saved line settings kept.
             None => settings.connection.kind = crate::pendant::LineKind::Simulator,
+        }
+        match options.rmc {
+            Some(Some(address)) => {
+                settings.rmc.enabled = true;
+                settings.rmc.address = address;
+            }
+            Some(None) => settings.rmc.enabled = false,
+            None => {}
         }
         let now = Instant::now();
         let (model, problem) = match load_model(&settings.connection.robot) {
