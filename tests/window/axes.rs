@@ -66,7 +66,14 @@ fn slow_step(step: f32, mode: JogMode) -> RmcJogSettings {
 
 #[test]
 fn a_step_of_ten_relative_to_command_lands_and_the_lamps_pass_through_the_phases() {
-    let mut h = enabled(slow_step(10.0, JogMode::Step));
+    // 10 pu/s at 25 pu/s²: 0.4 s accelerating, 0.6 s cruising, 0.4 s decelerating, so a
+    // 20 ms poll sees every phase even on a loaded machine.
+    let mut h = enabled(RmcJogSettings {
+        speed: 10.0,
+        accel: 25.0,
+        decel: 25.0,
+        ..slow_step(10.0, JogMode::Step)
+    });
     let start = view(h.state()).status.unwrap().command_position;
     click(&mut h, "Axis 1+");
     step_until(&mut h, "the step to end in position", |a| {
@@ -82,7 +89,7 @@ fn a_step_of_ten_relative_to_command_lands_and_the_lamps_pass_through_the_phases
             TgPhase::Decelerating,
             TgPhase::Complete
         ],
-        "accelerate 0.2 s, cruise 0.3 s, decelerate 0.2 s at 20 pu/s"
+        "the lamps' history of the step"
     );
     assert!(
         h.query_all_by_label(&format!("{:.3}", start + 10.0))
