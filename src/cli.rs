@@ -269,6 +269,14 @@ fn parse_parity(s: &str) -> Result<Parity, String> {
     }
 }
 
+/// `--rmc`: `sim` (the built-in RMC151, kept as an empty address) or HOST[:PORT].
+fn parse_rmc(s: &str) -> Result<String, String> {
+    if s.trim().eq_ignore_ascii_case("sim") {
+        return Ok(String::new());
+    }
+    crate::session::rmc::rmc_address(s)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -348,12 +356,4 @@ mod tests {
         let e = connection(&args).err().map(|e| e.to_string());
         assert!(e.is_some_and(|e| e.starts_with("--robot: `no-such-robot.toml`")));
     }
-}
-
-/// `--rmc`: `sim` (the built-in RMC151, kept as an empty address) or HOST[:PORT].
-fn parse_rmc(s: &str) -> Result<String, String> {
-    if s.trim().eq_ignore_ascii_case("sim") {
-        return Ok(String::new());
-    }
-    crate::session::rmc::rmc_address(s)
 }

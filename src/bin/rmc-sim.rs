@@ -1,16 +1,17 @@
 //! `rmc-sim`: a simulated Delta RMC151E motion controller served over Modbus/TCP, so any
 //! Modbus client (the pendant's RMC link among them) can drive its axes.
 
-use std::io::Write;
+use std::io::{BufRead, Write};
 use std::net::TcpListener;
 use std::process::ExitCode;
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Duration;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
 
 use clap::Parser;
 use xsel_pendant::flags::parse_or_exit;
-use xsel_pendant::sim::rmc::{RmcConfig, RmcServer, ServerEvent};
+use xsel_pendant::rmc::AxisId;
+use xsel_pendant::sim::rmc::{RmcAction, RmcConfig, RmcController, RmcServer, ServerEvent};
 
 const AFTER_HELP: &str = "\
 Modbus/TCP, function codes 3, 16 and 23, any unit ID (echoed). Per axis n (0-based):
@@ -24,7 +25,16 @@ connection. Axes start disabled at position 0, soft travel limits -1000 to 1000 
 
 The first line of stdout is `listening on ADDR` (the bound address, so --tcp
 127.0.0.1:0 picks a free port). Connections opened and closed are logged on stderr.
-Runs until Ctrl-C. A bad option ends it with exit code 2 and one line on stderr.";
+Runs until Ctrl-C (or `quit` on the console). A bad option ends it with exit code 2
+and one line on stderr.
+
+Operator console: while running, type on stdin (off with --no-console):
+  fault AXIS on|off   the axis's Fault Input (Error Bit 3, an Auto Stop: Halted)
+  ferror AXIS         a following error (Error Bit 0, an Auto Stop)
+  program | run       PROGRAM mode (motion commands refused, Last Error 103) or RUN
+  status              each axis's positions and bits
+  help, quit
+Axes are numbered from 1 on the console.";
 
 /// A simulated Delta RMC151E motion controller on Modbus/TCP.
 #[derive(Parser, Debug)]
@@ -37,6 +47,9 @@ struct Args {
     /// Axes, 1 to 8.
     #[arg(long, value_name = "N", default_value_t = 2, value_parser = clap::value_parser!(u8).range(1..=8))]
     axes: u8,
+    /// No operator console on stdin.
+    #[arg(long)]
+    no_console: bool,
 }
 
 fn say(line: &str) {
@@ -93,6 +106,9 @@ fn main() -> ExitCode {
         "rmc-sim: RMC151E with {} axes; Ctrl-C to stop",
         args.axes
     ));
+    if !args.no_console {
+        console(server.controller(), stop.clone());
+    }
     while !stop.load(Ordering::SeqCst) {
         std::thread::sleep(Duration::from_millis(50));
     }
@@ -100,3 +116,51 @@ fn main() -> ExitCode {
     say("rmc-sim: stopped");
     ExitCode::SUCCESS
 }
+
+/// Reads operator lines from stdin on a thread of its own: `quit` stops the simulator;
+/// the end of stdin (a closed pipe) ends only the console.
+fn console(controller: Arc<Mutex<RmcController>>, stop: Arc<AtomicBool>) {
+    let spawned = std::thread::Builder::new()
+        .name("rmc-console".into())
+        .spawn(move || {
+            for line in std::io::stdin().lock().lines().map_while(Result::ok) {
+                let line = line.trim();
+                let mut c = controller.lock().unwrap_or_else(|e| e.into_inner());
+                c.advance(Instant::now());
+                match line {
+                    "" => {}
+                    "quit" => {
+                        stop.store(true, Ordering::SeqCst);
+                        return;
+                    }
+                    "help" => say(CONSOLE_HELP),
+                    "status" => {
+                        for axis in AxisId::first(c.axis_count()) {
+                            if let Some(s) = c.status(axis) {
+                                say(&format!(
+                                    "{axis}: command {:.3} target {:.3} actual {:.3}; {}; errors: {}",
+                                    s.command_position,
+                                    s.target_position,
+                                    s.actual_position,
+                                    s.bits.names().join(", "),
+                                    s.errors.names().join(", ")
+                                ));
+                            }
+                        }
+                        let mode = if c.controller_status() & 1 != 0 { "RUN" } else { "PROGRAM" };
+                        say(&format!("controller: {mode}"));
+                    }
+                    other => match RmcAction::parse(other) {
+                        Ok(action) if c.operate(action) => say(&format!("rmc-sim: {other}: done")),
+                        Ok(_) => say(&format!("rmc-sim: {other}: no such axis here")),
+                        Err(e) => say(&format!("rmc-sim: {e}")),
+                    },
+                }
+            }
+        });
+    if let Err(e) = spawned {
+        say(&format!("rmc-sim: no console: {e}"));
+    }
+}
+
+const CONSOLE_HELP: &str = "fault AXIS on|off, ferror AXIS, program, run, status, help, quit";

@@ -76,6 +76,7 @@ impl RmcSession {
         let config = RmcLinkConfig {
             unit: settings.unit,
             axes,
+            stop_decel: settings.stop_decel(),
             ..RmcLinkConfig::default()
         };
         let to = address.clone();

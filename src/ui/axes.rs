@@ -20,6 +20,9 @@ pub struct AxesPadOutput {
     pub tapped: Option<AxisJog>,
 }
 
+/// The step distances offered as buttons (any other is typed).
+const STEP_LADDER: [f32; 4] = [0.1, 1.0, 10.0, 100.0];
+
 /// Size of a − / + button: the same in every state, so nothing moves under the pointer.
 const JOG_BUTTON: [f32; 2] = [46.0, 30.0];
 
@@ -136,6 +139,9 @@ fn jog_choices(ui: &mut Ui, pendant: &Pendant, intents: &mut Vec<Intent>) {
         // choices are disabled, not removed, so nothing moves under the pointer.
         ui.add_enabled_ui(jog.mode == JogMode::Step, |ui| {
             ui.label("Step");
+            for d in STEP_LADDER {
+                ui.selectable_value(&mut jog.step, d, format!("{d}"));
+            }
             ui.add(DragValue::new(&mut jog.step).speed(0.1).range(0.001..=10_000.0).max_decimals(3).suffix(format!(" {units}")));
             ui.label("Relative to");
             ComboBox::from_id_salt("rmc-relative-to")
@@ -167,6 +173,23 @@ fn jog_choices(ui: &mut Ui, pendant: &Pendant, intents: &mut Vec<Intent>) {
                 .suffix(format!(" {units}/s²")),
         );
     });
+    let meaning = match jog.relative_to {
+        RelativeTo::Command => {
+            "relative to command: added to where the last move ends (steps never drift)"
+        }
+        RelativeTo::Actual => {
+            "relative to actual: added to the measured position when the RMC takes it"
+        }
+        RelativeTo::Target => {
+            "relative to target: added to where the target generator is when the RMC takes it"
+        }
+    };
+    let meaning = if jog.mode == JogMode::Step {
+        meaning
+    } else {
+        "hold: moves relative to the target while held, Stop (6) on release"
+    };
+    ui.label(RichText::new(meaning).size(11.0).color(GREY));
     if jog != pendant.settings.rmc.jog {
         intents.push(Intent::Axes(AxisIntent::Settings(jog)));
     }
@@ -215,7 +238,15 @@ fn axis_row(
         if ui.add_enabled(up, Button::new("Clear faults")).clicked() {
             intents.push(Intent::Axes(AxisIntent::ClearFaults(axis)));
         }
-        let can_move = up && enabled;
+        if ui
+            .add_enabled(up, Button::new(RichText::new("Stop").color(RED)))
+            .on_hover_text("Stop (Closed Loop) (6) for this axis, at STOP's deceleration")
+            .clicked()
+        {
+            intents.push(Intent::Axes(AxisIntent::Stop(axis)));
+        }
+        let why_not = pendant.axes.not_ready(axis);
+        let can_move = up && why_not.is_none();
         for direction in [Direction::Negative, Direction::Positive] {
             jog_button(ui, pendant, AxisJog { axis, direction }, can_move, pad);
         }
@@ -235,6 +266,12 @@ fn axis_row(
         lamp(ui, bits.is_some_and(|b| b.halted()), RED, "Halted");
     });
     ui.horizontal(|ui| {
+        lamp(
+            ui,
+            bits.is_some_and(|b| b.bit(crate::rmc::StatusBits::STOPPED)),
+            GREEN,
+            "Stopped",
+        );
         for (p, name) in [
             (TgPhase::Accelerating, "Accel"),
             (TgPhase::ConstantVelocity, "Constant"),
@@ -242,10 +279,17 @@ fn axis_row(
         ] {
             lamp(ui, status.is_some() && phase == p, AMBER, name);
         }
+        let ack = view.latest.is_some_and(|s| s.bits.ack());
+        ui.scope(|ui| lamp(ui, ack, GREEN, "ACK"))
+            .response
+            .on_hover_text("Command Acknowledge (Status Bits bit 31) on this connection");
     });
     let errors = status.map(|s| s.errors.names()).unwrap_or_default();
+    let last_error = status.map_or(0.0, |s| s.last_error);
     let line = if !errors.is_empty() {
         Some((RED, format!("Errors: {}", errors.join(", "))))
+    } else if last_error != 0.0 {
+        Some((AMBER, format!("Last Error Number {last_error}")))
     } else if view.awaiting {
         Some((AMBER, "ACK awaited: lamps as last acknowledged".to_string()))
     } else {

@@ -51,8 +51,55 @@ pub fn alerts(pendant: &Pendant) -> Vec<Alert> {
             ));
         }
     }
-    if let Some(latch) = pendant.stop_latch() {
+    out.extend(rmc_alerts(pendant).into_iter().map(
+        |(red_, text)| {
+            if red_ { red(text) } else { amber(text) }
+        },
+    ));
+    if let Some(latch) = pendant
+        .stop_latch()
+        .or_else(|| pendant.axes.hold.latch_text())
+    {
         out.push(amber(latch));
+    }
+    out
+}
+
+/// The RMC151's states an operator must not miss: an axis halted, PROGRAM mode, a
+/// disabled controller (red or amber, and the words).
+fn rmc_alerts(pendant: &Pendant) -> Vec<(bool, String)> {
+    let rmc = &pendant.axes;
+    if !rmc.line.is_up() {
+        return Vec::new();
+    }
+    let mut out = Vec::new();
+    for (i, view) in rmc.axes.iter().enumerate() {
+        let Some(s) = view.status.filter(|s| s.bits.halted()) else {
+            continue;
+        };
+        let errors = s.errors.names();
+        let why = if errors.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", errors.join(", "))
+        };
+        out.push((
+            true,
+            format!(
+                "RMC AXIS {} HALTED{why}: remove the cause, then Clear faults.",
+                i + 1
+            ),
+        ));
+    }
+    if let Some(c) = rmc.controller {
+        if !c.run_mode() {
+            out.push((false, "RMC in PROGRAM mode: its axes take no motion from here; switch it to RUN in RMCTools.".into()));
+        } else if !c.enabled() {
+            out.push((
+                false,
+                "RMC controller disabled: its axes take no motion.".into(),
+            ));
+        }
     }
     out
 }

@@ -55,6 +55,8 @@ pub enum AxisIntent {
     Enable(AxisId, bool),
     /// Clear Faults (4).
     ClearFaults(AxisId),
+    /// Stop (Closed Loop) (6) for one axis, at STOP's deceleration.
+    Stop(AxisId),
     /// The panel's new jog choices.
     Settings(RmcJogSettings),
     /// The RMC's connection settings (applied on Connect).
@@ -187,6 +189,13 @@ impl RmcAxes {
             AxisIntent::Jog(input, press) => self.jog_input(input, press, settings.jog, now),
             AxisIntent::Enable(axis, on) => self.send(axis, Command::Enable(on), now),
             AxisIntent::ClearFaults(axis) => self.send(axis, Command::ClearFaults, now),
+            AxisIntent::Stop(axis) => {
+                let decel = settings.stop_decel();
+                if self.hold.jog().is_some_and(|j| j.target.axis == axis) {
+                    self.stop(StopCause::Button);
+                }
+                self.send(axis, Command::Stop { decel }, now)
+            }
             AxisIntent::Settings(jog) => {
                 settings.jog = jog;
                 None
@@ -276,13 +285,8 @@ impl RmcAxes {
                 now,
             ));
         }
-        let enabled = self.view(target.axis).is_some_and(AxisView::enabled);
-        if !enabled {
-            return Some(self.says(
-                Level::Warning,
-                refuse(format!("{} is not enabled: enable it first", target.axis)),
-                now,
-            ));
+        if let Some(why) = self.not_ready(target.axis) {
+            return Some(self.says(Level::Warning, refuse(why), now));
         }
         match jog.mode {
             JogMode::Step => {
@@ -535,6 +539,29 @@ impl RmcAxes {
                 None
             }
         }
+    }
+
+    /// Why `axis` takes no motion from the pendant now, if it does not: disabled, halted,
+    /// the controller in PROGRAM mode or disabled.
+    pub fn not_ready(&self, axis: AxisId) -> Option<String> {
+        let Some(status) = self.view(axis).and_then(|v| v.status) else {
+            return Some(format!("no status from {axis} yet"));
+        };
+        if let Some(c) = self.controller {
+            if !c.run_mode() {
+                return Some("the RMC is in PROGRAM mode".into());
+            }
+            if !c.enabled() {
+                return Some("the RMC controller is disabled".into());
+            }
+        }
+        if !status.bits.enabled() {
+            return Some(format!("{axis} is not enabled: enable it first"));
+        }
+        if status.bits.halted() {
+            return Some(format!("{axis} is halted: clear its faults first"));
+        }
+        None
     }
 
     /// A held jog on `axis` ends and latches (its move was refused).

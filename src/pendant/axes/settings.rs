@@ -25,6 +25,8 @@ pub struct RmcSettings {
     pub axes: usize,
     /// The position units' name (set in RMCTools; "pu" unless named).
     pub units: String,
+    /// Stop (Closed Loop) (6)'s deceleration for STOP and release, pu/s².
+    pub stop_decel: f32,
     pub jog: RmcJogSettings,
 }
 
@@ -36,12 +38,22 @@ impl Default for RmcSettings {
             unit: 1,
             axes: 2,
             units: "pu".into(),
+            stop_decel: 1000.0,
             jog: RmcJogSettings::default(),
         }
     }
 }
 
 impl RmcSettings {
+    /// STOP's deceleration, a number above 0 whatever was saved.
+    pub fn stop_decel(&self) -> f32 {
+        if self.stop_decel.is_finite() && self.stop_decel > 0.0 {
+            self.stop_decel
+        } else {
+            Self::default().stop_decel
+        }
+    }
+
     /// The axis count kept within 1-8.
     pub fn axis_count(&self) -> usize {
         self.axes.clamp(1, MAX_AXES)

@@ -39,6 +39,16 @@ fn ready(now: Instant) -> (RmcAxes, RmcSettings) {
             at: now,
         },
     );
+    // Axis 2 is polled and disabled.
+    r.handle_event(
+        now,
+        RmcEvent::Status {
+            axis: axis(1),
+            status: AxisStatus::default(),
+            trusted: true,
+            at: now,
+        },
+    );
     (r, RmcSettings::default())
 }
 
@@ -165,4 +175,41 @@ fn a_lapsed_lease_latches_and_a_halt_ends_the_jog() {
         ..Default::default()
     };
     assert_eq!(status.errors.names(), ["positive limit"]);
+}
+
+#[test]
+fn a_halted_axis_or_program_mode_refuses_a_jog_with_the_reason() {
+    let now = Instant::now();
+    let (mut r, mut s) = ready(now);
+    let halted = AxisStatus {
+        bits: StatusBits(0)
+            .with(StatusBits::ENABLED, true)
+            .with(StatusBits::HALTED, true),
+        errors: ErrorBits(1 << ErrorBits::FAULT_INPUT),
+        ..Default::default()
+    };
+    r.handle_event(
+        now,
+        RmcEvent::Status {
+            axis: axis(0),
+            status: halted,
+            trusted: true,
+            at: now,
+        },
+    );
+    press(&mut r, &mut s, Press::On(plus(0)), now);
+    press(&mut r, &mut s, Press::Up, now);
+    assert!(r.take_calls().is_empty());
+    assert!(r.feedback.as_ref().unwrap().text.contains("halted"));
+    let (mut r, mut s) = ready(now);
+    r.handle_event(
+        now,
+        RmcEvent::Controller {
+            status: crate::rmc::ControllerStatus(0b10),
+            at: now,
+        },
+    );
+    press(&mut r, &mut s, Press::On(plus(0)), now);
+    assert!(r.take_calls().is_empty());
+    assert!(r.feedback.as_ref().unwrap().text.contains("PROGRAM"));
 }

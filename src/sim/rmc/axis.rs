@@ -11,6 +11,10 @@ pub const ERROR_NOT_ENABLED: f32 = 101.0;
 /// Last Error Number after a command with a speed, acceleration or deceleration that is
 /// not a number > 0 (the command is ignored). The simulator's own code [U].
 pub const ERROR_BAD_PARAMETER: f32 = 102.0;
+/// Last Error Number after a motion command while the controller is in PROGRAM mode. The
+/// simulator's own code and behaviour [U: what PROGRAM mode does to host commands is open,
+/// RMC.md section 7].
+pub const ERROR_PROGRAM_MODE: f32 = 103.0;
 /// In Position Tolerance at power-up, pu (RMC.md section 2).
 pub const DEFAULT_TOLERANCE: f32 = 0.05;
 
@@ -32,6 +36,8 @@ pub struct Axis {
     pub tolerance: f32,
     /// Soft travel limits (negative, positive), pu.
     pub travel: (f32, f32),
+    /// The Fault Input is active (an operator's fault on the simulator's console).
+    pub fault_input: bool,
 }
 
 impl Axis {
@@ -48,6 +54,7 @@ impl Axis {
             offset: 0.0,
             tolerance: DEFAULT_TOLERANCE,
             travel,
+            fault_input: false,
         }
     }
 
@@ -122,6 +129,22 @@ impl Axis {
         }
     }
 
+    /// The Fault Input comes on (Error Bit 3 latched and an Auto Stop) or goes off (the
+    /// bit then clears at the next Clear Faults or motion command).
+    pub fn set_fault_input(&mut self, on: bool) {
+        self.fault_input = on;
+        if on {
+            self.errors = ErrorBits(self.errors.0 | (1 << ErrorBits::FAULT_INPUT));
+            self.halt();
+        }
+    }
+
+    /// A following error (Error Bit 0) as the servo loop would report it: an Auto Stop.
+    pub fn following_error(&mut self) {
+        self.errors = ErrorBits(self.errors.0 | (1 << ErrorBits::FOLLOWING_ERROR));
+        self.halt();
+    }
+
     /// Closed Loop Halt (1), or an Auto Stop: Target stops at once, Halted set.
     fn halt(&mut self) {
         self.profile.halt();
@@ -134,6 +157,10 @@ impl Axis {
     fn clear_faults(&mut self) {
         self.halted = false;
         let mut still = 0;
+        if self.errors.bit(ErrorBits::FAULT_INPUT) && self.fault_input {
+            still |= 1 << ErrorBits::FAULT_INPUT;
+            self.halted = true;
+        }
         if self.errors.bit(ErrorBits::POSITIVE_LIMIT) && self.beyond_positive() {
             still |= 1 << ErrorBits::POSITIVE_LIMIT;
         }
@@ -201,6 +228,7 @@ impl Axis {
             .with(StatusBits::TG_DONE, tg_done)
             .with(StatusBits::ENABLED, self.enabled)
             .with(StatusBits::HALTED, self.halted)
+            .with(StatusBits::FAULT_INPUT, self.fault_input)
             .with_phase(phase);
         AxisStatus {
             bits,

@@ -32,6 +32,8 @@ impl Default for RmcConfig {
 #[derive(Clone, Debug)]
 pub struct RmcController {
     pub(super) axes: Vec<Axis>,
+    /// PROGRAM mode (Controller Status bit 0 clear): motion commands are refused.
+    pub(super) program_mode: bool,
     /// When the last loop ran (loops run on a 1 ms grid from `new`'s `now`).
     last: Instant,
 }
@@ -43,6 +45,7 @@ impl RmcController {
         let travel = if a <= b { (a, b) } else { (b, a) };
         Self {
             axes: (0..count).map(|_| Axis::new(travel)).collect(),
+            program_mode: false,
             last: now,
         }
     }
@@ -85,12 +88,87 @@ impl RmcController {
     /// Runs a command on an axis now (at the last loop [`advance`](Self::advance) ran);
     /// false when the axis is beyond the count.
     pub fn command(&mut self, axis: AxisId, command: Command) -> bool {
+        let program = self.program_mode;
         match self.axes.get_mut(axis.index()) {
+            Some(a) if program && command.moves() => {
+                a.last_error = super::axis::ERROR_PROGRAM_MODE;
+                true
+            }
             Some(a) => {
                 a.run(command);
                 true
             }
             None => false,
+        }
+    }
+
+    /// What an operator does at the simulated controller (its console): false when the
+    /// axis is beyond the count.
+    pub fn operate(&mut self, action: RmcAction) -> bool {
+        match action {
+            RmcAction::FaultInput(axis, on) => self
+                .axes
+                .get_mut(axis.index())
+                .map(|a| a.set_fault_input(on))
+                .is_some(),
+            RmcAction::FollowingError(axis) => self
+                .axes
+                .get_mut(axis.index())
+                .map(Axis::following_error)
+                .is_some(),
+            RmcAction::Program(on) => {
+                self.program_mode = on;
+                true
+            }
+        }
+    }
+
+    /// Controller Status Bits: RUN (bit 0) unless in PROGRAM mode, Controller Enabled (bit 1).
+    pub fn controller_status(&self) -> u32 {
+        if self.program_mode { 0b10 } else { 0b11 }
+    }
+}
+
+/// An operator's action at the simulated RMC151.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum RmcAction {
+    /// The axis's Fault Input on or off.
+    FaultInput(AxisId, bool),
+    /// A following error on the axis.
+    FollowingError(AxisId),
+    /// PROGRAM mode (true) or RUN (false).
+    Program(bool),
+}
+
+impl RmcAction {
+    /// Reads a console line: `fault AXIS on|off`, `ferror AXIS`, `program`, `run` (axes
+    /// numbered from 1, as people count them).
+    pub fn parse(line: &str) -> Result<RmcAction, String> {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        let axis = |w: Option<&&str>| -> Result<AxisId, String> {
+            let w = w.ok_or("name the axis (1-8)")?;
+            w.parse::<usize>()
+                .ok()
+                .and_then(|n| n.checked_sub(1))
+                .and_then(AxisId::new)
+                .ok_or_else(|| format!("`{w}` is not an axis (1-8)"))
+        };
+        match words.first().copied() {
+            Some("fault") => {
+                let a = axis(words.get(1))?;
+                match words.get(2).copied() {
+                    Some("on") => Ok(RmcAction::FaultInput(a, true)),
+                    Some("off") => Ok(RmcAction::FaultInput(a, false)),
+                    _ => Err("fault AXIS on|off".into()),
+                }
+            }
+            Some("ferror") => Ok(RmcAction::FollowingError(axis(words.get(1))?)),
+            Some("program") => Ok(RmcAction::Program(true)),
+            Some("run") => Ok(RmcAction::Program(false)),
+            Some(other) => Err(format!(
+                "`{other}` is not a console command (help lists them)"
+            )),
+            None => Err("an empty line".into()),
         }
     }
 }

@@ -14,8 +14,6 @@ pub type Acks = [bool; MAX_AXES];
 
 /// Registers in one axis's block of the Command Area: %MD40.(10n..10n+9).
 const COMMAND_REGISTERS: u16 = 20;
-/// Controller Status Bits: RUN (bit 0) and Controller Enabled (bit 1).
-const CONTROLLER_RUNNING: u32 = 0b11;
 /// Elements of the axis parameter file %MD(24+n) the map covers: 0 (Position Scale)
 /// through 56 (In Position Tolerance); those not modelled read 0.
 const PARAMETER_ELEMENTS: u16 = 57;
@@ -88,7 +86,7 @@ impl RmcController {
     fn read_dword(&self, acks: &Acks, address: u16) -> Option<[u16; 2]> {
         match address {
             CPU_MODULE_ID => return Some(dword_to_words(RMC151E_ID)),
-            CONTROLLER_STATUS => return Some(dword_to_words(CONTROLLER_RUNNING)),
+            CONTROLLER_STATUS => return Some(dword_to_words(self.controller_status())),
             _ => {}
         }
         let axis = |id: AxisId| self.axes.get(id.index());

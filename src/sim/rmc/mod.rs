@@ -27,8 +27,8 @@ mod tests;
 #[cfg(test)]
 mod wire_tests;
 
-pub use axis::{DEFAULT_TOLERANCE, ERROR_BAD_PARAMETER, ERROR_NOT_ENABLED};
+pub use axis::{DEFAULT_TOLERANCE, ERROR_BAD_PARAMETER, ERROR_NOT_ENABLED, ERROR_PROGRAM_MODE};
 pub use connection::RmcConnection;
-pub use controller::{LOOP, RmcConfig, RmcController};
+pub use controller::{LOOP, RmcAction, RmcConfig, RmcController};
 pub use map::Acks;
 pub use server::{EventLog, MAX_CONNECTIONS, RmcServer, ServerEvent};

@@ -307,3 +307,64 @@ fn time_only_moves_forward_and_idle_gaps_are_free() {
     assert_eq!(s.c.axis_count(), 2);
     assert!(s.c.status(AxisId::new(2).unwrap()).is_none());
 }
+
+#[test]
+fn a_fault_input_halts_and_holds_the_error_until_it_goes_off() {
+    let mut s = Sim::enabled();
+    s.cmd(mr(50.0, RelativeTo::Command));
+    s.run(100);
+    assert!(s.c.operate(RmcAction::FaultInput(axis0(), true)));
+    let st = s.st();
+    assert!(st.bits.halted() && st.bits.bit(crate::rmc::StatusBits::FAULT_INPUT));
+    assert!(st.errors.bit(ErrorBits::FAULT_INPUT));
+    let at = st.target_position;
+    s.run(100);
+    assert_eq!(s.st().target_position, at, "halted at once");
+    s.cmd(Command::ClearFaults);
+    assert!(s.st().bits.halted(), "the cause is still there");
+    s.c.operate(RmcAction::FaultInput(axis0(), false));
+    s.cmd(Command::ClearFaults);
+    assert!(!s.st().bits.halted());
+    assert!(!s.st().errors.any());
+    // A following error is an Auto Stop too, cleared at once by Clear Faults.
+    s.c.operate(RmcAction::FollowingError(axis0()));
+    assert!(s.st().errors.bit(ErrorBits::FOLLOWING_ERROR) && s.st().bits.halted());
+    s.cmd(Command::ClearFaults);
+    assert!(!s.st().errors.any());
+}
+
+#[test]
+fn program_mode_refuses_motion_and_shows_in_the_controller_status() {
+    let mut s = Sim::enabled();
+    s.c.operate(RmcAction::Program(true));
+    assert_eq!(s.c.controller_status() & 1, 0, "RUN bit clear");
+    s.cmd(mr(5.0, RelativeTo::Command));
+    s.run(100);
+    assert_eq!(s.st().command_position, 0.0);
+    assert_eq!(s.st().last_error, ERROR_PROGRAM_MODE);
+    s.c.operate(RmcAction::Program(false));
+    s.cmd(mr(5.0, RelativeTo::Command));
+    assert_eq!(s.st().command_position, 5.0);
+}
+
+#[test]
+fn console_lines_read_as_actions_or_say_why_not() {
+    let a = |i| AxisId::new(i).unwrap();
+    assert_eq!(
+        RmcAction::parse("fault 2 on"),
+        Ok(RmcAction::FaultInput(a(1), true))
+    );
+    assert_eq!(
+        RmcAction::parse(" ferror 1 "),
+        Ok(RmcAction::FollowingError(a(0)))
+    );
+    assert_eq!(RmcAction::parse("program"), Ok(RmcAction::Program(true)));
+    assert_eq!(RmcAction::parse("run"), Ok(RmcAction::Program(false)));
+    assert!(
+        RmcAction::parse("fault 0 on")
+            .unwrap_err()
+            .contains("not an axis")
+    );
+    assert!(RmcAction::parse("fault 1").is_err());
+    assert!(RmcAction::parse("jump").is_err());
+}
