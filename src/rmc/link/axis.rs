@@ -1,6 +1,8 @@
 //! One axis as the RMC link core sees it on the current connection: REQ and ACK, whether
 //! its positions have been read, a held jog's chain of moves, a STOP owed.
 
+use std::time::Instant;
+
 use super::event::HoldJog;
 use crate::link::RequestId;
 use crate::rmc::{AxisId, AxisStatus};
@@ -13,6 +15,8 @@ pub(super) struct Awaiting {
     pub req: bool,
     /// Its write got no reply in time: the next status read decides whether it arrived.
     pub timed_out: bool,
+    /// After this, an ACK still not equal to REQ means the command was not taken.
+    pub until: Instant,
 }
 
 /// A held jog's chain of Move Relative moves relative to the Target (RMC.md section 6).

@@ -22,6 +22,9 @@ pub enum Fault {
     /// The next status reply after a write shows ACK as it was before (a controller
     /// whose loop has not yet taken the command).
     AckLate,
+    /// Every status reply shows ACK as it was before the last write (a controller that
+    /// never takes commands from this host).
+    AckNever,
 }
 
 pub struct Bench {
@@ -176,10 +179,10 @@ impl Bench {
                     self.wire.push((self.now, r));
                 }
                 let fault = self.faults.first().copied().filter(|f| match f {
-                    Fault::AckLate => is_status && self.wrote_since_status,
+                    Fault::AckLate | Fault::AckNever => is_status && self.wrote_since_status,
                     _ => is_write,
                 });
-                if fault.is_some() {
+                if fault.is_some_and(|f| f != Fault::AckNever) {
                     self.faults.remove(0);
                 }
                 if is_write {
@@ -199,7 +202,7 @@ impl Bench {
                     return;
                 }
                 if let Ok(mut reply) = reply {
-                    if fault == Some(Fault::AckLate) {
+                    if matches!(fault, Some(Fault::AckLate | Fault::AckNever)) {
                         reply = flip_ack(&reply);
                     }
                     self.inbound.push_back((self.now + self.latency, reply));

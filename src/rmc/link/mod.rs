@@ -26,6 +26,11 @@ use crate::rmc::status::{AxisStatus, ControllerStatus};
 use crate::rmc::words::dword_at;
 use crate::robot::RelativeTo;
 
+/// Longest wait for ACK to equal a command's REQ once its write was answered [U: the
+/// time from the write's reply to ACK is open on hardware (RMC.md section 7); one loop is
+/// 0.25-4 ms]. After it the command counts as not taken, and other requests go on.
+const ACK_WAIT: Duration = Duration::from_millis(500);
+
 /// How the RMC link behaves.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RmcLinkConfig {
@@ -420,6 +425,7 @@ impl RmcCore {
             id,
             req,
             timed_out: false,
+            until: now + ACK_WAIT,
         });
         match kind {
             WriteKind::Stop => a.stop_owed = false,
@@ -536,7 +542,7 @@ impl RmcCore {
                     axis,
                     at: now,
                 });
-            } else if w.timed_out {
+            } else if w.timed_out || now >= w.until {
                 // Requests are handled in order (RMC.md section 1): a read after the
                 // write that still shows the old ACK means the write never arrived. It
                 // is not sent again.

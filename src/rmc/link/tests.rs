@@ -341,3 +341,39 @@ fn motion_to_a_disabled_axis_is_refused_before_sending() {
     )));
     assert!(b.commands_to(axis(1)).iter().all(|(c, _)| !c.moves()));
 }
+
+#[test]
+fn an_ack_that_never_comes_is_reported_and_the_link_goes_on() {
+    let mut b = Bench::enabled();
+    b.faults.push(Fault::AckNever);
+    let id = b.send(axis(0), move_by(1.0, RelativeTo::Command));
+    let unconfirmed = |b: &Bench| {
+        b.events
+            .iter()
+            .any(|(_, e)| matches!(e, RmcEvent::Unconfirmed { id: Some(i), .. } if *i == id))
+    };
+    assert!(b.run_until(2 * SECOND, unconfirmed));
+    let waited = b
+        .events
+        .iter()
+        .find(|(_, e)| matches!(e, RmcEvent::Unconfirmed { .. }))
+        .map(|(t, _)| *t - b.start)
+        .unwrap();
+    assert!(
+        waited < Duration::from_millis(700),
+        "given up after {waited:?}"
+    );
+    // The other axis is polled again afterwards.
+    let before = b.events.len();
+    b.run_for(Duration::from_millis(100), None);
+    assert!(b.events[before..].iter().any(|(_, e)| matches!(
+        e,
+        RmcEvent::Status { axis: a, .. } if *a == axis(1)
+    )));
+    let moves = b
+        .commands_to(axis(0))
+        .iter()
+        .filter(|(c, _)| c.moves())
+        .count();
+    assert_eq!(moves, 1, "never sent again");
+}
