@@ -1,0 +1,129 @@
+//! What the RMC answered, taken in by the link core: zeros done, the module and the
+//! controller's status, an axis's status (and whether its ACK now equals REQ),
+//! exceptions.
+
+use std::time::Instant;
+
+use super::{InFlight, Purpose, RmcCore, RmcEvent, WriteKind};
+use crate::rmc::modbus::Response;
+use crate::rmc::registers::AxisId;
+use crate::rmc::status::{AxisStatus, ControllerStatus};
+use crate::rmc::words::dword_at;
+
+impl RmcCore {
+    pub(super) fn complete(&mut self, now: Instant, flight: InFlight, response: Response) {
+        self.timeouts_in_row = 0;
+        let id = match flight.purpose {
+            Purpose::Write { id, .. } => id,
+            _ => None,
+        };
+        match (flight.purpose, response) {
+            (purpose, Response::Exception { function, code }) => {
+                if let Purpose::Write { axis, kind, .. } = purpose
+                    && let Some(a) = self.axis(axis)
+                {
+                    // Refused: not run, so REQ is what ACK still is.
+                    a.req = !a.req;
+                    a.awaiting = None;
+                    if kind == WriteKind::Chunk {
+                        a.chain = None;
+                    }
+                }
+                if let Purpose::Zeros(axis) = purpose
+                    && let Some(a) = self.axis(axis)
+                {
+                    a.zeroed = true;
+                }
+                if purpose == Purpose::Module {
+                    self.module_read = true;
+                }
+                self.events
+                    .push_back(RmcEvent::Exception { id, function, code });
+            }
+            (Purpose::Zeros(axis), Response::Written { .. }) => {
+                if let Some(a) = self.axis(axis) {
+                    a.zeroed = true;
+                    a.req = false;
+                    a.ack = Some(false);
+                }
+            }
+            (Purpose::Module, Response::Registers { words, .. }) => {
+                self.module_read = true;
+                let cpu_id = dword_at(&words, 0).unwrap_or(0);
+                self.events.push_back(RmcEvent::Module { cpu_id });
+            }
+            (Purpose::Controller, Response::Registers { words, .. }) => {
+                let status = ControllerStatus(dword_at(&words, 0).unwrap_or(0));
+                self.events
+                    .push_back(RmcEvent::Controller { status, at: now });
+            }
+            (Purpose::Status(axis), Response::Registers { words, .. }) => {
+                match AxisStatus::decode(&words) {
+                    Some(status) => self.on_status(now, axis, status),
+                    None => self.events.push_back(RmcEvent::Ignored {
+                        why: format!("{axis}'s status came back with {} registers", words.len()),
+                    }),
+                }
+            }
+            (Purpose::Write { .. }, Response::Written { .. }) => {}
+            (_, other) => self.events.push_back(RmcEvent::Ignored {
+                why: format!("a reply that does not answer its request: {other:?}"),
+            }),
+        }
+    }
+
+    pub(super) fn on_status(&mut self, now: Instant, axis: AxisId, status: AxisStatus) {
+        let Some(a) = self.axes.get_mut(axis.index()) else {
+            return;
+        };
+        let ack = status.bits.ack();
+        a.fresh = true;
+        a.read_wanted = false;
+        a.ack = Some(ack);
+        let mut trusted = true;
+        if let Some(w) = a.awaiting {
+            if ack == w.req {
+                a.awaiting = None;
+                self.events.push_back(RmcEvent::Acknowledged {
+                    id: w.id,
+                    axis,
+                    at: now,
+                });
+            } else if w.timed_out || now >= w.until {
+                // Requests are handled in order (RMC.md section 1): a read after the
+                // write that still shows the old ACK means the write never arrived. It
+                // is not sent again.
+                a.req = ack;
+                a.awaiting = None;
+                // A jog whose move may not have arrived is not carried on: it stops.
+                if a.chain.take().is_some() {
+                    a.stop_owed = true;
+                }
+                self.events
+                    .push_back(RmcEvent::Unconfirmed { id: w.id, axis });
+            } else {
+                trusted = false;
+            }
+        }
+        if trusted && (status.bits.halted() || status.errors.any()) && a.chain.take().is_some() {
+            // A halted axis (a travel limit, a fault) is not pushed on by more moves.
+            self.events.push_back(RmcEvent::JogEnded {
+                axis,
+                why: format!("{axis} halted: {}", status.errors.names().join(", ")),
+            });
+        }
+        if trusted {
+            let still = status.bits.tg_done() && status.target_velocity == 0.0;
+            if still && a.chain.is_none() {
+                a.may_move = false;
+            }
+            a.last = Some(status);
+        }
+        self.events.push_back(RmcEvent::Status {
+            axis,
+            status,
+            trusted,
+            at: now,
+        });
+    }
+}
