@@ -10,6 +10,7 @@ pub mod coords;
 pub mod frame_log;
 mod intent;
 pub mod jog;
+pub mod samples;
 pub mod script;
 pub mod teach;
 
@@ -156,6 +157,8 @@ pub struct Pendant {
     pub teach_feedback: Option<(Level, String)>,
     /// The RMC151's axes.
     pub axes: axes::RmcAxes,
+    /// Every polled position and status with its time, for the plots.
+    pub samples: samples::polled::Polled,
 }
 
 impl Pendant {
@@ -164,6 +167,7 @@ impl Pendant {
         let teach = teach::book::TeachBook::new(std::mem::take(&mut settings.legacy_teach));
         Self {
             axes: axes::RmcAxes::new(settings.rmc.axis_count()),
+            samples: samples::polled::Polled::new(settings.rmc.axis_count()),
             teach,
             teach_feedback: None,
             coords: coords::CoordEditor::new(model.work_table_size, model.tool_table_size),
@@ -213,6 +217,12 @@ impl Pendant {
 
     /// Applies one event from the RMC151's link.
     pub fn handle_axes_event(&mut self, now: Instant, event: crate::rmc::RmcEvent) {
+        if let crate::rmc::RmcEvent::Status {
+            axis, status, at, ..
+        } = &event
+        {
+            self.samples.rmc_status(*at, *axis, status);
+        }
         if let Some((level, text)) = self.axes.handle_event(now, event) {
             self.say(level, text, now);
         }
@@ -417,6 +427,14 @@ impl Pendant {
             }
             Reply::ScaraStatus(s) => {
                 if s.common.system == crate::protocol::PositionSystem::Work {
+                    let mut pose = [0i32; 4];
+                    for (i, slot) in pose.iter_mut().enumerate() {
+                        let axis = crate::protocol::Axis::from_index(i as u8);
+                        if let Some(a) = axis.and_then(|axis| s.axes.get(axis)) {
+                            *slot = a.position.0;
+                        }
+                    }
+                    self.samples.xsel_work(now, pose);
                     let old = self.controller.work.as_ref().map(|o| &o.value.axes);
                     for (level, text) in transitions::axes(old, &s.axes) {
                         self.say(level, text, now);
