@@ -465,3 +465,91 @@ fn a_stop_after_the_move_ended_leaves_it_done_and_one_before_cuts_it_short() {
         );
     }
 }
+
+/// The RMC connected beside the arm, axis 1 enabled at Command Position `at`, axis 2
+/// disabled at 0.
+fn rmc_ready(p: &mut Pendant, at: f32, now: Instant) {
+    use crate::rmc::{AxisId, AxisStatus, RmcEvent, StatusBits};
+    p.handle_axes_event(
+        now,
+        RmcEvent::LineUp {
+            name: "sim".into(),
+            at: now,
+        },
+    );
+    for (i, enabled, position) in [(0, true, at), (1, false, 0.0)] {
+        let status = AxisStatus {
+            bits: StatusBits(0).with(StatusBits::ENABLED, enabled),
+            command_position: position,
+            ..Default::default()
+        };
+        p.handle_axes_event(
+            now,
+            RmcEvent::Status {
+                axis: AxisId::new(i).unwrap(),
+                status,
+                trusted: true,
+                at: now,
+            },
+        );
+    }
+}
+
+#[test]
+fn a_point_taught_with_rmc_axes_goes_there_with_move_absolute_or_not_at_all() {
+    use crate::pendant::axes::AxisCall;
+    use crate::rmc::{AxisId, Command as RmcCommand};
+    let now = t0();
+    let mut p = ready_at(start(), now);
+    rmc_ready(&mut p, 12.345, now);
+    p.settings.rmc.teach_axes = true;
+    p.teach_record("", now);
+    let point = p.teach.list().get(0).unwrap().clone();
+    assert_eq!(point.axes, vec![12_345, 0], "Command Positions in 0.001 pu");
+    // The CSV and JSON files keep them.
+    let csv = p.teach.list().to_csv();
+    assert!(csv.starts_with("name,x_mm,y_mm,z_mm,r_deg,arm,work,tool,axis1_pu,axis2_pu\n"));
+    assert_eq!(
+        crate::pendant::teach::TeachList::from_csv(&csv).unwrap(),
+        *p.teach.list()
+    );
+    let json = p.teach.list().to_json();
+    assert_eq!(
+        crate::pendant::teach::TeachList::from_json(&json).unwrap(),
+        *p.teach.list()
+    );
+    // Axis 2 is disabled: Go is refused whole, the arm included.
+    let mut p2 = ready_at(Joints::new(20.0, 70.0, 40.0, 10.0), now);
+    rmc_ready(&mut p2, 0.0, now);
+    p2.teach.set(p.teach.list().clone());
+    p2.teach_go(0, now);
+    assert!(p2.take_requests().is_empty());
+    assert!(
+        p2.jog
+            .feedback
+            .as_ref()
+            .unwrap()
+            .text
+            .contains("Axis 2 is not enabled")
+    );
+    // With axis 1 only: the arm's 2D4H, then Move Absolute to 12.345.
+    let mut one = p.teach.list().clone();
+    let mut q = one.remove(0).unwrap();
+    q.axes.truncate(1);
+    one.insert(0, q).unwrap();
+    p2.teach.set(one);
+    p2.teach_go(0, now);
+    let requests = p2.take_requests();
+    assert!(matches!(
+        requests.first(),
+        Some(Request::Submit(Command::ScaraMoveAbsolute(_)))
+    ));
+    let moves: Vec<_> = requests
+        .iter()
+        .filter_map(|r| match r {
+            Request::Axes(AxisCall::Send(a, RmcCommand::MoveAbsolute(m))) => Some((*a, m.position)),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(moves, vec![(AxisId::new(0).unwrap(), 12.345)]);
+}

@@ -27,6 +27,17 @@ pub struct MoveRelative {
     pub relative_to: RelativeTo,
 }
 
+/// Move Absolute (20)'s parameters (RMC.md section 4); its fifth, the direction, is sent
+/// as 0 [I: it matters for rotary axes only, which the pendant does not drive].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MoveAbsolute {
+    /// Position units.
+    pub position: f32,
+    pub speed: f32,
+    pub accel: f32,
+    pub decel: f32,
+}
+
 /// A command for one axis.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Command {
@@ -42,6 +53,8 @@ pub enum Command {
     Stop { decel: f32 },
     /// Move Relative (21).
     MoveRelative(MoveRelative),
+    /// Move Absolute (20).
+    MoveAbsolute(MoveAbsolute),
     /// Enable/Disable Axis (97).
     Enable(bool),
     /// Any other command number, with its first parameters as read (the simulator
@@ -90,6 +103,7 @@ impl Command {
             Command::HoldCurrentPosition { .. } => 5,
             Command::Stop { .. } => 6,
             Command::MoveRelative(_) => 21,
+            Command::MoveAbsolute(_) => 20,
             Command::Enable(_) => 97,
             Command::Other(n) => *n,
         }
@@ -104,6 +118,7 @@ impl Command {
             Command::HoldCurrentPosition { .. } => "Hold Current Position",
             Command::Stop { .. } => "Stop (Closed Loop)",
             Command::MoveRelative(_) => "Move Relative",
+            Command::MoveAbsolute(_) => "Move Absolute",
             Command::Enable(true) => "Enable Axis",
             Command::Enable(false) => "Disable Axis",
             Command::Other(_) => "command",
@@ -126,12 +141,13 @@ impl Command {
                 relative_to_code(m.relative_to),
             ],
             Command::Enable(on) => vec![if on { 1.0 } else { 0.0 }],
+            Command::MoveAbsolute(m) => vec![m.position, m.speed, m.accel, m.decel, 0.0],
         }
     }
 
     /// Whether it starts motion (the ones STOP drops from the queue).
     pub fn moves(&self) -> bool {
-        matches!(self, Command::MoveRelative(_))
+        matches!(self, Command::MoveRelative(_) | Command::MoveAbsolute(_))
     }
 
     /// Checks the parameters before anything is sent.
@@ -148,6 +164,14 @@ impl Command {
             Command::MoveRelative(m) => {
                 if !m.distance.is_finite() {
                     return Err(CommandError::BadDistance(m.distance));
+                }
+                positive("the speed", m.speed)?;
+                positive("the acceleration", m.accel)?;
+                positive("the deceleration", m.decel)
+            }
+            Command::MoveAbsolute(m) => {
+                if !m.position.is_finite() {
+                    return Err(CommandError::BadDistance(m.position));
                 }
                 positive("the speed", m.speed)?;
                 positive("the acceleration", m.accel)?;
@@ -196,6 +220,12 @@ impl Command {
             4 => Command::ClearFaults,
             5 => Command::HoldCurrentPosition { reset: p(1) == 1.0 },
             6 => Command::Stop { decel: p(1) },
+            20 => Command::MoveAbsolute(MoveAbsolute {
+                position: p(1),
+                speed: p(2),
+                accel: p(3),
+                decel: p(4),
+            }),
             21 => Command::MoveRelative(MoveRelative {
                 distance: p(1),
                 speed: p(2),
@@ -223,6 +253,11 @@ impl fmt::Display for Command {
                 m.accel,
                 m.decel,
                 m.relative_to.name()
+            ),
+            Command::MoveAbsolute(m) => write!(
+                f,
+                " position {}, speed {}, accel {}, decel {}",
+                m.position, m.speed, m.accel, m.decel
             ),
             Command::Stop { decel } => write!(f, " decel {decel}"),
             _ => Ok(()),
@@ -268,6 +303,12 @@ mod tests {
             Command::HoldCurrentPosition { reset: true },
             Command::Stop { decel: 250.0 },
             move_relative(),
+            Command::MoveAbsolute(MoveAbsolute {
+                position: -12.5,
+                speed: 3.0,
+                accel: 30.0,
+                decel: 40.0,
+            }),
             Command::Enable(true),
             Command::Enable(false),
             Command::Other(37),

@@ -7,7 +7,7 @@ pub mod registers;
 pub mod status;
 pub mod words;
 
-pub use command::{Command, CommandError, MoveRelative};
+pub use command::{Command, CommandError, MoveAbsolute, MoveRelative};
 pub use registers::{AxisId, MAX_AXES};
 pub use status::{AxisStatus, ControllerStatus, ErrorBits, StatusBits, TgPhase};
 pub mod handle;

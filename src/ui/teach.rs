@@ -108,6 +108,14 @@ impl TeachPanel {
             {
                 intents.push(Intent::TeachRecord(std::mem::take(&mut self.name)));
             }
+            let mut rmc = pendant.settings.rmc.clone();
+            if ui
+                .checkbox(&mut rmc.teach_axes, "with RMC axes")
+                .on_hover_text("Record takes the RMC axes' Command Positions too; Go moves them with Move Absolute (20)")
+                .changed()
+            {
+                intents.push(Intent::Axes(crate::pendant::axes::AxisIntent::Connection(rmc)));
+            }
         });
         self.rows(ui, pendant, now, intents);
         self.actions(ui, pendant, intents);
@@ -187,7 +195,18 @@ impl TeachPanel {
                                 ui.label(arm_word(p.arm));
                             });
                             row.col(|ui| {
-                                ui.label(format!("{} / {}", p.work, p.tool));
+                                let frames = format!("{} / {}", p.work, p.tool);
+                                if p.axes.is_empty() {
+                                    ui.label(frames);
+                                } else {
+                                    let axes: Vec<String> = p
+                                        .axes
+                                        .iter()
+                                        .map(|v| format!("{:.3}", crate::protocol::Milli(*v).units()))
+                                        .collect();
+                                    ui.label(format!("{frames}  RMC {}", axes.join(" / ")))
+                                        .on_hover_text("the RMC axes' positions, axis 1 first (Go moves them with Move Absolute)");
+                                }
                             });
                         });
                     });

@@ -564,6 +564,70 @@ impl RmcAxes {
         None
     }
 
+    /// The axes' Command Positions to record with a taught point, in 0.001 pu, or why
+    /// not (Command Position: where each axis is sent, not where it happens to be) [I].
+    pub fn taught_positions(&self) -> Result<Vec<i32>, String> {
+        if !self.line.is_up() {
+            return Err(
+                "the RMC is not connected (untick \"with RMC axes\" to record the arm alone)"
+                    .into(),
+            );
+        }
+        AxisId::first(self.axes.len())
+            .map(|axis| {
+                let status = self
+                    .view(axis)
+                    .and_then(|v| v.status)
+                    .ok_or_else(|| format!("no status from {axis} yet"))?;
+                let milli = (f64::from(status.command_position) * 1000.0).round();
+                if milli.is_finite() && milli.abs() <= f64::from(i32::MAX) {
+                    Ok(milli as i32)
+                } else {
+                    Err(format!(
+                        "{axis}'s position {} cannot be kept",
+                        status.command_position
+                    ))
+                }
+            })
+            .collect()
+    }
+
+    /// The Move Absolute (20) of each axis a taught point names, or why not (all are
+    /// checked before any goes out).
+    pub fn go_moves(&self, axes: &[i32], jog: RmcJogSettings) -> Result<Vec<AxisCall>, String> {
+        if !self.line.is_up() {
+            return Err("the point has RMC axes and the RMC is not connected".into());
+        }
+        if axes.len() > self.axes.len() {
+            return Err(format!(
+                "the point has {} RMC axes, {} are polled",
+                axes.len(),
+                self.axes.len()
+            ));
+        }
+        jog.check()?;
+        AxisId::first(axes.len())
+            .zip(axes)
+            .map(|(axis, milli)| {
+                if let Some(why) = self.not_ready(axis) {
+                    return Err(why);
+                }
+                let command = Command::MoveAbsolute(crate::rmc::MoveAbsolute {
+                    position: (f64::from(*milli) / 1000.0) as f32,
+                    speed: jog.speed,
+                    accel: jog.accel,
+                    decel: jog.decel,
+                });
+                Ok(AxisCall::Send(axis, command))
+            })
+            .collect()
+    }
+
+    /// Calls the pendant decided on (a Go's axis moves), in order.
+    pub fn queue(&mut self, calls: Vec<AxisCall>) {
+        self.calls.extend(calls);
+    }
+
     /// A held jog on `axis` ends and latches (its move was refused).
     fn stop_jog_of(&mut self, axis: Option<AxisId>, cause: StopCause) {
         if self.hold.jog().is_some_and(|j| Some(j.target.axis) == axis) {

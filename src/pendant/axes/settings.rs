@@ -27,6 +27,8 @@ pub struct RmcSettings {
     pub units: String,
     /// Stop (Closed Loop) (6)'s deceleration for STOP and release, pu/s².
     pub stop_decel: f32,
+    /// "Record" in the teach list takes the RMC axes' Command Positions too.
+    pub teach_axes: bool,
     pub jog: RmcJogSettings,
 }
 
@@ -39,6 +41,7 @@ impl Default for RmcSettings {
             axes: 2,
             units: "pu".into(),
             stop_decel: 1000.0,
+            teach_axes: false,
             jog: RmcJogSettings::default(),
         }
     }

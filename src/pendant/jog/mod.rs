@@ -126,12 +126,22 @@ impl Pendant {
         {
             return self.jog_says(Level::Warning, format!("refused: {why}"), now);
         }
+        // The RMC axes the point names are checked first: nothing moves unless all may.
+        let axis_moves = if point.axes.is_empty() {
+            Vec::new()
+        } else {
+            match self.axes.go_moves(&point.axes, self.settings.rmc.jog) {
+                Ok(moves) => moves,
+                Err(why) => return self.jog_says(Level::Warning, format!("refused: {why}"), now),
+            }
+        };
         let plan = self
             .arm_now(now)
             .and_then(|arm| jog::plan_go(&self.model, &self.kin, &self.jog_sent(), &point, &arm));
         match plan {
             Ok(plan) => {
                 self.requests.push(Request::Submit(plan.command));
+                self.axes.queue(axis_moves);
                 self.jog_says(Level::Info, format!("go to \"{}\": sent", point.name), now);
                 self.jog.followed = Some(Followed {
                     plan,
@@ -170,7 +180,15 @@ impl Pendant {
             work: status.work,
             tool: status.tool,
         };
-        match self.teach.edit(|l| l.record(&name, at)) {
+        let axes = if self.settings.rmc.teach_axes {
+            match self.axes.taught_positions() {
+                Ok(axes) => axes,
+                Err(why) => return self.say(Level::Warning, format!("not recorded: {why}"), now),
+            }
+        } else {
+            Vec::new()
+        };
+        match self.teach.edit(|l| l.record_with_axes(&name, at, axes)) {
             Ok(_) => self.say(Level::Info, format!("recorded \"{name}\""), now),
             Err(e) => self.say(Level::Warning, format!("not recorded: {e}"), now),
         }

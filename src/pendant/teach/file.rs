@@ -68,7 +68,9 @@ impl TeachList {
     /// The list as CSV (header first, one point a line, LF line ends).
     pub fn to_csv(&self) -> String {
         let mut out = String::with_capacity(CSV_HEADER.len() + 1 + 64 * self.len());
-        out.push_str(CSV_HEADER);
+        // RMC axes' columns, as many as the point with the most (none: the plain header).
+        let axes = self.iter().map(|p| p.axes.len()).max().unwrap_or(0);
+        out.push_str(&header_line(axes));
         out.push('\n');
         for p in self {
             push_csv_text(&mut out, &p.name);
@@ -78,7 +80,14 @@ impl TeachList {
             }
             out.push(',');
             out.push_str(arm_word(p.arm));
-            out.push_str(&format!(",{},{}\n", p.work, p.tool));
+            out.push_str(&format!(",{},{}", p.work, p.tool));
+            for k in 0..axes {
+                out.push(',');
+                if let Some(v) = p.axes.get(k) {
+                    out.push_str(&Milli(*v).to_string());
+                }
+            }
+            out.push('\n');
         }
         out
     }
@@ -124,7 +133,28 @@ fn push_csv_text(out: &mut String, text: &str) {
 }
 
 fn column(i: usize) -> Option<&'static str> {
-    COLUMNS.get(i).copied()
+    COLUMNS
+        .get(i)
+        .copied()
+        .or_else(|| AXIS_COLUMNS.get(i.checked_sub(COLUMNS.len())?).copied())
+}
+
+/// The optional RMC axes' columns after `tool`, in 0.001 position units (as decimals).
+const AXIS_COLUMNS: [&str; crate::rmc::MAX_AXES] = [
+    "axis1_pu", "axis2_pu", "axis3_pu", "axis4_pu", "axis5_pu", "axis6_pu", "axis7_pu", "axis8_pu",
+];
+
+/// The header of a file with `axes` RMC axes' columns.
+fn header_line(axes: usize) -> String {
+    (1..=axes).fold(CSV_HEADER.to_string(), |h, k| h + "," + axis_column(k))
+}
+
+/// The header name of RMC axis `k` (1-based).
+fn axis_column(k: usize) -> &'static str {
+    AXIS_COLUMNS
+        .get(k.saturating_sub(1))
+        .copied()
+        .unwrap_or("axis_pu")
 }
 
 pub(super) fn not_utf8(bytes: &[u8], offset: usize) -> FileError {
@@ -302,7 +332,7 @@ fn parse_csv(text: &str) -> Result<TeachList, FileError> {
         it: text.chars().peekable(),
         line: 1,
     };
-    let mut header_seen = false;
+    let mut header: Option<usize> = None;
     let mut first_blank: Option<usize> = None;
     let mut names: HashMap<String, usize> = HashMap::new();
     let mut list = TeachList::new();
@@ -319,12 +349,11 @@ fn parse_csv(text: &str) -> Result<TeachList, FileError> {
                 "blank line (blank lines are allowed only at the end of the file)",
             ));
         }
-        if !header_seen {
-            check_header(&record)?;
-            header_seen = true;
+        let Some(axes) = header else {
+            header = Some(check_header(&record)?);
             continue;
-        }
-        let point = parse_point(&record)?;
+        };
+        let point = parse_point(&record, axes)?;
         if let Some(first) = names.get(&point.name) {
             return Err(FileError::new(
                 record.line,
@@ -338,7 +367,7 @@ fn parse_csv(text: &str) -> Result<TeachList, FileError> {
         names.insert(point.name.clone(), record.line);
         list.push_checked(point);
     }
-    if !header_seen {
+    if header.is_none() {
         return Err(FileError::new(
             1,
             None,
@@ -348,14 +377,26 @@ fn parse_csv(text: &str) -> Result<TeachList, FileError> {
     Ok(list)
 }
 
-fn check_header(r: &Record) -> Result<(), FileError> {
+/// Checks the header; answers how many RMC axes' columns follow `tool` (0 to 8).
+fn check_header(r: &Record) -> Result<usize, FileError> {
+    let axes = r.fields.len().saturating_sub(COLUMNS.len());
     let wrong =
         (0..COLUMNS.len().max(r.fields.len())).find(|&i| match (r.fields.get(i), column(i)) {
             (Some(found), Some(want)) => !found.trim().eq_ignore_ascii_case(want),
             _ => true,
         });
     match wrong {
-        None => Ok(()),
+        None => Ok(axes),
+        // A column after `tool` that is not the next RMC axis's: no one field to blame.
+        Some(i) if i >= COLUMNS.len() => Err(FileError::new(
+            r.line,
+            None,
+            format!(
+                "the first line must be the header {CSV_HEADER}, optionally followed by \
+                 RMC axes' columns axis1_pu, axis2_pu... (found \"{}\")",
+                shown(&r.fields.join(","))
+            ),
+        )),
         Some(i) => Err(FileError::new(
             r.line,
             column(i),
@@ -367,22 +408,27 @@ fn check_header(r: &Record) -> Result<(), FileError> {
     }
 }
 
-fn parse_point(r: &Record) -> Result<TeachPoint, FileError> {
+fn parse_point(r: &Record, axes: usize) -> Result<TeachPoint, FileError> {
     let n = r.fields.len();
-    if n < COLUMNS.len() {
+    let expected = COLUMNS.len() + axes;
+    if n < expected {
         return Err(FileError::new(
             r.line,
             column(n),
-            format!("missing column: the line has {n} fields, expected 8 ({CSV_HEADER})"),
+            format!(
+                "missing column: the line has {n} fields, expected {expected} ({})",
+                header_line(axes)
+            ),
         ));
     }
-    if n > COLUMNS.len() {
+    if n > expected {
         return Err(FileError::new(
             r.line,
             None,
             format!(
-                "extra column: the line has {n} fields, expected 8 ({CSV_HEADER}); \
-                 a name with a comma must be in quotes"
+                "extra column: the line has {n} fields, expected {expected} ({}); \
+                 a name with a comma must be in quotes",
+                header_line(axes)
             ),
         ));
     }
@@ -404,12 +450,28 @@ fn parse_point(r: &Record) -> Result<TeachPoint, FileError> {
     })?;
     let work = parse_frame(f(6), "work", MAX_FRAME_NUMBER).map_err(|m| at(6, m))?;
     let tool = parse_frame(f(7), "tool", MAX_FRAME_NUMBER).map_err(|m| at(7, m))?;
+    // The RMC axes' positions: the first columns filled, the rest empty.
+    let mut axis_values = Vec::new();
+    for i in COLUMNS.len()..expected {
+        let text = f(i).trim();
+        if text.is_empty() {
+            continue;
+        }
+        if axis_values.len() + COLUMNS.len() != i {
+            return Err(at(
+                i,
+                "an RMC axis after an empty one (fill the axes' columns from axis1_pu on)".into(),
+            ));
+        }
+        axis_values.push(parse_milli(text).map_err(|m| at(i, m))?);
+    }
     let point = TeachPoint {
         name,
         pose,
         arm,
         work,
         tool,
+        axes: axis_values,
     };
     point
         .checked()

@@ -498,3 +498,41 @@ fn a_file_of_more_points_than_a_list_holds_is_refused_and_a_full_list_refuses_a_
     let json = full.to_json();
     assert_eq!(TeachList::from_json(&json).map(|l| l.len()), Ok(MAX_POINTS));
 }
+
+#[test]
+fn rmc_axis_columns_are_optional_filled_from_the_first_and_checked() {
+    let text = "name,x_mm,y_mm,z_mm,r_deg,arm,work,tool,axis1_pu,axis2_pu\n\
+                A,1,2,3,4,right,0,0,10.5,-2\n\
+                B,1,2,3,4,right,0,0,7,\n\
+                C,1,2,3,4,right,0,0,,\n";
+    let l = TeachList::from_csv(text).unwrap();
+    let axes: Vec<Vec<i32>> = l.iter().map(|p| p.axes.clone()).collect();
+    assert_eq!(axes, vec![vec![10_500, -2_000], vec![7_000], vec![]]);
+    assert_eq!(TeachList::from_csv(&l.to_csv()).unwrap(), l);
+    // A list without axes writes the plain header, as before.
+    assert!(sample().to_csv().starts_with(H));
+    let gap = "name,x_mm,y_mm,z_mm,r_deg,arm,work,tool,axis1_pu,axis2_pu\nA,1,2,3,4,right,0,0,,3\n";
+    let e = TeachList::from_csv(gap).unwrap_err();
+    assert_eq!(e.field.as_deref(), Some("axis2_pu"), "{e}");
+    let bad = "name,x_mm,y_mm,z_mm,r_deg,arm,work,tool,axis1_pu\nA,1,2,3,4,right,0,0,ten\n";
+    assert!(
+        TeachList::from_csv(bad)
+            .unwrap_err()
+            .to_string()
+            .contains("axis1_pu")
+    );
+    let short = "name,x_mm,y_mm,z_mm,r_deg,arm,work,tool,axis1_pu\nA,1,2,3,4,right,0,0\n";
+    assert!(
+        TeachList::from_csv(short)
+            .unwrap_err()
+            .to_string()
+            .contains("missing column")
+    );
+    let json = r#"{"points":[{"name":"A","pose":[0,0,0,0],"arm":"right","work":0,"tool":0,"axes":[1,2,3,4,5,6,7,8,9]}]}"#;
+    assert!(
+        TeachList::from_json(json)
+            .unwrap_err()
+            .to_string()
+            .contains("at most 8")
+    );
+}

@@ -144,6 +144,26 @@ pub(super) fn de_name<'de, D: Deserializer<'de>>(d: D) -> Result<String, D::Erro
     check_name(&name).map_err(|e| D::Error::custom(format!("field name: {e}")))
 }
 
+/// The RMC axes' positions in 0.001 pu, at most 8.
+pub(super) fn de_axes<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<i32>, D::Error> {
+    let wide = Vec::<i64>::deserialize(d)?;
+    if wide.len() > crate::rmc::MAX_AXES {
+        return Err(D::Error::custom(format!(
+            "field axes: {} values, an RMC151 has at most 8 axes",
+            wide.len()
+        )));
+    }
+    wide.into_iter()
+        .map(|v| {
+            i32::try_from(v).map_err(|_| {
+                D::Error::custom(format!(
+                    "field axes: {v} is out of range (-2147483648 to 2147483647)"
+                ))
+            })
+        })
+        .collect()
+}
+
 /// Four positions in wire units; a value outside i32 gets our message.
 pub(super) fn de_pose<'de, D: Deserializer<'de>>(d: D) -> Result<[i32; 4], D::Error> {
     let wide = <[i64; 4]>::deserialize(d)?;

@@ -59,6 +59,14 @@ pub struct TeachPoint {
     /// The tool coordinate system number it was taught in (0-127).
     #[serde(deserialize_with = "json::de_tool")]
     pub tool: u8,
+    /// The RMC151's axes' positions taken with it, in 0.001 position units, axis 1 first
+    /// (empty: the point moves the arm only). Go moves each with Move Absolute (20).
+    #[serde(
+        default,
+        skip_serializing_if = "Vec::is_empty",
+        deserialize_with = "json::de_axes"
+    )]
+    pub axes: Vec<i32>,
 }
 
 impl TeachPoint {
@@ -70,6 +78,7 @@ impl TeachPoint {
             arm: at.arm,
             work: at.work,
             tool: at.tool,
+            axes: Vec::new(),
         }
     }
 
@@ -96,6 +105,9 @@ impl TeachPoint {
     /// This point with its name trimmed, after checking name, work and tool.
     pub fn checked(mut self) -> Result<TeachPoint, TeachError> {
         self.name = check_name(&self.name)?;
+        if self.axes.len() > crate::rmc::MAX_AXES {
+            return Err(TeachError::TooManyAxes(self.axes.len()));
+        }
         check_frames(self.work, self.tool)?;
         Ok(self)
     }
@@ -104,6 +116,9 @@ impl TeachPoint {
 /// Why the teach list refused an edit. The texts are written for the operator.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum TeachError {
+    /// More RMC axes than an RMC151 has.
+    #[error("{0} RMC axes: an RMC151 has at most 8")]
+    TooManyAxes(usize),
     /// The name is empty or only spaces.
     #[error("a point needs a name")]
     EmptyName,
@@ -156,6 +171,7 @@ impl TeachError {
             TeachError::WorkOutOfRange(_) => Some("work"),
             TeachError::ToolOutOfRange(_) => Some("tool"),
             TeachError::NoSuchPoint { .. } | TeachError::ListFull => None,
+            TeachError::TooManyAxes(_) => Some("axes"),
         }
     }
 }
@@ -229,7 +245,19 @@ impl TeachList {
     /// Stores `at` under `name` at the end of the list; returns its index. Refuses a bad
     /// or duplicate name and out-of-range frame numbers, leaving the list as it was.
     pub fn record(&mut self, name: &str, at: TaughtPose) -> Result<usize, TeachError> {
-        self.insert(self.points.len(), TeachPoint::new(name, at))
+        self.record_with_axes(name, at, Vec::new())
+    }
+
+    /// As [`TeachList::record`], with the RMC axes' positions (0.001 pu) taken with it.
+    pub fn record_with_axes(
+        &mut self,
+        name: &str,
+        at: TaughtPose,
+        axes: Vec<i32>,
+    ) -> Result<usize, TeachError> {
+        let mut point = TeachPoint::new(name, at);
+        point.axes = axes;
+        self.insert(self.points.len(), point)
     }
 
     /// Inserts `point` at `index` (at most `len()`); returns the index. Same checks as

@@ -86,6 +86,8 @@ impl Axis {
                 }
             }
             Command::MoveRelative(m) => self.move_relative(m),
+            // Move Absolute is Move Relative to the position from 0 (RMC.md section 4).
+            Command::MoveAbsolute(m) => self.move_to(0.0, m.position, [m.speed, m.accel, m.decel]),
             Command::Enable(on) => {
                 self.enabled = on;
                 if !on {
@@ -96,16 +98,6 @@ impl Axis {
     }
 
     fn move_relative(&mut self, m: MoveRelative) {
-        if !self.enabled {
-            // Until enabled, an axis accepts no motion command (RMC.md section 4).
-            self.last_error = ERROR_NOT_ENABLED;
-            return;
-        }
-        let good = |v: f32| v.is_finite() && v > 0.0;
-        if !(m.distance.is_finite() && good(m.speed) && good(m.accel) && good(m.decel)) {
-            self.last_error = ERROR_BAD_PARAMETER;
-            return;
-        }
         // The chosen quantity's value as reported, when the command is received [V]; the
         // sum in f32 as a host computes it from what it reads.
         let from = match m.relative_to {
@@ -113,15 +105,30 @@ impl Axis {
             RelativeTo::Actual => self.profile.actual,
             RelativeTo::Target => self.profile.target,
         } as f32;
+        self.move_to(from, m.distance, [m.speed, m.accel, m.decel]);
+    }
+
+    /// A move to `from + distance` at `[speed, accel, decel]`, if the axis may move.
+    fn move_to(&mut self, from: f32, distance: f32, [speed, accel, decel]: [f32; 3]) {
+        if !self.enabled {
+            // Until enabled, an axis accepts no motion command (RMC.md section 4).
+            self.last_error = ERROR_NOT_ENABLED;
+            return;
+        }
+        let good = |v: f32| v.is_finite() && v > 0.0;
+        if !(distance.is_finite() && good(speed) && good(accel) && good(decel)) {
+            self.last_error = ERROR_BAD_PARAMETER;
+            return;
+        }
         self.clear_faults();
         self.no_in_position = false;
-        self.command_velocity = m.speed;
+        self.command_velocity = speed;
         let p = &mut self.profile;
-        p.command = f64::from(from + m.distance);
+        p.command = f64::from(from + distance);
         p.drive = Drive::Move {
-            speed: f64::from(m.speed),
-            accel: f64::from(m.accel),
-            decel: f64::from(m.decel),
+            speed: f64::from(speed),
+            accel: f64::from(accel),
+            decel: f64::from(decel),
         };
         if p.velocity == 0.0 && p.target != p.command {
             // From rest the first loop accelerates; a moving target keeps its phase.

@@ -368,3 +368,19 @@ fn console_lines_read_as_actions_or_say_why_not() {
     assert!(RmcAction::parse("fault 1").is_err());
     assert!(RmcAction::parse("jump").is_err());
 }
+
+#[test]
+fn move_absolute_lands_on_its_position_whatever_the_start() {
+    let mut s = Sim::enabled();
+    s.cmd(mr(7.0, RelativeTo::Command));
+    s.until(2000, |st| st.bits.in_position());
+    s.cmd(Command::MoveAbsolute(crate::rmc::MoveAbsolute {
+        position: -3.25,
+        speed: 100.0,
+        accel: 1000.0,
+        decel: 1000.0,
+    }));
+    s.until(2000, |st| st.bits.in_position());
+    assert_eq!(s.st().command_position, -3.25);
+    assert_eq!(s.st().target_position, -3.25);
+}
