@@ -98,16 +98,17 @@ fn a_step_of_ten_relative_to_command_lands_and_the_lamps_pass_through_the_phases
         "the pane shows the Command Position"
     );
     assert_eq!(truth(h.state()).command_position, start + 10.0);
-    // Every poll went into the plots' sample store: the move's start and end are there.
+    // Every poll went into the plots' sample store: the Target Position's start and end
+    // are there (the Actual follows with a lag and is In Position before it lands).
     let samples = &h.state().pendant().samples;
     let series = samples
         .store
         .series(samples.rmc_series(axis0()).unwrap())
         .unwrap();
-    let actual: Vec<f64> = (0..series.len())
-        .filter_map(|r| series.value(r, 2))
+    let target: Vec<f64> = (0..series.len())
+        .filter_map(|r| series.value(r, 1))
         .collect();
-    let near = |want: f32| actual.iter().any(|v| (v - f64::from(want)).abs() < 0.001);
+    let near = |want: f32| target.iter().any(|v| (v - f64::from(want)).abs() < 0.001);
     assert!(
         near(start) && near(start + 10.0),
         "start and end in the samples"
