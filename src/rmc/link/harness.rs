@@ -261,6 +261,19 @@ impl Bench {
             .collect()
     }
 
+    /// Whether any event so far is one `f` picks.
+    pub fn saw(&self, f: impl Fn(&RmcEvent) -> bool) -> bool {
+        self.events.iter().any(|(_, e)| f(e))
+    }
+
+    /// How many motion commands were written to `axis`'s block.
+    pub fn moves_to(&self, axis: AxisId) -> usize {
+        self.commands_to(axis)
+            .iter()
+            .filter(|(c, _)| c.moves())
+            .count()
+    }
+
     /// The simulator's own view of an axis (ACK clear).
     pub fn truth(&self, axis: AxisId) -> AxisStatus {
         self.sim.status(axis).unwrap_or_default()

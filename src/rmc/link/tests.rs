@@ -40,7 +40,7 @@ fn every_connection_starts_with_zeros_and_each_command_toggles_req() {
     assert_eq!(written[2], (move_by(10.0, RelativeTo::Command), false));
     assert_eq!(written.len(), 3, "nothing else written: {written:?}");
     assert_eq!(b.core.last_status(axis(0)).unwrap().command_position, 10.0);
-    assert!(b.events.iter().any(|(_, e)| matches!(
+    assert!(b.saw(|e| matches!(
         e,
         RmcEvent::Acknowledged { id: Some(i), .. } if *i == id
     )));
@@ -53,11 +53,8 @@ fn status_is_not_trusted_until_ack_equals_req() {
     assert!(before.bits.in_position());
     b.faults.extend([Fault::AckLate, Fault::AckLate]);
     let id = b.send(axis(0), move_by(5.0, RelativeTo::Command));
-    let acked = |b: &Bench| {
-        b.events
-            .iter()
-            .any(|(_, e)| matches!(e, RmcEvent::Acknowledged { id: Some(i), .. } if *i == id))
-    };
+    let acked =
+        |b: &Bench| b.saw(|e| matches!(e, RmcEvent::Acknowledged { id: Some(i), .. } if *i == id));
     assert!(b.run_until(SECOND, acked));
     let statuses: Vec<bool> = b
         .events
@@ -97,16 +94,10 @@ fn a_timed_out_write_whose_ack_matches_is_not_sent_again() {
     b.faults.push(Fault::LoseNextWriteReply);
     let id = b.send(axis(0), move_by(10.0, RelativeTo::Command));
     assert!(b.run_until(2 * SECOND, |b| {
-        b.events
-            .iter()
-            .any(|(_, e)| matches!(e, RmcEvent::Acknowledged { id: Some(i), .. } if *i == id))
+        b.saw(|e| matches!(e, RmcEvent::Acknowledged { id: Some(i), .. } if *i == id))
     }));
     b.run_for(SECOND, None);
-    let moves = b
-        .commands_to(axis(0))
-        .iter()
-        .filter(|(c, _)| c.moves())
-        .count();
+    let moves = b.moves_to(axis(0));
     assert_eq!(moves, 1, "the move arrived: it is not written again");
     assert_eq!(
         b.truth(axis(0)).command_position,
@@ -121,16 +112,10 @@ fn a_lost_write_is_reported_and_never_sent_again() {
     b.faults.push(Fault::LoseNextWrite);
     let id = b.send(axis(0), move_by(10.0, RelativeTo::Command));
     assert!(b.run_until(2 * SECOND, |b| {
-        b.events
-            .iter()
-            .any(|(_, e)| matches!(e, RmcEvent::Unconfirmed { id: Some(i), .. } if *i == id))
+        b.saw(|e| matches!(e, RmcEvent::Unconfirmed { id: Some(i), .. } if *i == id))
     }));
     b.run_for(SECOND, None);
-    let moves = b
-        .commands_to(axis(0))
-        .iter()
-        .filter(|(c, _)| c.moves())
-        .count();
+    let moves = b.moves_to(axis(0));
     assert_eq!(moves, 1, "written once, never again");
     assert_eq!(b.truth(axis(0)).command_position, 0.0, "it never arrived");
     // The next command works, with REQ back in step with ACK.
@@ -178,7 +163,7 @@ fn a_reconnect_writes_zeros_first_then_stops_what_may_be_moving() {
             .all(|(_, c)| !c.is_some_and(|(c, _)| c.moves())),
         "no move re-sent"
     );
-    assert!(b.events.iter().any(|(_, e)| matches!(
+    assert!(b.saw(|e| matches!(
         e,
         RmcEvent::SafetyStop {
             why: SafetyStop::Reconnected,
@@ -209,11 +194,7 @@ fn stop_goes_ahead_of_a_queued_move_which_is_dropped() {
         written.iter().all(|(c, _)| !c.moves()),
         "the move never went out"
     );
-    assert!(
-        b.events
-            .iter()
-            .any(|(_, e)| matches!(e, RmcEvent::NotSent { id: i, .. } if *i == id))
-    );
+    assert!(b.saw(|e| matches!(e, RmcEvent::NotSent { id: i, .. } if *i == id)));
 }
 
 fn hold() -> HoldJog {
@@ -285,7 +266,7 @@ fn a_held_jog_stops_within_one_chunk_when_the_pendant_goes_quiet() {
         ran <= chunk,
         "ran {ran} after the last renewal; one chunk is {chunk}"
     );
-    assert!(b.events.iter().any(|(_, e)| matches!(
+    assert!(b.saw(|e| matches!(
         e,
         RmcEvent::SafetyStop {
             why: SafetyStop::LeaseLapsed,
@@ -328,7 +309,7 @@ fn closing_stops_a_moving_axis_before_the_line_closes() {
         b.commands_to(axis(0)).last(),
         Some((Command::Stop { .. }, _))
     ));
-    assert!(b.events.iter().any(|(_, e)| matches!(e, RmcEvent::Closed)));
+    assert!(b.saw(|e| matches!(e, RmcEvent::Closed)));
 }
 
 #[test]
@@ -336,7 +317,7 @@ fn motion_to_a_disabled_axis_is_refused_before_sending() {
     let mut b = Bench::new(RmcLinkConfig::default());
     b.run_until(SECOND, |b| b.core.last_status(axis(1)).is_some());
     let id = b.send(axis(1), move_by(1.0, RelativeTo::Command));
-    assert!(b.events.iter().any(|(_, e)| matches!(
+    assert!(b.saw(|e| matches!(
         e, RmcEvent::NotSent { id: i, reason } if *i == id && reason.contains("not enabled")
     )));
     assert!(b.commands_to(axis(1)).iter().all(|(c, _)| !c.moves()));
@@ -347,11 +328,8 @@ fn an_ack_that_never_comes_is_reported_and_the_link_goes_on() {
     let mut b = Bench::enabled();
     b.faults.push(Fault::AckNever);
     let id = b.send(axis(0), move_by(1.0, RelativeTo::Command));
-    let unconfirmed = |b: &Bench| {
-        b.events
-            .iter()
-            .any(|(_, e)| matches!(e, RmcEvent::Unconfirmed { id: Some(i), .. } if *i == id))
-    };
+    let unconfirmed =
+        |b: &Bench| b.saw(|e| matches!(e, RmcEvent::Unconfirmed { id: Some(i), .. } if *i == id));
     assert!(b.run_until(2 * SECOND, unconfirmed));
     let waited = b
         .events
@@ -370,10 +348,6 @@ fn an_ack_that_never_comes_is_reported_and_the_link_goes_on() {
         e,
         RmcEvent::Status { axis: a, .. } if *a == axis(1)
     )));
-    let moves = b
-        .commands_to(axis(0))
-        .iter()
-        .filter(|(c, _)| c.moves())
-        .count();
+    let moves = b.moves_to(axis(0));
     assert_eq!(moves, 1, "never sent again");
 }
