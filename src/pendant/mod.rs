@@ -217,11 +217,20 @@ impl Pendant {
 
     /// Applies one event from the RMC151's link.
     pub fn handle_axes_event(&mut self, now: Instant, event: crate::rmc::RmcEvent) {
-        if let crate::rmc::RmcEvent::Status {
-            axis, status, at, ..
-        } = &event
-        {
-            self.samples.rmc_status(*at, *axis, status);
+        use crate::pendant::frame_log::Dir;
+        use crate::rmc::RmcEvent;
+        let log = &mut self.frame_log;
+        match &event {
+            RmcEvent::Status {
+                axis, status, at, ..
+            } => self.samples.rmc_status(*at, *axis, status),
+            RmcEvent::FrameSent { bytes, at } => log.modbus(Dir::Sent, bytes, "", *at),
+            RmcEvent::FrameReceived { bytes, at } => log.modbus(Dir::Received, bytes, "", *at),
+            RmcEvent::Garbage { bytes, error, at } => log.modbus(Dir::Garbage, bytes, error, *at),
+            RmcEvent::Timeout { what, at } => log.modbus(Dir::Timeout, b"", what, *at),
+            RmcEvent::LineDown { .. } => log.modbus_line_lost(),
+            RmcEvent::Dropped(n) => log.link_dropped(*n),
+            _ => {}
         }
         if let Some((level, text)) = self.axes.handle_event(now, event) {
             self.say(level, text, now);

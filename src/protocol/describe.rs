@@ -71,6 +71,8 @@ pub enum ChecksumVerdict {
     },
     /// The frame is too short to hold an SC.
     Absent,
+    /// The protocol has no checksum (Modbus/TCP: TCP checks the bytes).
+    NotUsed,
 }
 
 impl fmt::Display for ChecksumVerdict {
@@ -92,6 +94,9 @@ impl fmt::Display for ChecksumVerdict {
                 "checksum is not 2 hex digits or '@@'; the sum would be {computed:02X}"
             ),
             ChecksumVerdict::Absent => f.write_str("no checksum (frame too short)"),
+            ChecksumVerdict::NotUsed => {
+                f.write_str("no checksum in Modbus/TCP (TCP checks the bytes)")
+            }
         }
     }
 }

@@ -2,6 +2,7 @@
 //! status, Modbus/TCP framing, and the link core the shared driver runs.
 
 pub mod command;
+pub mod describe;
 pub mod modbus;
 pub mod registers;
 pub mod status;

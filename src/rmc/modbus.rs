@@ -346,6 +346,8 @@ pub fn decode_request(frame: &[u8]) -> Result<(Header, Request), Refusal> {
 #[derive(Debug, Default)]
 pub struct FrameBuffer {
     buf: Vec<u8>,
+    /// The bytes dropped with the last error (for the frame log).
+    discarded: Vec<u8>,
 }
 
 impl FrameBuffer {
@@ -360,7 +362,7 @@ impl FrameBuffer {
             Cut::Whole(n) => Some(Ok(self.buf.drain(..n).collect())),
             Cut::Partial => None,
             Cut::Bad(e) => {
-                self.buf.clear();
+                self.discarded = std::mem::take(&mut self.buf);
                 Some(Err(e))
             }
         }
@@ -370,8 +372,14 @@ impl FrameBuffer {
         self.buf.is_empty()
     }
 
+    /// The bytes the last error dropped.
+    pub fn discarded(&self) -> &[u8] {
+        &self.discarded
+    }
+
     pub fn clear(&mut self) {
         self.buf.clear();
+        self.discarded.clear();
     }
 }
 

@@ -92,6 +92,160 @@ pub mod element {
     pub const COMMAND_VELOCITY: usize = 57;
 }
 
+/// How a 32-bit register's two words are read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// Bits (Status Bits, Error Bits, Controller Status Bits, the CPU Module ID).
+    Dword,
+    /// An f32 (every command, parameter, position and velocity: RMC.md section 1).
+    Real,
+}
+
+/// A 32-bit register as RMCTools names it (RMC.md section 2), for the frame log.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Register {
+    /// `Actual Position, Axis 1`, or `%MD8.3` for one the reference does not name.
+    pub name: String,
+    pub kind: Kind,
+    /// `pu`, `pu/s`, or empty.
+    pub unit: &'static str,
+    /// The element within an axis's status file or command block (what [`range_name`]
+    /// names without the axis).
+    short: String,
+    axis: Option<AxisId>,
+}
+
+impl Register {
+    /// The command word of an axis's Command Area (its first register).
+    pub fn is_command(&self) -> bool {
+        self.short.starts_with("Command Area") && self.short.ends_with(": command")
+    }
+}
+
+/// The names of an axis's status file elements (RMC.md section 2).
+const STATUS_FILE: [(usize, &str, Kind, &str); 10] = [
+    (element::STATUS_BITS, "Status Bits", Kind::Dword, ""),
+    (element::ERROR_BITS, "Error Bits", Kind::Dword, ""),
+    (element::LAST_ERROR, "Last Error Number", Kind::Real, ""),
+    (
+        element::ACTUAL_POSITION,
+        "Actual Position",
+        Kind::Real,
+        "pu",
+    ),
+    (
+        element::ACTUAL_VELOCITY,
+        "Actual Velocity",
+        Kind::Real,
+        "pu/s",
+    ),
+    (
+        element::TARGET_POSITION,
+        "Target Position",
+        Kind::Real,
+        "pu",
+    ),
+    (
+        element::TARGET_VELOCITY,
+        "Target Velocity",
+        Kind::Real,
+        "pu/s",
+    ),
+    (
+        element::TARGET_ACCELERATION,
+        "Target Acceleration",
+        Kind::Real,
+        "pu/s²",
+    ),
+    (
+        element::COMMAND_POSITION,
+        "Command Position",
+        Kind::Real,
+        "pu",
+    ),
+    (
+        element::COMMAND_VELOCITY,
+        "Command Velocity",
+        Kind::Real,
+        "pu/s",
+    ),
+];
+
+/// The register at PDU address `address` (its even word; an odd address names the
+/// register whose high word it is).
+pub fn register_at(address: u16) -> Register {
+    let index = address / 2;
+    let (file, el) = (index / 256, usize::from(index % 256));
+    let plain = |short: String, kind, unit, axis: Option<AxisId>| Register {
+        name: match axis {
+            Some(a) => format!("{short}, {a}"),
+            None => short.clone(),
+        },
+        kind,
+        unit,
+        short,
+        axis,
+    };
+    let md = format!("%MD{file}.{el}");
+    let axis_of = |first: u16| AxisId::new(usize::from(file - first));
+    match file {
+        8..=15 => {
+            let axis = axis_of(8);
+            match STATUS_FILE.iter().find(|(e, ..)| *e == el) {
+                Some(&(_, name, kind, unit)) => plain(name.into(), kind, unit, axis),
+                None => plain(md, Kind::Real, "", axis),
+            }
+        }
+        24..=31 => {
+            let axis = axis_of(24);
+            let (name, unit) = match el {
+                0 => ("Position Scale", ""),
+                1 => ("Position Offset", "pu"),
+                56 => ("In Position Tolerance", "pu"),
+                _ => return plain(md, Kind::Real, "", axis),
+            };
+            plain(name.into(), Kind::Real, unit, axis)
+        }
+        2 | 40 if el < 10 * MAX_AXES => {
+            let axis = AxisId::new(el / 10);
+            let low = if file == 2 { " (low copy)" } else { "" };
+            let short = match el % 10 {
+                0 => format!("Command Area{low}: command"),
+                k => format!("Command Area{low}: parameter {k}"),
+            };
+            plain(short, Kind::Real, "", axis)
+        }
+        44 if el == 7 => plain("Controller Status Bits".into(), Kind::Dword, "", None),
+        7 if el == 2 => plain("CPU Module ID".into(), Kind::Dword, "", None),
+        _ => plain(md, Kind::Real, "", None),
+    }
+}
+
+/// A run of `count` Modbus registers from `address`, named by its first and last 32-bit
+/// register: `Status Bits..Command Velocity, Axis 1`, `Command Area, Axis 2`.
+pub fn range_name(address: u16, count: u16) -> String {
+    let first = register_at(address);
+    if count <= 2 {
+        return first.name;
+    }
+    let last = register_at(address.saturating_add(count - 1));
+    if first.short.starts_with("Command Area") && first.axis == last.axis {
+        let low = if first.short.contains("low copy") {
+            " (low copy)"
+        } else {
+            ""
+        };
+        return match first.axis {
+            Some(a) => format!("Command Area{low}, {a}"),
+            None => format!("Command Area{low}"),
+        };
+    }
+    match (first.axis, last.axis) {
+        (Some(a), Some(b)) if a == b => format!("{}..{}, {a}", first.short, last.short),
+        _ => format!("{}..{}", first.name, last.name),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -115,5 +269,28 @@ mod tests {
         );
         assert!(AxisId::new(MAX_AXES).is_none());
         assert_eq!(AxisId::new(7).unwrap().to_string(), "Axis 8");
+    }
+
+    #[test]
+    fn ranges_are_named_as_rmctools_names_them() {
+        let a0 = AxisId::new(0).unwrap();
+        let a1 = AxisId::new(1).unwrap();
+        assert_eq!(
+            range_name(a0.status_block(), STATUS_REGISTERS),
+            "Status Bits..Command Velocity, Axis 1"
+        );
+        assert_eq!(range_name(a1.command_block(), 12), "Command Area, Axis 2");
+        assert_eq!(range_name(CONTROLLER_STATUS, 2), "Controller Status Bits");
+        assert_eq!(range_name(CPU_MODULE_ID, 2), "CPU Module ID");
+        assert_eq!(
+            register_at(a1.status_block() + 2 * element::ACTUAL_POSITION as u16).name,
+            "Actual Position, Axis 2"
+        );
+        assert_eq!(register_at(md(9, 3)).name, "%MD9.3, Axis 2");
+        assert_eq!(register_at(md(60, 1)).name, "%MD60.1");
+        assert_eq!(
+            register_at(a0.command_block_low() + 2).name,
+            "Command Area (low copy): parameter 1, Axis 1"
+        );
     }
 }

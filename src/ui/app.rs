@@ -17,7 +17,7 @@ use super::layout::{self, Tab, Tabs};
 use super::pad::PadOutput;
 use super::simulator::SimulatorPanel;
 use super::teach::TeachPanel;
-use super::wake::{IDLE_WAKE, LINK_REPAINT, Wake, WakeFilter};
+use super::wake::{IDLE_WAKE, LINK_REPAINT, RmcWake, Wake, WakeFilter};
 use super::work_files::WorkFiles;
 use super::{safety_band, top_bar};
 use crate::pendant::axes::{AxisCall, AxisIntent};
@@ -414,10 +414,10 @@ impl PendantApp {
         self.rmc = None;
         let repaint_ctx = ctx.clone();
         let wakes = self.link_wakes.clone();
-        let last = std::sync::Mutex::new(RmcWake::default());
+        let last = std::sync::Mutex::new(RmcWake::new(self.live_log_shown.clone()));
         let repaint = std::sync::Arc::new(move |event: &crate::rmc::RmcEvent| {
             // A poll that reads what is already shown wakes nobody.
-            if last.lock().map_or(true, |mut l| l.changed(event)) {
+            if last.lock().map_or(Wake::Soon, |mut l| l.on_event(event)) == Wake::Soon {
                 wakes.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                 repaint_ctx.request_repaint_after(LINK_REPAINT);
             }
@@ -658,39 +658,5 @@ fn first_frame_probe(ctx: &egui::Context, app_started: Instant) {
     }
     if on("XSEL_PENDANT_EXIT_AFTER_FIRST_FRAME") {
         ctx.send_viewport_cmd(egui::ViewportCommand::Close);
-    }
-}
-
-/// What the window last showed of the RMC, so a poll that reads the same asks for no
-/// repaint.
-#[derive(Default)]
-struct RmcWake {
-    statuses: Vec<Option<(crate::rmc::AxisStatus, bool)>>,
-    controller: Option<crate::rmc::ControllerStatus>,
-}
-
-impl RmcWake {
-    fn changed(&mut self, event: &crate::rmc::RmcEvent) -> bool {
-        use crate::rmc::RmcEvent;
-        match event {
-            RmcEvent::Status {
-                axis,
-                status,
-                trusted,
-                ..
-            } => {
-                let i = axis.index();
-                if self.statuses.len() <= i {
-                    self.statuses.resize(i + 1, None);
-                }
-                let new = Some((*status, *trusted));
-                std::mem::replace(&mut self.statuses[i], new) != new
-            }
-            RmcEvent::Controller { status, .. } => {
-                self.controller.replace(*status) != Some(*status)
-            }
-            RmcEvent::Ignored { .. } | RmcEvent::Dropped(_) => false,
-            _ => true,
-        }
     }
 }

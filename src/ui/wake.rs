@@ -82,6 +82,53 @@ impl WakeFilter {
     }
 }
 
+/// What the window last showed of the RMC, so a poll that reads the same asks for no
+/// repaint; Modbus traffic wakes it only while a live frame log is in sight.
+#[derive(Debug, Default)]
+pub struct RmcWake {
+    statuses: Vec<Option<(crate::rmc::AxisStatus, bool)>>,
+    controller: Option<crate::rmc::ControllerStatus>,
+    live_log_shown: Arc<AtomicBool>,
+}
+
+impl RmcWake {
+    pub fn new(live_log_shown: Arc<AtomicBool>) -> Self {
+        Self {
+            live_log_shown,
+            ..Self::default()
+        }
+    }
+
+    pub fn on_event(&mut self, event: &crate::rmc::RmcEvent) -> Wake {
+        use crate::rmc::RmcEvent;
+        let changed = match event {
+            RmcEvent::Status {
+                axis,
+                status,
+                trusted,
+                ..
+            } => {
+                let i = axis.index();
+                if self.statuses.len() <= i {
+                    self.statuses.resize(i + 1, None);
+                }
+                let new = Some((*status, *trusted));
+                std::mem::replace(&mut self.statuses[i], new) != new
+            }
+            RmcEvent::Controller { status, .. } => {
+                self.controller.replace(*status) != Some(*status)
+            }
+            RmcEvent::FrameSent { .. }
+            | RmcEvent::FrameReceived { .. }
+            | RmcEvent::Garbage { .. }
+            | RmcEvent::Dropped(_) => self.live_log_shown.load(Ordering::Relaxed),
+            RmcEvent::Ignored { .. } => false,
+            _ => true,
+        };
+        if changed { Wake::Soon } else { Wake::Later }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -11,7 +11,7 @@ use xsel_pendant::rmc::{AxisId, AxisStatus, TgPhase};
 use xsel_pendant::robot::RelativeTo;
 use xsel_pendant::ui::{PendantApp, StartOptions};
 
-use crate::kittest_common::{click, show_tab, step_until};
+use crate::kittest_common::{click, show_tab, step_until, type_into};
 
 fn axis0() -> AxisId {
     AxisId::new(0).unwrap()
@@ -36,8 +36,13 @@ fn truth(a: &PendantApp) -> AxisStatus {
 /// The app on the built-in simulators, the RMC axes pane shown, axis 1 enabled, and the
 /// jog choices given.
 fn enabled(jog: RmcJogSettings) -> Harness<'static, PendantApp> {
+    enabled_at(jog, 900.0)
+}
+
+/// As [`enabled`], in a window `height` tall.
+fn enabled_at(jog: RmcJogSettings, height: f32) -> Harness<'static, PendantApp> {
     let mut h = Harness::builder()
-        .with_size([1280.0, 900.0])
+        .with_size([1280.0, height])
         .build_eframe(|cc| PendantApp::new(cc, StartOptions::fresh_simulator()));
     step_until(&mut h, "the RMC's first status", |a| {
         view(a).status.is_some()
@@ -187,4 +192,64 @@ fn a_held_axis_jog_stops_on_release_and_within_one_chunk_when_the_cable_is_cut()
     );
     h.drop_at(plus);
     h.step();
+}
+
+/// The first row of the live log whose name starts with `name`.
+fn row_named(a: &PendantApp, name: &str) -> Option<u64> {
+    let log = &a.pendant().frame_log;
+    (0..log.len())
+        .filter_map(|i| log.nth(i))
+        .find(|r| r.name().starts_with(name))
+        .map(|r| r.seq())
+}
+
+#[test]
+fn a_step_shows_in_the_frame_log_as_modbus_rows_decoded_field_by_field() {
+    const WRITE: &str = "FC16 write Command Area, Axis 1: Move Relative (21)";
+    // Tall enough for the frame log's tools and rows under the arm view.
+    let mut h = enabled_at(slow_step(2.0, JogMode::Step), 1500.0);
+    click(&mut h, "Axis 1+");
+    step_until(
+        &mut h,
+        "the Move Relative write and its reply in the log",
+        |a| row_named(a, WRITE).is_some_and(|s| a.pendant().frame_log.reply_of(s).is_some()),
+    );
+    let write = row_named(h.state(), WRITE).unwrap();
+    show_tab(&mut h, "Frame log");
+    type_into(&mut h, "Filter text", "Move Relative");
+    step_until(&mut h, "the filter to finish", |a| {
+        let p = a.frame_log_panel();
+        !p.filtering() && p.shown(a.pendant()) >= 1
+    });
+    let ascii = h.state().pendant().frame_log.row(write).unwrap().ascii();
+    h.get_by_label_contains(&ascii).click_accesskit();
+    h.step();
+    h.step();
+    assert_eq!(h.state().frame_log_panel().selected(), Some(write));
+    // The decode names the Command Area's registers and reads the REALs.
+    assert!(
+        h.query_all_by_label_contains("Command Area: command, Axis 1")
+            .next()
+            .is_some()
+    );
+    assert!(
+        h.query_all_by_label_contains("Move Relative (21), REQ")
+            .next()
+            .is_some()
+    );
+    click(&mut h, "Go to reply");
+    let reply = h.state().frame_log_panel().selected().unwrap();
+    let row = h.state().pendant().frame_log.row(reply).unwrap();
+    assert!(
+        row.name()
+            .starts_with("FC16 reply: wrote Command Area, Axis 1"),
+        "{}",
+        row.name()
+    );
+    assert!(row.latency_us().is_some());
+    assert!(
+        h.query_all_by_label_contains("registers written")
+            .next()
+            .is_some()
+    );
 }

@@ -533,7 +533,11 @@ impl RmcAxes {
                 self.log(now, None, format!("ignored: {why}"));
                 None
             }
-            RmcEvent::Dropped(_) => None,
+            RmcEvent::Dropped(_)
+            | RmcEvent::FrameSent { .. }
+            | RmcEvent::FrameReceived { .. }
+            | RmcEvent::Garbage { .. }
+            | RmcEvent::Timeout { .. } => None,
             RmcEvent::Closed => {
                 self.line = LineState::Closed;
                 None

@@ -7,6 +7,7 @@ use std::hash::{BuildHasher, RandomState};
 use super::CHUNK;
 use super::entry::Entry;
 use super::packed;
+use super::row::Protocol;
 
 /// Rows and the bytes they point into.
 #[derive(Clone, Debug, Default)]
@@ -28,10 +29,14 @@ impl Chunk {
         self.entries.capacity() * size_of::<Entry>() + self.bytes.capacity()
     }
 
-    /// Stores `bytes` (packed when a clean frame) on their own: start, length, packed.
-    pub(super) fn store_alone(&mut self, bytes: &[u8]) -> (usize, usize, bool) {
+    /// Stores `bytes` (packed when a clean frame, or Modbus) on their own: start, length,
+    /// packed.
+    pub(super) fn store_alone(&mut self, bytes: &[u8], protocol: Protocol) -> (usize, usize, bool) {
         let start = self.bytes.len();
-        let packed = packed::pack_into(bytes, &mut self.bytes);
+        let packed = match protocol {
+            Protocol::FormatB => packed::pack_into(bytes, &mut self.bytes),
+            Protocol::Modbus => packed::pack_modbus_into(bytes, &mut self.bytes),
+        };
         if !packed {
             self.bytes.extend_from_slice(bytes);
         }
@@ -39,9 +44,9 @@ impl Chunk {
     }
 }
 
-/// Same kind, same message ID, same packed length: frames that may be stored as deltas
-/// of each other.
-type Kind = (u8, Option<u16>, usize);
+/// Same protocol, kind and message ID, same packed length: frames that may be stored as
+/// deltas of each other.
+type Kind = (Protocol, u8, Option<u16>, usize);
 
 /// What the open chunk holds: where each packed form is stored (by the form's hash,
 /// checked against the bytes on a hit), and per kind the last one stored whole.
@@ -62,7 +67,7 @@ impl OpenIndex {
         bytes: &[u8],
         e: &Entry,
     ) -> (usize, usize, bool) {
-        let (start, len, packed) = chunk.store_alone(bytes);
+        let (start, len, packed) = chunk.store_alone(bytes, e.protocol());
         if !packed {
             return (start, len, packed);
         }
@@ -74,7 +79,7 @@ impl OpenIndex {
             chunk.bytes.truncate(start);
             return (earlier, earlier_len, packed);
         }
-        let kind = (e.dir().code(), e.id(), len);
+        let kind = (e.protocol(), e.dir().code(), e.id(), len);
         let delta = self
             .whole
             .get(&kind)

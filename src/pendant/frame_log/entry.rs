@@ -3,7 +3,7 @@
 
 use std::ops::Range;
 
-use super::row::{Dir, Verdict};
+use super::row::{Dir, Protocol, Verdict};
 
 /// The longest stored form of a row's bytes: a garbage run is at most a header and
 /// `MAX_FRAME_LEN` bytes [spec: PROTOCOL.md 1.3]; a frame is shorter.
@@ -18,11 +18,15 @@ const _: () = assert!(
 );
 
 const OFFSET_LIMIT: u32 = 1 << 28;
+/// In `stored_len`: the row is Modbus/TCP (stored lengths stay below it).
+const MODBUS: u16 = 1 << 15;
+const _: () = assert!(MAX_ROW_BYTES < MODBUS as usize);
 const ID_MASK: u16 = 0x0FFF;
 /// No message ID could be read.
 const NO_ID: u16 = 1 << 12;
-/// The row answers the row just before it (its request).
-const ANSWERS_PREVIOUS: u16 = 1 << 13;
+/// The row answers the last request of its protocol before it (within
+/// [`super::PAIR_REACH`] rows).
+const ANSWERS: u16 = 1 << 13;
 /// A note follows the stored bytes: its length (u16, little-endian), then its text.
 const HAS_NOTE: u16 = 1 << 14;
 /// The stored bytes are the packed form of a frame (see `packed`).
@@ -34,9 +38,9 @@ pub(super) struct Entry {
     /// Bits 0-27: offset of the stored bytes in the chunk's buffer; 28-29: direction;
     /// 30-31: checksum verdict.
     place: u32,
-    /// Length of the stored bytes (the note not counted).
+    /// Length of the stored bytes (the note not counted), and the [`MODBUS`] bit.
     stored_len: u16,
-    /// Bits 0-11: message ID, then the flags above.
+    /// Bits 0-11: message ID (a Modbus row's function code), then the flags above.
     flags: u16,
 }
 
@@ -56,11 +60,30 @@ impl Entry {
         }
     }
 
+    /// A Modbus/TCP row: no checksum to judge; its ID is the function code.
+    pub fn modbus(dir: Dir, t_ns: u64, bytes: &[u8]) -> Entry {
+        let function = bytes.get(crate::rmc::modbus::MBAP_LEN).copied();
+        Entry {
+            t_ns,
+            place: u32::from(dir.code()) << 28 | u32::from(Verdict::None.code()) << 30,
+            stored_len: MODBUS,
+            flags: function.map_or(NO_ID, u16::from),
+        }
+    }
+
+    pub fn protocol(&self) -> Protocol {
+        if self.stored_len & MODBUS != 0 {
+            Protocol::Modbus
+        } else {
+            Protocol::FormatB
+        }
+    }
+
     /// Where the stored bytes are; `len` must not exceed [`MAX_ROW_BYTES`].
     pub fn set_stored(&mut self, start: usize, len: usize, packed: bool, has_note: bool) {
         debug_assert!(start < OFFSET_LIMIT as usize && len <= MAX_ROW_BYTES);
         self.place = (self.place & !(OFFSET_LIMIT - 1)) | (start as u32 & (OFFSET_LIMIT - 1));
-        self.stored_len = len as u16;
+        self.stored_len = (self.stored_len & MODBUS) | len as u16;
         self.flags &= !(PACKED | HAS_NOTE);
         if packed {
             self.flags |= PACKED;
@@ -72,7 +95,7 @@ impl Entry {
 
     pub fn stored(&self) -> Range<usize> {
         let start = (self.place & (OFFSET_LIMIT - 1)) as usize;
-        start..start + usize::from(self.stored_len)
+        start..start + usize::from(self.stored_len & !MODBUS)
     }
 
     pub fn packed(&self) -> bool {
@@ -108,14 +131,14 @@ impl Entry {
         }
     }
 
-    /// The row answers the row just before it. With one request outstanding, every row
-    /// after a request answers it, so a reply always directly follows its request.
-    pub fn answers_previous(&self) -> bool {
-        self.flags & ANSWERS_PREVIOUS != 0
+    /// The row answers the last request of its protocol before it: each line has one
+    /// request outstanding, so every row of a line after a request answers it.
+    pub fn answers(&self) -> bool {
+        self.flags & ANSWERS != 0
     }
 
-    pub fn set_answers_previous(&mut self) {
-        self.flags |= ANSWERS_PREVIOUS;
+    pub fn set_answers(&mut self) {
+        self.flags |= ANSWERS;
     }
 }
 
@@ -132,7 +155,7 @@ mod tests {
     fn every_field_reads_back_as_set() {
         let mut e = Entry::new(Dir::Garbage, u64::MAX - 1, b"!992A1@@\r\n");
         e.set_stored(OFFSET_LIMIT as usize - 1, MAX_ROW_BYTES, true, true);
-        e.set_answers_previous();
+        e.set_answers();
         assert_eq!(e.t_ns(), u64::MAX - 1);
         assert_eq!(e.dir(), Dir::Garbage);
         assert_eq!(e.verdict(), Verdict::AtAt);
@@ -141,7 +164,8 @@ mod tests {
             e.stored(),
             OFFSET_LIMIT as usize - 1..OFFSET_LIMIT as usize - 1 + MAX_ROW_BYTES
         );
-        assert!(e.packed() && e.has_note() && e.answers_previous());
+        assert!(e.packed() && e.has_note() && e.answers());
+        assert_eq!(e.protocol(), Protocol::FormatB);
 
         let mut t = Entry::new(Dir::Timeout, 0, b"");
         assert_eq!(
@@ -152,7 +176,16 @@ mod tests {
         assert_eq!(t.id(), Some(0xFFF));
         t.take_id(Some(0x212));
         assert_eq!(t.id(), Some(0xFFF), "an ID once set stays");
-        assert!(!t.packed() && !t.has_note() && !t.answers_previous());
+        assert!(!t.packed() && !t.has_note() && !t.answers());
+        let mut m = Entry::modbus(Dir::Received, 5, &[0, 1, 0, 0, 0, 3, 1, 0x83, 2]);
+        m.set_stored(9, MAX_ROW_BYTES, true, false);
+        assert_eq!(m.protocol(), Protocol::Modbus);
+        assert_eq!((m.id(), m.verdict()), (Some(0x83), Verdict::None));
+        assert_eq!(
+            m.stored(),
+            9..9 + MAX_ROW_BYTES,
+            "the Modbus bit is not a length"
+        );
         assert_eq!(Entry::new(Dir::Sent, 0, b"!99+FF00\r\n").id(), None);
     }
 }

@@ -7,7 +7,10 @@ use std::time::{Duration, SystemTime, UNIX_EPOCH};
 use serde::{Deserialize, Serialize};
 
 use super::entry::{MAX_NOTE_BYTES, MAX_ROW_BYTES};
-use super::{Dir, FrameLog, Row};
+use super::{Dir, FrameLog, Protocol, Row};
+
+/// A Modbus/TCP row's `proto` in a JSON Lines log.
+const MODBUS_KEY: &str = "modbus";
 
 /// The first line of a JSON Lines log.
 #[derive(Serialize, Deserialize)]
@@ -22,6 +25,9 @@ struct Header {
 struct Line {
     /// Nanoseconds after the start.
     t_ns: u64,
+    /// `modbus` for the RMC151's rows (absent: Format B).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    proto: Option<&'static str>,
     dir: String,
     /// The exact bytes, as hex pairs.
     hex: String,
@@ -59,6 +65,7 @@ pub fn write_jsonl<'a>(
     for r in rows {
         let line = Line {
             t_ns: r.t_ns(),
+            proto: (r.protocol() == Protocol::Modbus).then_some(MODBUS_KEY),
             dir: r.dir().key().into(),
             hex: hex(&r.bytes()),
             ascii: r.ascii(),
@@ -183,13 +190,17 @@ pub fn read_jsonl(mut input: impl BufRead, cap: usize) -> Result<FrameLog, Strin
                 row.note.len()
             ));
         }
-        match Dir::from_key(&row.dir) {
-            Some(Dir::Sent) => log.push_sent(&bytes, row.t_ns),
-            Some(Dir::Received) => log.push_received(&bytes, row.t_ns),
-            Some(Dir::Garbage) => log.push_garbage(&bytes, &row.note, row.t_ns),
-            Some(Dir::Timeout) => log.push_timeout(&row.note, row.t_ns),
-            None => return Err(format!("line {}: unknown direction '{}'", i + 1, row.dir)),
-        }
+        let protocol = match row.proto.as_deref() {
+            None => Protocol::FormatB,
+            Some(MODBUS_KEY) => Protocol::Modbus,
+            Some(other) => {
+                return Err(format!("line {}: unknown protocol '{other}'", i + 1));
+            }
+        };
+        let Some(dir) = Dir::from_key(&row.dir) else {
+            return Err(format!("line {}: unknown direction '{}'", i + 1, row.dir));
+        };
+        log.push_row(protocol, dir, &bytes, &row.note, row.t_ns);
     }
     Ok(log)
 }
@@ -198,6 +209,8 @@ pub fn read_jsonl(mut input: impl BufRead, cap: usize) -> Result<FrameLog, Strin
 #[derive(Deserialize)]
 struct LineIn {
     t_ns: u64,
+    #[serde(default)]
+    proto: Option<String>,
     dir: String,
     hex: String,
     #[serde(default)]

@@ -1,12 +1,11 @@
-//! Which rows of the frame log to show: message ID, direction, problems only, a time
-//! range and free text over the raw bytes, the message name and (optionally) the decoded
+//! Which rows of the frame log to show: line, message ID, direction, problems only, a
+//! time range and free text over the raw bytes, the message name and (optionally) the decoded
 //! fields. Pure: [`Filter::matches`] judges one row; the window runs it off its thread.
 
 use std::cell::RefCell;
 
-use super::{Dir, Row};
+use super::{Dir, Protocol, Row};
 use crate::protocol::MessageId;
-use crate::protocol::describe::describe;
 
 /// Which directions to show.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -20,6 +19,8 @@ pub enum DirFilter {
 /// A filter over rows; the default shows everything.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Filter {
+    /// Only the rows of this line (the X-SEL's Format B or the RMC151's Modbus/TCP).
+    pub protocol: Option<Protocol>,
     /// Only this message ID (`&` replies and time-outs take their request's).
     pub id: Option<u16>,
     pub dir: DirFilter,
@@ -38,6 +39,7 @@ impl Filter {
     /// Whether it lets every row through.
     pub fn is_empty(&self) -> bool {
         self.id.is_none()
+            && self.protocol.is_none()
             && self.dir == DirFilter::Both
             && !self.problems_only
             && self.from_s.is_none()
@@ -79,6 +81,9 @@ impl Matcher {
         if f.id.is_some() && row.id() != f.id {
             return false;
         }
+        if f.protocol.is_some_and(|p| p != row.protocol()) {
+            return false;
+        }
         let dir_ok = match f.dir {
             DirFilter::Both => true,
             DirFilter::Sent => row.dir() == Dir::Sent,
@@ -96,6 +101,14 @@ impl Matcher {
 
     fn text_matches(&self, row: &Row<'_>) -> bool {
         let n = &self.needle;
+        if row.protocol() == Protocol::Modbus {
+            // Binary bytes: the text is looked for in their hex and the row's name.
+            return contains(row.ascii().as_bytes(), n)
+                || contains(row.name().as_bytes(), n)
+                || contains(row.note().as_bytes(), n)
+                || contains(row.dir().key().as_bytes(), n)
+                || (self.filter.decoded && self.decoded_matches(row));
+        }
         let hit = if self.escaped {
             contains(row.ascii().as_bytes(), n)
         } else {
@@ -120,7 +133,7 @@ impl Matcher {
     }
 
     fn decoded_matches(&self, row: &Row<'_>) -> bool {
-        let d = describe(&row.bytes());
+        let d = row.describe();
         let n = &self.needle;
         contains(d.title.as_bytes(), n)
             || d.fields.iter().any(|f| {

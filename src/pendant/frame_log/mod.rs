@@ -1,8 +1,9 @@
-//! The frame log: every frame and garbage run on the line, in a capped ring of compact
-//! chunks (16 bytes a row for times, kinds, verdicts and request/reply pairs; the exact
-//! bytes in one buffer per chunk, frames packed as hex nibbles, a frame seen before in the
-//! chunk stored once). Sans-IO: times come in with the events; rows are decoded only
-//! when shown.
+//! The frame log: every frame and garbage run on the lines (the X-SEL's Format B and the
+//! RMC151's Modbus/TCP, in the order they happened), in a capped ring of compact chunks
+//! (16 bytes a row for times, protocols, kinds, verdicts and request/reply pairs; the
+//! exact bytes in one buffer per chunk, Format B frames packed as hex nibbles, a frame
+//! seen before in the chunk stored once). Sans-IO: times come in with the events; rows
+//! are decoded only when shown.
 
 mod chunk;
 mod entry;
@@ -19,12 +20,15 @@ use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 pub use chunk::Chunk;
 use chunk::OpenIndex;
 use entry::{Entry, MAX_NOTE_BYTES, MAX_ROW_BYTES};
-pub use row::{Dir, Row, Verdict};
+pub use row::{Dir, Protocol, Row, Verdict, hex_pairs};
 
 /// Rows per chunk. Full chunks are frozen (shared with savers, never changed).
 const CHUNK: usize = 4096;
 /// The default cap on rows kept.
 pub const DEFAULT_CAP: usize = 1_000_000;
+/// The most rows of the other line between a request and its answer for the two to be
+/// paired (each line has one request outstanding; the other line's rows come between).
+const PAIR_REACH: u64 = 1024;
 
 /// The log of one line (or one opened file).
 #[derive(Clone, Debug)]
@@ -45,8 +49,8 @@ pub struct FrameLog {
     origin: Option<Instant>,
     /// The wall-clock time of `origin` (the Unix epoch until set).
     origin_wall: SystemTime,
-    /// The request that waits for its reply (its sequence number).
-    outstanding: Option<u64>,
+    /// Per protocol, the request that waits for its reply (its sequence number).
+    outstanding: [Option<u64>; 2],
     /// What the open chunk holds, for sharing repeated bytes.
     index: OpenIndex,
 }
@@ -64,7 +68,7 @@ impl FrameLog {
             dropped_link: 0,
             origin: None,
             origin_wall: UNIX_EPOCH,
-            outstanding: None,
+            outstanding: [None; 2],
             index: OpenIndex::default(),
         }
     }
@@ -161,9 +165,21 @@ impl FrameLog {
         self.push_timeout(text, t);
     }
 
-    /// The line was lost: the request waiting for its reply gets none.
+    /// The X-SEL's line was lost: the request waiting for its reply gets none.
     pub fn line_lost(&mut self) {
-        self.outstanding = None;
+        self.outstanding[Protocol::FormatB.index()] = None;
+    }
+
+    /// A Modbus/TCP row of the RMC151's connection at `at` (a time-out has no bytes; a
+    /// note says why garbage is garbage, or what timed out).
+    pub fn modbus(&mut self, dir: Dir, bytes: &[u8], note: &str, at: Instant) {
+        let t = self.nanos(at);
+        self.push_row(Protocol::Modbus, dir, bytes, note, t);
+    }
+
+    /// The RMC151's connection was lost: its request waiting for a reply gets none.
+    pub fn modbus_line_lost(&mut self) {
+        self.outstanding[Protocol::Modbus.index()] = None;
     }
 
     /// The link left out `n` traffic events.
@@ -207,42 +223,63 @@ impl FrameLog {
 
     /// A sent frame at `t_ns` after the start.
     pub fn push_sent(&mut self, bytes: &[u8], t_ns: u64) {
-        let seq = self.end();
-        self.push(Entry::new(Dir::Sent, t_ns, bytes), bytes, "");
-        self.outstanding = Some(seq);
+        self.push_row(Protocol::FormatB, Dir::Sent, bytes, "", t_ns);
     }
 
     /// A received frame at `t_ns` after the start; it answers the outstanding request.
     pub fn push_received(&mut self, bytes: &[u8], t_ns: u64) {
-        let mut e = Entry::new(Dir::Received, t_ns, bytes);
-        self.pair(&mut e);
-        self.push(e, bytes, "");
+        self.push_row(Protocol::FormatB, Dir::Received, bytes, "", t_ns);
     }
 
     /// A garbage run at `t_ns`; when a request waits, it is taken as its (bad) answer.
     pub fn push_garbage(&mut self, bytes: &[u8], error: &str, t_ns: u64) {
-        let mut e = Entry::new(Dir::Garbage, t_ns, bytes);
-        self.pair(&mut e);
-        self.push(e, bytes, error);
+        self.push_row(Protocol::FormatB, Dir::Garbage, bytes, error, t_ns);
     }
 
     /// A time-out row; it ends the outstanding request.
     pub fn push_timeout(&mut self, text: &str, t_ns: u64) {
-        let mut e = Entry::new(Dir::Timeout, t_ns, b"");
-        self.pair(&mut e);
-        self.push(e, b"", text);
+        self.push_row(Protocol::FormatB, Dir::Timeout, b"", text, t_ns);
     }
 
-    /// Pairs an answer with the request waiting for it: the row just before, since every
-    /// row after a request answers it.
-    fn pair(&mut self, e: &mut Entry) {
-        if let Some(seq) = self.outstanding.take()
-            && seq + 1 == self.end()
-        {
-            e.set_answers_previous();
-            // An `&` reply has no ID: it answers the request's.
-            e.take_id(self.entry(seq).and_then(Entry::id));
+    /// A row of either line at `t_ns`: a request becomes its line's outstanding one;
+    /// anything else answers it.
+    pub fn push_row(&mut self, protocol: Protocol, dir: Dir, bytes: &[u8], note: &str, t_ns: u64) {
+        let bytes = if dir == Dir::Timeout { &[][..] } else { bytes };
+        let mut e = match protocol {
+            Protocol::FormatB => Entry::new(dir, t_ns, bytes),
+            Protocol::Modbus => Entry::modbus(dir, t_ns, bytes),
+        };
+        let seq = self.end();
+        if dir == Dir::Sent {
+            self.outstanding[protocol.index()] = Some(seq);
+        } else {
+            self.pair(&mut e, protocol, bytes);
         }
+        self.push(e, bytes, note);
+    }
+
+    /// Pairs an answer with the request waiting for it on its line (a Modbus reply only
+    /// with the request of its transaction).
+    fn pair(&mut self, e: &mut Entry, protocol: Protocol, bytes: &[u8]) {
+        let Some(seq) = self.outstanding[protocol.index()].take() else {
+            return;
+        };
+        if self.end() - seq > PAIR_REACH {
+            return;
+        }
+        let Some(request) = self.row(seq) else {
+            return;
+        };
+        if protocol == Protocol::Modbus
+            && bytes.len() >= 2
+            && request.bytes().get(..2) != bytes.get(..2)
+        {
+            return;
+        }
+        let id = self.entry(seq).and_then(Entry::id);
+        e.set_answers();
+        // An `&` reply has no ID: it answers the request's.
+        e.take_id(id);
     }
 
     fn push(&mut self, mut e: Entry, bytes: &[u8], note: &str) {
@@ -252,7 +289,7 @@ impl FrameLog {
         let (start, len, packed) = if note.is_empty() {
             self.index.store(&mut self.open, bytes, &e)
         } else {
-            self.open.store_alone(bytes)
+            self.open.store_alone(bytes, e.protocol())
         };
         e.set_stored(start, len, packed, !note.is_empty());
         if !note.is_empty() {
@@ -307,7 +344,11 @@ impl FrameLog {
     pub fn row(&self, seq: u64) -> Option<Row<'_>> {
         let (chunk, o) = self.locate(seq)?;
         let e = &chunk.entries[o];
-        Some(Row::new(seq, e, &chunk.bytes, || self.entry(seq - 1)))
+        Some(Row::new(seq, e, &chunk.bytes, || {
+            request_before(seq, e.protocol(), self.head, |s| {
+                self.locate(s).map(|(c, o)| (&c.entries[o], &c.bytes[..]))
+            })
+        }))
     }
 
     /// The `index`-th row kept (0 = oldest).
@@ -323,8 +364,16 @@ impl FrameLog {
     /// The request a reply, garbage or time-out row answers.
     pub fn request_of(&self, seq: u64) -> Option<u64> {
         let r = self.row(seq)?;
-        let req = seq.checked_sub(u64::from(r.answers_previous()))?;
-        (req != seq && self.row(req).is_some()).then_some(req)
+        if !r.answers() {
+            return None;
+        }
+        let protocol = r.protocol();
+        (seq.saturating_sub(PAIR_REACH).max(self.head)..seq)
+            .rev()
+            .find(|&s| {
+                self.entry(s)
+                    .is_some_and(|e| e.protocol() == protocol && e.dir() == Dir::Sent)
+            })
     }
 
     /// The reply (or garbage, or time-out) that answers the request `seq`.
@@ -333,7 +382,10 @@ impl FrameLog {
         if r.dir() != Dir::Sent {
             return None;
         }
-        (self.request_of(seq + 1) == Some(seq)).then_some(seq + 1)
+        let protocol = r.protocol();
+        let next = (seq + 1..self.end().min(seq + 1 + PAIR_REACH))
+            .find(|&s| self.entry(s).is_some_and(|e| e.protocol() == protocol))?;
+        (self.request_of(next) == Some(seq)).then_some(next)
     }
 
     /// Time of a row after the start.
@@ -376,14 +428,6 @@ impl Snapshot {
         (self.head..self.end).filter_map(move |seq| self.row(seq))
     }
 
-    fn entry(&self, seq: u64) -> Option<&Entry> {
-        if seq < self.head || seq >= self.end {
-            return None;
-        }
-        let i = (seq - self.base) as usize;
-        self.chunks.get(i / CHUNK)?.entries.get(i % CHUNK)
-    }
-
     pub fn len(&self) -> usize {
         (self.end - self.head) as usize
     }
@@ -405,8 +449,28 @@ impl Snapshot {
         let i = (seq - self.base) as usize;
         let chunk = self.chunks.get(i / CHUNK)?;
         let e = chunk.entries.get(i % CHUNK)?;
-        Some(Row::new(seq, e, &chunk.bytes, || self.entry(seq - 1)))
+        Some(Row::new(seq, e, &chunk.bytes, || {
+            request_before(seq, e.protocol(), self.head, |s| {
+                let i = (s - self.base) as usize;
+                let chunk = self.chunks.get(i / CHUNK)?;
+                Some((chunk.entries.get(i % CHUNK)?, &chunk.bytes[..]))
+            })
+        }))
     }
+}
+
+/// The request row `seq` answers: the last request of its protocol before it, within
+/// [`PAIR_REACH`] rows and not before `head`; `at` finds a kept row's entry and bytes.
+fn request_before<'a>(
+    seq: u64,
+    protocol: Protocol,
+    head: u64,
+    at: impl Fn(u64) -> Option<(&'a Entry, &'a [u8])>,
+) -> Option<(&'a Entry, &'a [u8])> {
+    (seq.saturating_sub(PAIR_REACH).max(head)..seq)
+        .rev()
+        .filter_map(at)
+        .find(|(e, _)| e.protocol() == protocol && e.dir() == Dir::Sent)
 }
 
 /// The longest prefix of `text` of at most `max` bytes that ends on a character boundary.

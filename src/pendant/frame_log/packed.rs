@@ -6,6 +6,9 @@
 //! bytes or a missing CR LF keep the raw form, so the bytes read back are always exactly
 //! the bytes that were on the line.
 //!
+//! A Modbus/TCP frame (binary already) is stored as a tag and its bytes, so that it too
+//! may be shared or stored as a delta.
+//!
 //! A packed frame may be stored as a delta instead: the same length as an earlier packed
 //! frame in the chunk (its reference), with the runs of bytes that changed. Polling replies differ from
 //! the last one only where a position moved, so they take a tenth of the room.
@@ -18,6 +21,8 @@ const HEADER_MASK: u8 = 0b0011;
 const AT_AT: u8 = 0b0100;
 const ODD: u8 = 0b1000;
 const HEADERS: [u8; 3] = [b'!', b'#', b'&'];
+/// The header bits of a Modbus frame's tag (no Format B header has them).
+const MODBUS_TAG: u8 = 0b0011;
 /// The first byte of a delta (a packed frame's tag never has it).
 const DELTA: u8 = 0x80;
 
@@ -74,11 +79,26 @@ pub fn pack_into(bytes: &[u8], out: &mut Vec<u8>) -> bool {
     true
 }
 
+/// Appends the stored form of a Modbus/TCP frame to `out` (false, and nothing, for no
+/// bytes).
+pub fn pack_modbus_into(bytes: &[u8], out: &mut Vec<u8>) -> bool {
+    if bytes.is_empty() {
+        return false;
+    }
+    out.push(MODBUS_TAG);
+    out.extend_from_slice(bytes);
+    true
+}
+
 /// Appends the original bytes of the packed form `stored` to `out`.
 pub fn unpack_into(stored: &[u8], out: &mut Vec<u8>) {
     let Some((&tag, packed)) = stored.split_first() else {
         return;
     };
+    if tag & HEADER_MASK == MODBUS_TAG {
+        out.extend_from_slice(packed);
+        return;
+    }
     out.reserve(packed.len() * 2 + 5);
     out.push(HEADERS[usize::from(tag & HEADER_MASK).min(2)]);
     for &b in packed {
@@ -226,8 +246,14 @@ pub fn first_byte(buf: &[u8], at: Range<usize>, packed: bool) -> Option<u8> {
     if !packed {
         return buf.get(at)?.first().copied();
     }
-    let first = with_packed_form(buf, at, |form| form.first().copied())?;
-    Some(HEADERS[usize::from(first & HEADER_MASK).min(2)])
+    with_packed_form(buf, at, |form| {
+        let first = *form.first()?;
+        if first & HEADER_MASK == MODBUS_TAG {
+            form.get(1).copied()
+        } else {
+            Some(HEADERS[usize::from(first & HEADER_MASK)])
+        }
+    })
 }
 
 #[cfg(test)]

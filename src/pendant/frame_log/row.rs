@@ -1,11 +1,31 @@
-//! One row of the frame log as handed to readers (its kind, verdict, bytes and note),
-//! read from the stored entry (`entry.rs`).
+//! One row of the frame log as handed to readers (its protocol, kind, verdict, bytes and
+//! note), read from the stored entry (`entry.rs`).
 
 use std::borrow::Cow;
 
 use super::entry::Entry;
 use super::packed;
+use crate::protocol::describe::FrameDescription;
 use crate::protocol::{ChecksumVerdict, MessageId};
+use crate::rmc::describe as modbus;
+
+/// Which line a row was on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Protocol {
+    /// The X-SEL's Format B (serial or its TCP bridge).
+    FormatB,
+    /// The RMC151's Modbus/TCP.
+    Modbus,
+}
+
+impl Protocol {
+    pub(super) fn index(self) -> usize {
+        match self {
+            Protocol::FormatB => 0,
+            Protocol::Modbus => 1,
+        }
+    }
+}
 
 /// Which way a row went, or what it is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -113,7 +133,7 @@ impl Verdict {
             ChecksumVerdict::Valid(_) => Verdict::Ok,
             ChecksumVerdict::AtAt { .. } => Verdict::AtAt,
             ChecksumVerdict::Wrong { .. } | ChecksumVerdict::Unreadable { .. } => Verdict::Bad,
-            ChecksumVerdict::Absent => Verdict::None,
+            ChecksumVerdict::Absent | ChecksumVerdict::NotUsed => Verdict::None,
         }
     }
 }
@@ -124,29 +144,25 @@ pub struct Row<'a> {
     seq: u64,
     entry: &'a Entry,
     buf: &'a [u8],
-    /// The time of the request this row answers, when still kept.
-    request_t: Option<u64>,
+    /// The request this row answers, when still kept: its entry and its chunk's bytes.
+    request: Option<(&'a Entry, &'a [u8])>,
 }
 
 impl<'a> Row<'a> {
-    /// The row `entry` with its bytes in `buf`; `previous` finds the row before it, looked
-    /// up only when this row answers it (for the latency).
+    /// The row `entry` with its bytes in `buf`; `request` finds the request it answers,
+    /// looked up only when it answers one.
     pub(super) fn new(
         seq: u64,
         entry: &'a Entry,
         buf: &'a [u8],
-        previous: impl FnOnce() -> Option<&'a Entry>,
+        request: impl FnOnce() -> Option<(&'a Entry, &'a [u8])>,
     ) -> Self {
-        let request_t = entry
-            .answers_previous()
-            .then(previous)
-            .flatten()
-            .map(Entry::t_ns);
+        let request = entry.answers().then(request).flatten();
         Row {
             seq,
             entry,
             buf,
-            request_t,
+            request,
         }
     }
 
@@ -191,9 +207,26 @@ impl<'a> Row<'a> {
         std::str::from_utf8(text).unwrap_or("")
     }
 
-    /// The message ID (an `&` reply or a time-out takes its request's).
+    /// Which line the row was on.
+    pub fn protocol(&self) -> Protocol {
+        self.entry.protocol()
+    }
+
+    /// The Format B message ID (an `&` reply or a time-out takes its request's); none
+    /// for a Modbus row.
     pub fn id(&self) -> Option<u16> {
-        self.entry.id()
+        match self.protocol() {
+            Protocol::FormatB => self.entry.id(),
+            Protocol::Modbus => None,
+        }
+    }
+
+    /// A Modbus row's function code (with 0x80 on an exception).
+    pub fn function(&self) -> Option<u8> {
+        match self.protocol() {
+            Protocol::FormatB => None,
+            Protocol::Modbus => self.entry.id().map(|f| f as u8),
+        }
     }
 
     pub fn verdict(&self) -> Verdict {
@@ -202,20 +235,33 @@ impl<'a> Row<'a> {
 
     /// Request-to-reply time, for answers.
     pub fn latency_us(&self) -> Option<u32> {
-        let sent = self.request_t.filter(|_| self.dir() != Dir::Timeout)?;
-        let us = self.entry.t_ns().saturating_sub(sent) / 1000;
+        let (request, _) = self.request.filter(|_| self.dir() != Dir::Timeout)?;
+        let us = self.entry.t_ns().saturating_sub(request.t_ns()) / 1000;
         Some(us.min(u64::from(u32::MAX)) as u32)
     }
 
-    /// The row answers the row just before it (its request).
-    pub(super) fn answers_previous(&self) -> bool {
-        self.entry.answers_previous()
+    /// The row answers a request (the last of its protocol before it).
+    pub(super) fn answers(&self) -> bool {
+        self.entry.answers()
     }
 
-    /// An `&` error reply.
+    /// The bytes of the request this row answers, when still kept.
+    pub fn request_bytes(&self) -> Option<Cow<'a, [u8]>> {
+        let (e, buf) = self.request?;
+        Some(packed::original(buf, e.stored(), e.packed()))
+    }
+
+    /// An `&` error reply, or a Modbus exception.
     pub fn is_error_reply(&self) -> bool {
-        self.dir() == Dir::Received
-            && packed::first_byte(self.buf, self.entry.stored(), self.entry.packed()) == Some(b'&')
+        if self.dir() != Dir::Received {
+            return false;
+        }
+        match self.protocol() {
+            Protocol::FormatB => {
+                packed::first_byte(self.buf, self.entry.stored(), self.entry.packed()) == Some(b'&')
+            }
+            Protocol::Modbus => self.function().is_some_and(|f| f & 0x80 != 0),
+        }
     }
 
     /// Error replies, garbage, bad checksums and time-outs: the rows to highlight.
@@ -225,8 +271,12 @@ impl<'a> Row<'a> {
             || self.verdict() == Verdict::Bad
     }
 
-    /// The message's name: `212H axis status query`, `error reply to 232H ...`.
+    /// The message's name: `212H axis status query`, `error reply 232H ...`, `FC3 read
+    /// Status Bits..Command Velocity, Axis 1`.
     pub fn name(&self) -> String {
+        if self.protocol() == Protocol::Modbus {
+            return self.modbus_name();
+        }
         let id = match self.id() {
             Some(id) => {
                 let name = MessageId(id).name().unwrap_or("unknown message");
@@ -244,8 +294,58 @@ impl<'a> Row<'a> {
         .to_string()
     }
 
-    /// The bytes as text with CR, LF and other control bytes visible (`\r`, `\n`, `\x02`).
-    pub fn ascii(&self) -> String {
-        self.bytes().escape_ascii().to_string()
+    fn modbus_name(&self) -> String {
+        let request = self.request_bytes();
+        let asked = || {
+            request.as_deref().map_or(String::new(), |r| {
+                format!(" to {}", modbus::request_title(r))
+            })
+        };
+        match self.dir() {
+            Dir::Sent => modbus::request_title(&self.bytes()),
+            Dir::Received => modbus::reply_title(&self.bytes(), request.as_deref()),
+            Dir::Garbage => format!("Modbus garbage{}", asked()),
+            Dir::Timeout => format!("Modbus time-out{}", asked()),
+        }
     }
+
+    /// The bytes as text: a Format B frame with CR, LF and other control bytes visible
+    /// (`\r`, `\n`, `\x02`); Modbus bytes as spaced hex pairs.
+    pub fn ascii(&self) -> String {
+        match self.protocol() {
+            Protocol::FormatB => self.bytes().escape_ascii().to_string(),
+            Protocol::Modbus => hex_pairs(&self.bytes()),
+        }
+    }
+
+    /// The bytes described field by field, as the protocol reads them.
+    pub fn describe(&self) -> FrameDescription {
+        let bytes = self.bytes();
+        match (self.protocol(), self.dir()) {
+            (Protocol::FormatB, _) => crate::protocol::describe::describe(&bytes),
+            (Protocol::Modbus, Dir::Sent) => modbus::describe(&bytes, modbus::Role::Request),
+            (Protocol::Modbus, _) => {
+                let request = self.request_bytes();
+                modbus::describe(
+                    &bytes,
+                    modbus::Role::Reply {
+                        request: request.as_deref(),
+                    },
+                )
+            }
+        }
+    }
+}
+
+/// `00 07 00 00`: bytes as spaced upper-case hex pairs.
+pub fn hex_pairs(bytes: &[u8]) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::with_capacity(bytes.len() * 3);
+    for (i, b) in bytes.iter().enumerate() {
+        if i > 0 {
+            s.push(' ');
+        }
+        let _ = write!(s, "{b:02X}");
+    }
+    s
 }

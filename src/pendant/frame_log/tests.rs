@@ -361,24 +361,26 @@ proptest::proptest! {
     #[test]
     fn every_row_reads_back_as_pushed_across_chunk_boundaries(
         filler in 0usize..2 * CHUNK,
-        rows in proptest::collection::vec(pushed_row(), 1..400),
+        rows in proptest::collection::vec((pushed_row(), proptest::bool::weighted(0.3)), 1..400),
     ) {
         let mut log = FrameLog::new(DEFAULT_CAP);
         let filler_row = framed("!992A10F0");
         for i in 0..filler {
             log.push_sent(&filler_row, i as u64);
         }
-        for (i, row) in rows.iter().enumerate() {
+        let protocol = |modbus: bool| if modbus { Protocol::Modbus } else { Protocol::FormatB };
+        for (i, (row, modbus)) in rows.iter().enumerate() {
             let t = (filler + i) as u64;
+            let p = protocol(*modbus);
             match row {
-                Pushed::Sent(b) => log.push_sent(b, t),
-                Pushed::Received(b) => log.push_received(b, t),
-                Pushed::Garbage(b, note) => log.push_garbage(b, note, t),
-                Pushed::Timeout(note) => log.push_timeout(note, t),
+                Pushed::Sent(b) => log.push_row(p, Dir::Sent, b, "", t),
+                Pushed::Received(b) => log.push_row(p, Dir::Received, b, "", t),
+                Pushed::Garbage(b, note) => log.push_row(p, Dir::Garbage, b, note, t),
+                Pushed::Timeout(note) => log.push_row(p, Dir::Timeout, b"", note, t),
             }
         }
         let snapshot = log.snapshot();
-        for (i, row) in rows.iter().enumerate() {
+        for (i, (row, modbus)) in rows.iter().enumerate() {
             let seq = (filler + i) as u64;
             let (dir, bytes, note): (Dir, &[u8], &str) = match row {
                 Pushed::Sent(b) => (Dir::Sent, b, ""),
@@ -395,10 +397,24 @@ proptest::proptest! {
                 let mut written = Vec::new();
                 r.write_bytes(&mut written);
                 proptest::prop_assert_eq!(written.as_slice(), bytes);
-                proptest::prop_assert_eq!(
-                    r.is_error_reply(),
-                    dir == Dir::Received && bytes.first() == Some(&b'&')
-                );
+                proptest::prop_assert_eq!(r.protocol(), protocol(*modbus));
+                let error = if *modbus {
+                    bytes.get(7).is_some_and(|f| f & 0x80 != 0)
+                } else {
+                    bytes.first() == Some(&b'&')
+                };
+                proptest::prop_assert_eq!(r.is_error_reply(), dir == Dir::Received && error);
+                // Every answer's request is the last of its line before it.
+                if let Some(req) = log.request_of(seq) {
+                    let q = log.row(req).unwrap();
+                    proptest::prop_assert_eq!((q.dir(), q.protocol()), (Dir::Sent, r.protocol()));
+                    let between_is_other = (req + 1..seq).all(|s| {
+                        let o = log.row(s).unwrap();
+                        o.protocol() != r.protocol() || o.dir() != Dir::Sent
+                    });
+                    proptest::prop_assert!(between_is_other);
+                    proptest::prop_assert_eq!(log.reply_of(req), Some(seq));
+                }
             }
         }
     }
@@ -424,4 +440,214 @@ fn an_endless_line_is_refused_after_a_bounded_read_not_held_whole() {
         "read {} bytes of an endless line",
         count.get()
     );
+}
+
+mod modbus {
+    use super::*;
+    use crate::rmc::modbus::{Header, Request, Response, encode_request, encode_response};
+    use crate::rmc::{AxisId, AxisStatus};
+
+    fn status_read(transaction: u16, axis: usize) -> Vec<u8> {
+        let axis = AxisId::new(axis).unwrap();
+        encode_request(
+            Header {
+                transaction,
+                unit: 1,
+            },
+            &Request::Read {
+                address: axis.status_block(),
+                count: crate::rmc::registers::STATUS_REGISTERS,
+            },
+        )
+    }
+
+    fn status_reply(transaction: u16, position: f32) -> Vec<u8> {
+        let status = AxisStatus {
+            actual_position: position,
+            target_position: position,
+            command_position: position,
+            ..AxisStatus::default()
+        };
+        encode_response(
+            Header {
+                transaction,
+                unit: 1,
+            },
+            &Response::Registers {
+                function: 3,
+                words: status.encode(),
+            },
+        )
+    }
+
+    #[test]
+    fn modbus_rows_pair_across_the_x_sel_traffic_between_them() {
+        let mut log = FrameLog::new(100);
+        let t = |ms: u64| ms * 1_000_000;
+        log.push_row(Protocol::Modbus, Dir::Sent, &status_read(1, 0), "", t(0));
+        log.push_sent(REQ, t(1));
+        log.push_received(&framed("#99212000"), t(2));
+        log.push_row(
+            Protocol::Modbus,
+            Dir::Received,
+            &status_reply(1, 5.0),
+            "",
+            t(3),
+        );
+        let reply = log.nth(3).unwrap();
+        assert_eq!(reply.latency_us(), Some(3000));
+        assert_eq!(log.request_of(3), Some(0));
+        assert_eq!(log.reply_of(0), Some(3));
+        assert_eq!(log.request_of(2), Some(1), "the X-SEL pair is kept too");
+        assert_eq!(
+            reply.name(),
+            "FC3 reply: Status Bits..Command Velocity, Axis 1"
+        );
+        assert_eq!(
+            log.nth(0).unwrap().name(),
+            "FC3 read Status Bits..Command Velocity, Axis 1"
+        );
+        assert_eq!(reply.id(), None, "a Modbus row has no Format B message ID");
+        assert_eq!(reply.function(), Some(3));
+        assert!(reply.ascii().starts_with("00 01 00 00 00 EB 01 03 E8"));
+        let d = reply.describe();
+        assert!(
+            d.fields
+                .iter()
+                .any(|f| f.name == "Actual Position, Axis 1" && f.value == "5 pu"),
+            "{d}"
+        );
+
+        // A late reply of another transaction answers nothing.
+        log.push_row(Protocol::Modbus, Dir::Sent, &status_read(2, 1), "", t(4));
+        log.push_row(
+            Protocol::Modbus,
+            Dir::Received,
+            &status_reply(1, 5.0),
+            "",
+            t(5),
+        );
+        assert_eq!(log.request_of(5), None);
+        assert_eq!(log.nth(5).unwrap().latency_us(), None);
+
+        // An exception is a problem, named; a time-out names what it waited for.
+        let exception = encode_response(
+            Header {
+                transaction: 3,
+                unit: 1,
+            },
+            &Response::Exception {
+                function: 3,
+                code: crate::rmc::modbus::ExceptionCode::ILLEGAL_DATA_ADDRESS,
+            },
+        );
+        log.push_row(Protocol::Modbus, Dir::Sent, &status_read(3, 7), "", t(6));
+        log.push_row(Protocol::Modbus, Dir::Received, &exception, "", t(7));
+        let e = log.nth(7).unwrap();
+        assert!(e.is_error_reply() && e.is_problem());
+        assert_eq!(e.name(), "exception 02 (illegal data address) to FC3");
+        log.push_row(Protocol::Modbus, Dir::Sent, &status_read(4, 0), "", t(8));
+        log.push_row(
+            Protocol::Modbus,
+            Dir::Timeout,
+            b"",
+            "no reply to transaction 4",
+            t(108),
+        );
+        let timeout = log.nth(9).unwrap();
+        assert_eq!(
+            timeout.name(),
+            "Modbus time-out to FC3 read Status Bits..Command Velocity, Axis 1"
+        );
+        assert!(timeout.is_problem());
+    }
+
+    #[test]
+    fn filters_pick_a_line_and_find_modbus_rows_by_name_and_hex() {
+        let mut log = FrameLog::new(100);
+        log.push_row(Protocol::Modbus, Dir::Sent, &status_read(1, 1), "", 0);
+        log.push_row(
+            Protocol::Modbus,
+            Dir::Received,
+            &status_reply(1, 2.0),
+            "",
+            1,
+        );
+        log.push_sent(REQ, 2);
+        let shown = |f: Filter| {
+            let m = f.matcher();
+            log.snapshot()
+                .rows()
+                .filter(|r| m.matches(r))
+                .map(|r| r.seq())
+                .collect::<Vec<_>>()
+        };
+        let rmc = Filter {
+            protocol: Some(Protocol::Modbus),
+            ..Filter::default()
+        };
+        assert_eq!(shown(rmc), vec![0, 1]);
+        let xsel = Filter {
+            protocol: Some(Protocol::FormatB),
+            ..Filter::default()
+        };
+        assert_eq!(shown(xsel), vec![2]);
+        let by_name = Filter {
+            text: "axis 2".into(),
+            ..Filter::default()
+        };
+        assert_eq!(shown(by_name), vec![0, 1]);
+        let by_hex = Filter {
+            text: "01 03 12".into(),
+            ..Filter::default()
+        };
+        assert_eq!(shown(by_hex), vec![0], "the request's function and address");
+        let in_decode = Filter {
+            text: "Actual Position".into(),
+            decoded: true,
+            ..Filter::default()
+        };
+        assert_eq!(shown(in_decode), vec![1]);
+    }
+
+    #[test]
+    fn modbus_rows_survive_a_jsonl_round_trip_and_polling_stays_small() {
+        let mut log = FrameLog::new(DEFAULT_CAP);
+        let mut sent = 0u64;
+        for i in 0..20_000u16 {
+            let t = u64::from(i) * 2_000_000;
+            log.push_row(Protocol::Modbus, Dir::Sent, &status_read(i, 0), "", t);
+            // A position that moves: each reply differs from the one before.
+            let reply = status_reply(i, f32::from(i) * 0.01);
+            sent += reply.len() as u64;
+            log.push_row(Protocol::Modbus, Dir::Received, &reply, "", t + 900_000);
+        }
+        log.push_sent(REQ, u64::MAX / 2);
+        // The replies are stored as changes against their predecessors.
+        assert!(
+            (log.memory_bytes() as u64) < sent / 3,
+            "{} bytes for {sent} bytes of replies",
+            log.memory_bytes()
+        );
+        let mut file = Vec::new();
+        write_jsonl(&mut file, log.origin_wall(), log.snapshot().rows()).unwrap();
+        let back = read_jsonl(file.as_slice(), DEFAULT_CAP).unwrap();
+        assert_eq!(back.len(), log.len());
+        for seq in [0, 1, 39_998, 39_999, 40_000] {
+            let (a, b) = (log.row(seq).unwrap(), back.row(seq).unwrap());
+            assert_eq!(
+                (a.protocol(), a.dir(), a.t_ns()),
+                (b.protocol(), b.dir(), b.t_ns())
+            );
+            assert_eq!(a.bytes(), b.bytes());
+            assert_eq!(a.latency_us(), b.latency_us());
+        }
+        let mut text = Vec::new();
+        write_text(&mut text, log.origin_wall(), log.snapshot().rows().take(2)).unwrap();
+        let text = String::from_utf8(text).unwrap();
+        assert!(
+            text.contains("FC3 reply: Status Bits..Command Velocity, Axis 1"),
+            "{text}"
+        );
+    }
 }

@@ -125,6 +125,18 @@ pub enum RmcEvent {
     JogEnded { axis: AxisId, why: String },
     /// A reply that answered nothing in flight (late, or unreadable), left out.
     Ignored { why: String },
+    /// A request's bytes went out (for the frame log).
+    FrameSent { bytes: Vec<u8>, at: Instant },
+    /// A whole frame came in.
+    FrameReceived { bytes: Vec<u8>, at: Instant },
+    /// Bytes that are not Modbus/TCP, and why (the connection is dropped after them).
+    Garbage {
+        bytes: Vec<u8>,
+        error: String,
+        at: Instant,
+    },
+    /// No reply in time to the request in flight.
+    Timeout { what: String, at: Instant },
     /// Traffic events left out while the reader was behind.
     Dropped(u64),
     /// The core has finished.
@@ -135,7 +147,12 @@ impl CoreEvent for RmcEvent {
     fn is_traffic(&self) -> bool {
         matches!(
             self,
-            RmcEvent::Status { .. } | RmcEvent::Controller { .. } | RmcEvent::Ignored { .. }
+            RmcEvent::Status { .. }
+                | RmcEvent::Controller { .. }
+                | RmcEvent::Ignored { .. }
+                | RmcEvent::FrameSent { .. }
+                | RmcEvent::FrameReceived { .. }
+                | RmcEvent::Garbage { .. }
         )
     }
 

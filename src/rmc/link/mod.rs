@@ -303,7 +303,29 @@ impl LinkCore for RmcCore {
         }
         self.rx.push(bytes);
         while let Some(frame) = self.rx.next_frame() {
-            let decoded = frame.and_then(|f| modbus::decode_response(&f));
+            let decoded = match frame {
+                Ok(f) => {
+                    let decoded = modbus::decode_response(&f);
+                    let (at, bytes) = (now, f);
+                    match &decoded {
+                        Ok(_) => self.events.push_back(RmcEvent::FrameReceived { bytes, at }),
+                        Err(e) => self.events.push_back(RmcEvent::Garbage {
+                            bytes,
+                            error: e.to_string(),
+                            at,
+                        }),
+                    }
+                    decoded
+                }
+                Err(e) => {
+                    self.events.push_back(RmcEvent::Garbage {
+                        bytes: self.rx.discarded().to_vec(),
+                        error: e.to_string(),
+                        at: now,
+                    });
+                    Err(e)
+                }
+            };
             match decoded {
                 Err(e) => {
                     self.lose_line(
@@ -334,6 +356,14 @@ impl LinkCore for RmcCore {
     fn handle_timeout(&mut self, now: Instant) {
         if let Some(flight) = self.in_flight.take_if(|f| f.deadline <= now) {
             self.timeouts_in_row = self.timeouts_in_row.saturating_add(1);
+            self.events.push_back(RmcEvent::Timeout {
+                what: format!(
+                    "no reply to transaction {} within {} ms",
+                    flight.transaction,
+                    self.config.reply_timeout.as_millis()
+                ),
+                at: now,
+            });
             match flight.purpose {
                 Purpose::Write { axis, kind, .. } => {
                     if let Some(a) = self.axis(axis) {
@@ -405,6 +435,10 @@ impl LinkCore for RmcCore {
                     unit: self.config.unit,
                 };
                 let bytes = modbus::encode_request(header, &request);
+                self.events.push_back(RmcEvent::FrameSent {
+                    bytes: bytes.clone(),
+                    at: now,
+                });
                 self.wrote(now, purpose);
                 self.in_flight = Some(InFlight {
                     transaction: self.transaction,

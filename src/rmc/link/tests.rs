@@ -351,3 +351,38 @@ fn an_ack_that_never_comes_is_reported_and_the_link_goes_on() {
     let moves = b.moves_to(axis(0));
     assert_eq!(moves, 1, "never sent again");
 }
+
+#[test]
+fn every_frame_is_reported_for_the_log_and_a_lost_reply_as_a_time_out() {
+    let mut b = Bench::enabled();
+    b.faults.push(Fault::LoseNextWriteReply);
+    b.send(axis(0), move_by(1.0, RelativeTo::Command));
+    b.run_for(SECOND, None);
+    let transaction = |bytes: &[u8]| u16::from_be_bytes([bytes[0], bytes[1]]);
+    let mut waiting: Option<u16> = None;
+    let (mut sent, mut timeouts) = (0, 0);
+    for (_, e) in &b.events {
+        match e {
+            RmcEvent::FrameSent { bytes, .. } => {
+                assert_eq!(waiting, None, "one transaction at a time");
+                waiting = Some(transaction(bytes));
+                sent += 1;
+            }
+            RmcEvent::FrameReceived { bytes, .. } => {
+                assert_eq!(
+                    waiting.take(),
+                    Some(transaction(bytes)),
+                    "a reply to its request"
+                );
+            }
+            RmcEvent::Timeout { what, .. } => {
+                let t = waiting.take().expect("a time-out ends a request");
+                assert!(what.contains(&format!("transaction {t}")), "{what}");
+                timeouts += 1;
+            }
+            _ => {}
+        }
+    }
+    assert_eq!(sent, b.wire.len(), "every request written is reported");
+    assert_eq!(timeouts, 1, "the lost write reply, once");
+}

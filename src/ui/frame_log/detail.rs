@@ -6,7 +6,7 @@ use egui::{Color32, FontId, RichText, Ui};
 
 use super::{FrameLogPanel, plain};
 use crate::pendant::Pendant;
-use crate::protocol::describe::describe;
+use crate::pendant::frame_log::Protocol;
 
 const MARK: Color32 = Color32::from_rgb(120, 90, 10);
 
@@ -17,7 +17,8 @@ pub fn show(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant) {
         p.selected = None;
         return;
     };
-    let d = describe(&row.bytes());
+    let d = row.describe();
+    let modbus = row.protocol() == Protocol::Modbus;
     let request = log.request_of(seq);
     let reply = log.reply_of(seq);
     let mut goto = None;
@@ -57,7 +58,13 @@ pub fn show(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant) {
             background: if marked { MARK } else { Color32::TRANSPARENT },
             ..TextFormat::default()
         };
-        job.append(&[*b].escape_ascii().to_string(), 0.0, format);
+        let text = if modbus {
+            // Binary: each byte as a hex pair, its column its place in the frame.
+            format!("{b:02X} ")
+        } else {
+            [*b].escape_ascii().to_string()
+        };
+        job.append(&text, 0.0, format);
     }
     if row.bytes().is_empty() {
         job.append(

@@ -13,6 +13,7 @@ use std::collections::VecDeque;
 use egui::Ui;
 
 use crate::pendant::frame_log::FrameLog;
+use crate::pendant::frame_log::Protocol;
 use crate::pendant::frame_log::filter::{DirFilter, Filter};
 use crate::pendant::{Intent, Level, Pendant};
 use crate::protocol::Columns;
@@ -38,6 +39,7 @@ struct FilterInputs {
     from: String,
     to: String,
     dir: DirFilter,
+    protocol: Option<Protocol>,
     problems_only: bool,
     decoded: bool,
 }
@@ -47,6 +49,7 @@ impl FilterInputs {
         use crate::pendant::frame_log::filter::{parse_id, parse_seconds};
         Ok(Filter {
             id: parse_id(&self.id)?,
+            protocol: self.protocol,
             dir: self.dir,
             problems_only: self.problems_only,
             from_s: parse_seconds(&self.from)?,

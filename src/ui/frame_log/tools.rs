@@ -9,6 +9,7 @@ use egui::{RichText, Ui};
 use super::FrameLogPanel;
 use super::jobs::{self, Format};
 use crate::files::Overwrite;
+use crate::pendant::frame_log::Protocol;
 use crate::pendant::frame_log::filter::DirFilter;
 use crate::pendant::{Intent, Level, Pendant};
 use crate::ui::file_field::{Browse, FieldSpec, FileAsk, Purpose, job_line};
@@ -94,7 +95,7 @@ pub fn header(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant, out: &mut V
     });
 }
 
-/// Message ID, direction, problems only, time range, free text.
+/// Line, message ID, direction, problems only, time range, free text.
 pub fn filter_bar(p: &mut FrameLogPanel, ui: &mut Ui) {
     let inputs = &mut p.inputs;
     ui.horizontal_wrapped(|ui| {
@@ -106,6 +107,16 @@ pub fn filter_bar(p: &mut FrameLogPanel, ui: &mut Ui) {
         )
         .labelled_by(l.id);
         ui.checkbox(&mut inputs.decoded, "in decode");
+        let l = ui.label("Line");
+        egui::ComboBox::from_id_salt("frame-log-line")
+            .selected_text(line_name(inputs.protocol))
+            .show_ui(ui, |ui| {
+                for p in [None, Some(Protocol::FormatB), Some(Protocol::Modbus)] {
+                    ui.selectable_value(&mut inputs.protocol, p, line_name(p));
+                }
+            })
+            .response
+            .labelled_by(l.id);
         let l = ui.label("ID");
         ui.add(egui::TextEdit::singleline(&mut inputs.id).desired_width(40.0))
             .labelled_by(l.id);
@@ -129,6 +140,14 @@ pub fn filter_bar(p: &mut FrameLogPanel, ui: &mut Ui) {
     });
     if let Some(e) = &p.filter_error {
         ui.label(RichText::new(e).color(level_color(Level::Warning)));
+    }
+}
+
+fn line_name(p: Option<Protocol>) -> &'static str {
+    match p {
+        None => "Both lines",
+        Some(Protocol::FormatB) => "X-SEL",
+        Some(Protocol::Modbus) => "RMC151",
     }
 }
 
