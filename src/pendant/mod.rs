@@ -223,7 +223,16 @@ impl Pendant {
         match &event {
             RmcEvent::Status {
                 axis, status, at, ..
-            } => self.samples.rmc_status(*at, *axis, status),
+            } => {
+                self.samples.rmc_status(*at, *axis, status);
+                // Positions are valid while an ACK is awaited (only the bits are not).
+                if let Some((level, text)) =
+                    self.axes
+                        .keep_limits(*axis, status, &self.settings.rmc, now)
+                {
+                    self.say(level, text, now);
+                }
+            }
             RmcEvent::FrameSent { bytes, at } => log.modbus(Dir::Sent, bytes, "", *at),
             RmcEvent::FrameReceived { bytes, at } => log.modbus(Dir::Received, bytes, "", *at),
             RmcEvent::Garbage { bytes, error, at } => log.modbus(Dir::Garbage, bytes, error, *at),

@@ -543,6 +543,11 @@ impl eframe::App for PendantApp {
                         .show(ui, |ui| {
                             self.connection.show(ui, &self.pendant, &mut intents)
                         });
+                    egui::CollapsingHeader::new("Delta RMC151 (Modbus/TCP)")
+                        .default_open(false)
+                        .show(ui, |ui| {
+                            super::rmc_connection::show(ui, &self.pendant, &mut intents)
+                        });
                     if ui.button("Keyboard (F1)").clicked() {
                         self.help_open = !self.help_open;
                     }

@@ -5,7 +5,7 @@
 use egui::{Button, ComboBox, DragValue, Pos2, RichText, Ui};
 
 use super::widgets::{AMBER, GREEN, GREY, RED, lamp, level_color, reserved_line};
-use crate::pendant::axes::{AxisIntent, AxisJog, AxisView, RmcSettings};
+use crate::pendant::axes::{AxisIntent, AxisJog, AxisView};
 use crate::pendant::{Intent, JogInput, JogMode, LineState, Pendant};
 use crate::protocol::Direction;
 use crate::rmc::{AxisId, TgPhase};
@@ -71,7 +71,6 @@ pub fn show(ui: &mut Ui, pendant: &Pendant, intents: &mut Vec<Intent>, pad: &mut
 
 fn connection(ui: &mut Ui, pendant: &Pendant, intents: &mut Vec<Intent>) {
     let rmc = &pendant.axes;
-    let mut edited: RmcSettings = pendant.settings.rmc.clone();
     ui.horizontal_wrapped(|ui| {
         ui.label(RichText::new("RMC151").strong());
         let (color, text) = match &rmc.line {
@@ -80,7 +79,10 @@ fn connection(ui: &mut Ui, pendant: &Pendant, intents: &mut Vec<Intent>) {
             LineState::Up { line, .. } => (GREEN, format!("connected: {line}")),
             LineState::Down { reason, .. } => (RED, format!("down: {reason}")),
         };
-        ui.label(RichText::new(text).color(color));
+        ui.label(RichText::new(text).color(color)).on_hover_text(
+            "Address, unit ID, axes, units and soft limits: the left column's \
+             \"Delta RMC151 (Modbus/TCP)\" section",
+        );
         if let Some(id) = rmc.module {
             let name = match id {
                 17 => "RMC151E",
@@ -98,33 +100,17 @@ fn connection(ui: &mut Ui, pendant: &Pendant, intents: &mut Vec<Intent>) {
             );
             lamp(ui, c.enabled(), GREEN, "Controller enabled");
         }
-    });
-    ui.horizontal_wrapped(|ui| {
-        ui.label("Address");
-        ui.add(
-            egui::TextEdit::singleline(&mut edited.address)
-                .hint_text("built-in RMC151")
-                .desired_width(150.0),
-        )
-        .on_hover_text("host:port of the RMC151 (502 when no port is given); empty: the built-in simulated RMC151");
-        ui.label("Axes");
-        ui.add(DragValue::new(&mut edited.axes).range(1..=crate::rmc::MAX_AXES));
-        ui.label("Unit");
-        ui.add(DragValue::new(&mut edited.unit).range(0..=255))
-            .on_hover_text("Modbus unit ID (not documented by Delta; 1 by default)");
-        if ui.button("Connect").clicked() {
-            intents.push(Intent::Axes(AxisIntent::Connect));
-        }
+        let up = !matches!(rmc.line, LineState::Closed);
         if ui
-            .add_enabled(!matches!(rmc.line, LineState::Closed), Button::new("Disconnect"))
+            .button(if up { "Reconnect" } else { "Connect" })
             .clicked()
         {
+            intents.push(Intent::Axes(AxisIntent::Connect));
+        }
+        if ui.add_enabled(up, Button::new("Disconnect")).clicked() {
             intents.push(Intent::Axes(AxisIntent::Disconnect));
         }
     });
-    if edited != pendant.settings.rmc {
-        intents.push(Intent::Axes(AxisIntent::Connection(edited)));
-    }
 }
 
 fn jog_choices(ui: &mut Ui, pendant: &Pendant, intents: &mut Vec<Intent>) {
@@ -220,7 +206,7 @@ fn axis_row(
     intents: &mut Vec<Intent>,
     pad: &mut AxesPadOutput,
 ) {
-    let units = &pendant.settings.rmc.units;
+    let units = pendant.settings.rmc.units(axis);
     let enabled = view.enabled();
     ui.horizontal(|ui| {
         ui.label(RichText::new(axis.to_string()).strong().size(15.0));

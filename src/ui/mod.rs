@@ -19,6 +19,7 @@ mod messages;
 mod pad;
 mod ports;
 mod readout;
+mod rmc_connection;
 mod run;
 mod safety_band;
 mod simulator;

@@ -19,6 +19,7 @@ use crate::protocol::Direction;
 use crate::rmc::{
     AxisId, AxisStatus, Command, ControllerStatus, HoldJog, MoveRelative, RmcEvent, TgPhase,
 };
+use crate::robot::RelativeTo;
 pub use settings::{RmcJogSettings, RmcSettings};
 
 /// Commands kept in the axis panel's log.
@@ -186,7 +187,7 @@ impl RmcAxes {
         now: Instant,
     ) -> Option<(Level, String)> {
         match intent {
-            AxisIntent::Jog(input, press) => self.jog_input(input, press, settings.jog, now),
+            AxisIntent::Jog(input, press) => self.jog_input(input, press, settings, now),
             AxisIntent::Enable(axis, on) => self.send(axis, Command::Enable(on), now),
             AxisIntent::ClearFaults(axis) => self.send(axis, Command::ClearFaults, now),
             AxisIntent::Stop(axis) => {
@@ -238,7 +239,7 @@ impl RmcAxes {
         &mut self,
         input: JogInput,
         press: Press<AxisJog>,
-        jog: RmcJogSettings,
+        settings: &RmcSettings,
         now: Instant,
     ) -> Option<(Level, String)> {
         let before = self.hold.jog();
@@ -263,7 +264,7 @@ impl RmcAxes {
                 ),
                 now,
             )),
-            HoldAction::Press(target) => self.press(input, target, jog, now),
+            HoldAction::Press(target) => self.press(input, target, settings, now),
         }
     }
 
@@ -271,11 +272,17 @@ impl RmcAxes {
         &mut self,
         input: JogInput,
         target: AxisJog,
-        jog: RmcJogSettings,
+        settings: &RmcSettings,
         now: Instant,
     ) -> Option<(Level, String)> {
+        let jog = settings.jog;
+        let units = settings.units(target.axis);
         let refuse = |why: String| format!("{} refused: {why}", target.label());
         if let Err(why) = jog.check() {
+            return Some(self.says(Level::Warning, refuse(why), now));
+        }
+        let limits = settings.limits(target.axis);
+        if let Err(why) = limits.check() {
             return Some(self.says(Level::Warning, refuse(why), now));
         }
         if !self.line.is_up() {
@@ -288,8 +295,20 @@ impl RmcAxes {
         if let Some(why) = self.not_ready(target.axis) {
             return Some(self.says(Level::Warning, refuse(why), now));
         }
+        let status = self
+            .view(target.axis)
+            .and_then(|v| v.status)
+            .unwrap_or_default();
         match jog.mode {
             JogMode::Step => {
+                let base = match jog.relative_to {
+                    RelativeTo::Command => status.command_position,
+                    RelativeTo::Actual => status.actual_position,
+                    RelativeTo::Target => status.target_position,
+                };
+                if let Err(why) = limits.check_end(base + target.sign() * jog.step, units) {
+                    return Some(self.says(Level::Warning, refuse(why), now));
+                }
                 let command = Command::MoveRelative(MoveRelative {
                     distance: target.sign() * jog.step,
                     speed: jog.speed,
@@ -310,6 +329,15 @@ impl RmcAxes {
                 ))
             }
             JogMode::Continuous => {
+                if let Some(limit) = limits.ahead(target.sign())
+                    && (limit - status.target_position) * target.sign() <= 0.0
+                {
+                    return Some(self.says(
+                        Level::Warning,
+                        refuse(format!("it is at its soft limit {limit:.3} {units}")),
+                        now,
+                    ));
+                }
                 let hold = HoldJog {
                     direction: target.sign(),
                     speed: jog.speed,
@@ -337,6 +365,39 @@ impl RmcAxes {
         if let Some(j) = self.hold.stop(cause) {
             self.calls.push(AxisCall::Release(j.target.axis));
         }
+    }
+
+    /// A held jog on `axis` stops once it comes within stopping distance of the soft
+    /// limit ahead of it: the distance Stop (6) needs at STOP's deceleration, and one poll
+    /// more of travel, since the pendant sees the axis only when it polls [I: the link's
+    /// 20 ms poll, doubled for a late one].
+    pub fn keep_limits(
+        &mut self,
+        axis: AxisId,
+        status: &AxisStatus,
+        settings: &RmcSettings,
+        now: Instant,
+    ) -> Option<(Level, String)> {
+        const POLL_MARGIN_S: f32 = 0.04;
+        let jog = self.hold.jog().filter(|j| j.target.axis == axis)?;
+        let limit = settings.limits(axis).ahead(jog.target.sign())?;
+        let speed = status.target_velocity.abs();
+        let braking = speed * speed / (2.0 * settings.stop_decel()) + speed * POLL_MARGIN_S;
+        let left = (limit - status.target_position) * jog.target.sign();
+        if left > braking {
+            return None;
+        }
+        self.stop(StopCause::SoftLimit);
+        let units = settings.units(axis);
+        Some(self.says(
+            Level::Warning,
+            format!(
+                "{} stopped short of its soft limit {limit:.3} {units} (at {:.3})",
+                jog.target.label(),
+                status.target_position
+            ),
+            now,
+        ))
     }
 
     /// The window lost the keyboard and pointer: a held axis jog stops.
@@ -598,7 +659,8 @@ impl RmcAxes {
 
     /// The Move Absolute (20) of each axis a taught point names, or why not (all are
     /// checked before any goes out).
-    pub fn go_moves(&self, axes: &[i32], jog: RmcJogSettings) -> Result<Vec<AxisCall>, String> {
+    pub fn go_moves(&self, axes: &[i32], settings: &RmcSettings) -> Result<Vec<AxisCall>, String> {
+        let jog = settings.jog;
         if !self.line.is_up() {
             return Err("the point has RMC axes and the RMC is not connected".into());
         }
@@ -616,8 +678,14 @@ impl RmcAxes {
                 if let Some(why) = self.not_ready(axis) {
                     return Err(why);
                 }
+                let position = (f64::from(*milli) / 1000.0) as f32;
+                let limits = settings.limits(axis);
+                limits.check()?;
+                limits
+                    .check_end(position, settings.units(axis))
+                    .map_err(|why| format!("{axis}'s move refused: {why}"))?;
                 let command = Command::MoveAbsolute(crate::rmc::MoveAbsolute {
-                    position: (f64::from(*milli) / 1000.0) as f32,
+                    position,
                     speed: jog.speed,
                     accel: jog.accel,
                     decel: jog.decel,

@@ -213,3 +213,120 @@ fn a_halted_axis_or_program_mode_refuses_a_jog_with_the_reason() {
     assert!(r.take_calls().is_empty());
     assert!(r.feedback.as_ref().unwrap().text.contains("PROGRAM"));
 }
+
+#[test]
+fn a_step_past_a_soft_limit_is_refused_in_the_axis_units_and_one_within_goes() {
+    let now = Instant::now();
+    let (mut r, mut s) = ready(now);
+    let own = s.axis_mut(axis(0));
+    own.units = "mm".into();
+    own.limits = settings::SoftLimits {
+        min: Some(-5.0),
+        max: Some(15.0),
+    };
+    s.jog.step = 20.0;
+    press(&mut r, &mut s, Press::On(plus(0)), now);
+    press(&mut r, &mut s, Press::Up, now);
+    assert!(r.take_calls().is_empty(), "nothing sent past the limit");
+    let said = &r.feedback.as_ref().unwrap().text;
+    assert_eq!(
+        said,
+        "Axis 1+ refused: its end 20.000 mm is beyond the soft limit 15.000 mm"
+    );
+    s.jog.step = 15.0;
+    press(&mut r, &mut s, Press::On(plus(0)), now);
+    press(&mut r, &mut s, Press::Up, now);
+    assert!(matches!(
+        r.take_calls()[..],
+        [AxisCall::Send(_, Command::MoveRelative(_))]
+    ));
+    // Axis 2 has no limits of its own and takes the RMC's units name.
+    assert_eq!(s.units(axis(1)), "pu");
+    assert_eq!(s.limits(axis(1)), settings::SoftLimits::default());
+    // Limits the wrong way round are refused, whatever the step.
+    s.axis_mut(axis(0)).limits.min = Some(20.0);
+    press(&mut r, &mut s, Press::On(plus(0)), now);
+    press(&mut r, &mut s, Press::Up, now);
+    assert!(r.take_calls().is_empty());
+    assert!(
+        r.feedback
+            .as_ref()
+            .unwrap()
+            .text
+            .contains("wrong way round")
+    );
+}
+
+#[test]
+fn a_held_jog_stops_within_stopping_distance_of_the_soft_limit_and_latches() {
+    let now = Instant::now();
+    let (mut r, mut s) = ready(now);
+    s.jog.mode = JogMode::Continuous;
+    s.axis_mut(axis(0)).limits.max = Some(10.0);
+    press(&mut r, &mut s, Press::On(plus(0)), now);
+    assert!(matches!(r.take_calls()[..], [AxisCall::Hold(..)]));
+    let moving = |at: f32| AxisStatus {
+        bits: StatusBits(0).with(StatusBits::ENABLED, true),
+        target_position: at,
+        target_velocity: 50.0,
+        ..Default::default()
+    };
+    // 50 pu/s at STOP's 1000 pu/s² needs 1.25 pu, and 2 pu more for a late poll.
+    assert!(r.keep_limits(axis(0), &moving(6.0), &s, now).is_none());
+    let said = r.keep_limits(axis(0), &moving(7.0), &s, now).unwrap().1;
+    assert!(
+        said.contains("stopped short of its soft limit 10.000 pu"),
+        "{said}"
+    );
+    assert_eq!(r.take_calls(), vec![AxisCall::Release(axis(0))]);
+    // Still held: nothing restarts; a fresh press at the limit is refused.
+    press(&mut r, &mut s, Press::On(plus(0)), now);
+    assert!(r.take_calls().is_empty());
+    press(&mut r, &mut s, Press::Up, now);
+    r.handle_event(
+        now,
+        RmcEvent::Status {
+            axis: axis(0),
+            status: AxisStatus {
+                target_position: 10.0,
+                ..moving(10.0)
+            },
+            trusted: true,
+            at: now,
+        },
+    );
+    press(&mut r, &mut s, Press::On(plus(0)), now);
+    assert!(r.take_calls().is_empty());
+    assert!(
+        r.feedback
+            .as_ref()
+            .unwrap()
+            .text
+            .contains("at its soft limit")
+    );
+    // The other way is free.
+    press(&mut r, &mut s, Press::Up, now);
+    press(
+        &mut r,
+        &mut s,
+        Press::On(AxisJog {
+            axis: axis(0),
+            direction: Direction::Negative,
+        }),
+        now,
+    );
+    assert!(matches!(r.take_calls()[..], [AxisCall::Hold(..)]));
+}
+
+#[test]
+fn a_taught_point_beyond_a_soft_limit_is_refused_whole() {
+    let now = Instant::now();
+    let (r, mut s) = ready(now);
+    s.axis_mut(axis(0)).limits.max = Some(100.0);
+    assert!(r.go_moves(&[50_000], &s).is_ok());
+    let why = r.go_moves(&[150_000], &s).unwrap_err();
+    assert_eq!(
+        why,
+        "Axis 1's move refused: its end 150.000 pu is beyond the soft limit 100.000 pu"
+    );
+}

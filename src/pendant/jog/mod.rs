@@ -130,7 +130,7 @@ impl Pendant {
         let axis_moves = if point.axes.is_empty() {
             Vec::new()
         } else {
-            match self.axes.go_moves(&point.axes, self.settings.rmc.jog) {
+            match self.axes.go_moves(&point.axes, &self.settings.rmc) {
                 Ok(moves) => moves,
                 Err(why) => return self.jog_says(Level::Warning, format!("refused: {why}"), now),
             }

@@ -123,7 +123,7 @@ fn row_ui(ui: &mut Ui, text: String, color: Color32, selected: bool, height: f32
 }
 
 /// The message name's column (longer names are cut; the decode has them whole).
-const NAME_WIDTH: usize = 28;
+const NAME_WIDTH: usize = 44;
 
 /// One row as text, in the header's columns: the message name before the bytes (so it
 /// is always in sight), the bytes, then the link's note (why garbage, what timed out).
