@@ -70,6 +70,10 @@ pub enum Intent {
     FrameLogCap(usize),
     /// Empty the live frame log.
     ClearFrameLog,
+    /// The plots' capture choices (on, length, pre-trigger share).
+    CaptureSettings(crate::pendant::samples::capture::CaptureSettings),
+    /// Forget the captures taken.
+    ClearCaptures,
     /// A frame typed as its body, to send through the link.
     SendRaw(String),
     /// Everything in the window this size (1.0: 100%), kept for the next start.
@@ -117,6 +121,11 @@ impl Pendant {
                 self.settings.frame_log_cap = Some(cap);
             }
             Intent::ClearFrameLog => self.frame_log.clear(),
+            Intent::CaptureSettings(c) => {
+                self.settings.captures = c;
+                self.samples.captures.settings = c;
+            }
+            Intent::ClearCaptures => self.samples.captures.list.clear(),
             Intent::UiScale(scale) => {
                 self.settings.ui_scale = (scale.is_finite() && (scale - 1.0).abs() > 1e-3)
                     .then(|| scale.clamp(UI_SCALES.0, UI_SCALES.1));

@@ -62,6 +62,8 @@ pub struct Settings {
     pub last_folder: Option<std::path::PathBuf>,
     /// The Delta RMC151 beside the robot.
     pub rmc: axes::RmcSettings,
+    /// What the plots capture when a move starts.
+    pub captures: samples::capture::CaptureSettings,
 }
 
 /// What the pendant asks of the link. The window runs these after drawing a frame;
@@ -167,7 +169,11 @@ impl Pendant {
         let teach = teach::book::TeachBook::new(std::mem::take(&mut settings.legacy_teach));
         Self {
             axes: axes::RmcAxes::new(settings.rmc.axis_count()),
-            samples: samples::polled::Polled::new(settings.rmc.axis_count()),
+            samples: {
+                let mut p = samples::polled::Polled::new(settings.rmc.axis_count());
+                p.captures.settings = settings.captures;
+                p
+            },
             teach,
             teach_feedback: None,
             coords: coords::CoordEditor::new(model.work_table_size, model.tool_table_size),
@@ -238,6 +244,9 @@ impl Pendant {
             RmcEvent::Garbage { bytes, error, at } => log.modbus(Dir::Garbage, bytes, error, *at),
             RmcEvent::Timeout { what, at } => log.modbus(Dir::Timeout, b"", what, *at),
             RmcEvent::LineDown { .. } => log.modbus_line_lost(),
+            RmcEvent::Sent {
+                axis, command, at, ..
+            } if command.moves() => self.samples.rmc_moved(*at, *axis, command),
             RmcEvent::Dropped(n) => log.link_dropped(*n),
             _ => {}
         }
@@ -435,6 +444,11 @@ impl Pendant {
     }
 
     fn reply(&mut self, now: Instant, command: Command, reply: Reply) {
+        if matches!(reply, Reply::Ack(_)) && command.moves_arm() {
+            let channel = self.moved_channel(&command);
+            let label = format!("{} ({})", command.id(), name(&command));
+            self.samples.xsel_moved(now, label, channel);
+        }
         match reply {
             Reply::SystemStatus(s) => {
                 let old = self.controller.system.as_ref().map(|o| &o.value);
@@ -634,9 +648,40 @@ impl Pendant {
         );
     }
 
-    /// Once a frame: a jog held while the controller leaves the state that allows motion
-    /// is stopped (and latched).
+    /// The work coordinate (0-3: X, Y, Z, R) a move changes most: a relative move's
+    /// largest distance, an absolute move's farthest target from the polled pose.
+    fn moved_channel(&self, command: &Command) -> usize {
+        let now = |axis: crate::protocol::Axis| {
+            self.controller
+                .work
+                .as_ref()
+                .and_then(|w| w.value.axes.get(axis))
+                .map_or(0, |a| a.position.0)
+        };
+        let distances: Vec<(usize, i64)> = match command {
+            Command::ScaraMoveRelative(m) => m
+                .targets
+                .iter()
+                .map(|(a, d)| (a.index(), i64::from(d.0).abs()))
+                .collect(),
+            Command::ScaraMoveAbsolute(m) => m
+                .targets
+                .iter()
+                .map(|(a, t)| (a.index(), (i64::from(t.0) - i64::from(now(a))).abs()))
+                .collect(),
+            Command::Jog(j) => j.axes.iter().map(|a| (a.index(), 1)).collect(),
+            _ => Vec::new(),
+        };
+        distances
+            .into_iter()
+            .max_by_key(|(_, d)| *d)
+            .map_or(0, |(i, _)| i)
+    }
+
+    /// Once a frame: captures whose samples are in are taken; a jog held while the
+    /// controller leaves the state that allows motion is stopped (and latched).
     pub fn tick(&mut self, now: Instant) {
+        self.samples.poll_captures(now);
         if self.jog.hold.jog().is_none() {
             return;
         }

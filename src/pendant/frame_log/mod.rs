@@ -278,8 +278,11 @@ impl FrameLog {
         }
         let id = self.entry(seq).and_then(Entry::id);
         e.set_answers();
-        // An `&` reply has no ID: it answers the request's.
-        e.take_id(id);
+        // An `&` reply has no ID: it answers the request's. (A Modbus row's ID is its own
+        // function code, or none.)
+        if protocol == Protocol::FormatB {
+            e.take_id(id);
+        }
     }
 
     fn push(&mut self, mut e: Entry, bytes: &[u8], note: &str) {

@@ -3,6 +3,9 @@
 //! bounded ring. Values read back exactly as polled; for drawing, a time span is decimated
 //! to each pixel column's min and max. Sans-IO: times come in with the samples.
 
+pub mod capture;
+#[cfg(test)]
+mod capture_tests;
 pub mod polled;
 #[cfg(test)]
 mod tests;
@@ -12,7 +15,7 @@ use std::ops::Range;
 use std::time::{Duration, Instant};
 
 /// How a series keeps its values: 4 bytes each, exact either way.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Encoding {
     /// An f32 as polled (RMC REALs).
     Real,

@@ -1,10 +1,28 @@
-//! The pendant's own series: the X-SEL's work position from each 2A1H, and each RMC
-//! axis's status from each poll, an hour of each at the polling rate.
+//! The pendant's own series: the X-SEL's work position (and the tool tip's speed from
+//! successive polls) from each 2A1H, and each RMC axis's status from each poll, an hour of
+//! each at the polling rate; and the captures its moves trigger.
 
 use std::time::Instant;
 
+use super::capture::{Captures, Roles, Trigger};
 use super::{Channel, Encoding, Sample, SampleStore, SeriesId};
-use crate::rmc::{AxisId, AxisStatus, StatusBits, TgPhase};
+use crate::rmc::{AxisId, AxisStatus, Command, StatusBits, TgPhase};
+
+/// The channels of an RMC axis's series, in order.
+pub mod rmc_channel {
+    pub const COMMAND_POSITION: usize = 0;
+    pub const TARGET_POSITION: usize = 1;
+    pub const ACTUAL_POSITION: usize = 2;
+    pub const TARGET_VELOCITY: usize = 3;
+    pub const ACTUAL_VELOCITY: usize = 4;
+    pub const FOLLOWING_ERROR: usize = 5;
+    pub const IN_POSITION: usize = 6;
+    pub const TG_PHASE: usize = 7;
+    pub const ACK: usize = 8;
+}
+
+/// The X-SEL series' speed channel (after X, Y, Z, R).
+pub const XSEL_SPEED: usize = 4;
 
 /// Rows kept per series: an hour at 50 polls a second (the RMC's round is 20 ms; the
 /// X-SEL's work position comes less often).
@@ -14,8 +32,11 @@ pub const HOUR_ROWS: usize = 3600 * 50;
 #[derive(Clone, Debug)]
 pub struct Polled {
     pub store: SampleStore,
+    pub captures: Captures,
     xsel: SeriesId,
     rmc: Vec<SeriesId>,
+    /// The last work pose and its time, for the tool tip's speed.
+    last_pose: Option<(Instant, [i32; 4])>,
 }
 
 impl Polled {
@@ -28,6 +49,7 @@ impl Polled {
                 Channel::new("Y", "mm"),
                 Channel::new("Z", "mm"),
                 Channel::new("R", "deg"),
+                Channel::new("Tool-tip speed", "mm/s"),
             ],
             Encoding::Milli,
             HOUR_ROWS,
@@ -52,13 +74,80 @@ impl Polled {
                 )
             })
             .collect();
-        Self { store, xsel, rmc }
+        Self {
+            store,
+            captures: Captures::default(),
+            xsel,
+            rmc,
+            last_pose: None,
+        }
     }
 
-    /// A 2A1H reply in the work system: X, Y, Z, R in thousandths.
+    /// A 2A1H reply in the work system: X, Y, Z, R in thousandths. The tool tip's speed
+    /// is the XYZ distance from the last poll over the time between them [I: polled
+    /// positions, so a move shorter than a poll interval reads slower than it ran].
     pub fn xsel_work(&mut self, at: Instant, pose: [i32; 4]) {
-        let values = pose.map(Sample::Milli);
-        self.store.push(self.xsel, at, &values);
+        let speed = self.last_pose.map_or(0, |(t, last)| {
+            let dt = at.saturating_duration_since(t).as_secs_f64();
+            let d = (0..3)
+                .map(|i| f64::from(pose[i] - last[i]).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            if dt > 0.0 { (d / dt).round() as i32 } else { 0 }
+        });
+        self.last_pose = Some((at, pose));
+        let [x, y, z, r] = pose.map(Sample::Milli);
+        self.store
+            .push(self.xsel, at, &[x, y, z, r, Sample::Milli(speed)]);
+    }
+
+    /// The X-SEL accepted a move at `at`: a capture of the work position, read on
+    /// `channel` (0-3: X, Y, Z, R, the coordinate the move changes most).
+    pub fn xsel_moved(&mut self, at: Instant, label: String, channel: usize) {
+        self.captures.trigger(Trigger {
+            at,
+            label,
+            series: self.xsel,
+            roles: Roles {
+                actual: channel.min(3),
+                ..Roles::default()
+            },
+        });
+    }
+
+    /// A motion command went out to an RMC axis at `at`: a capture of its status.
+    pub fn rmc_moved(&mut self, at: Instant, axis: AxisId, command: &Command) {
+        let Some(series) = self.rmc_series(axis) else {
+            return;
+        };
+        let what = match command {
+            Command::MoveRelative(m) => format!(
+                "Move Relative {} relative to {}",
+                m.distance,
+                m.relative_to.name()
+            ),
+            Command::MoveAbsolute(m) => format!("Move Absolute to {}", m.position),
+            other => other.name().to_string(),
+        };
+        use rmc_channel::*;
+        self.captures.trigger(Trigger {
+            at,
+            label: format!("{axis}: {what}"),
+            series,
+            roles: Roles {
+                actual: ACTUAL_POSITION,
+                command: Some(COMMAND_POSITION),
+                in_position: Some(IN_POSITION),
+                phase: Some(TG_PHASE),
+            },
+        });
+    }
+
+    /// Takes the captures whose samples are in.
+    pub fn poll_captures(&mut self, now: Instant) {
+        if self.captures.waiting() {
+            self.captures.poll(&self.store, now);
+        }
     }
 
     /// An RMC axis's status as polled.

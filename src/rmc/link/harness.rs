@@ -101,6 +101,11 @@ impl Bench {
         b
     }
 
+    /// The link's time between status rounds.
+    pub fn core_poll_interval(&self) -> Duration {
+        self.core.config.poll_interval
+    }
+
     pub fn request(&mut self, request: RmcRequest) {
         self.core.handle_request(self.now, Input::App(request));
         self.pump();

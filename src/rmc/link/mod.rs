@@ -7,7 +7,7 @@
 mod axis;
 pub mod event;
 #[cfg(test)]
-mod harness;
+pub(crate) mod harness;
 mod outgoing;
 mod replies;
 mod requests;
