@@ -11,6 +11,7 @@ mod glyphs;
 pub mod labels;
 pub mod paint_egui;
 pub mod paint_png;
+pub mod plot;
 pub mod scene;
 pub mod style;
 pub mod view;

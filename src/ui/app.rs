@@ -100,6 +100,7 @@ pub struct PendantApp {
     work_files: WorkFiles,
     arm: ArmView,
     frame_log: FrameLogPanel,
+    plots: super::plots::PlotsPanel,
     /// Where a file name typed without a folder goes.
     folder: FolderCache,
     /// Whether a live frame log was drawn in the last frame (its rows are worth a wake).
@@ -201,6 +202,7 @@ impl PendantApp {
             work_files,
             arm: ArmView::default(),
             frame_log: FrameLogPanel::default(),
+            plots: super::plots::PlotsPanel::default(),
             folder: FolderCache::default(),
             live_log_shown: Default::default(),
             link_wakes: Default::default(),
@@ -233,6 +235,15 @@ impl PendantApp {
     /// The frame log pane (tests and benches read it).
     pub fn frame_log_panel(&self) -> &FrameLogPanel {
         &self.frame_log
+    }
+
+    /// The Plots pane's state (tests and benches read and set it).
+    pub fn plots_panel(&self) -> &super::plots::PlotsPanel {
+        &self.plots
+    }
+
+    pub fn plots_panel_mut(&mut self) -> &mut super::plots::PlotsPanel {
+        &mut self.plots
     }
 
     /// The frame log pane, to drive it from tests and benches.
@@ -564,6 +575,7 @@ impl eframe::App for PendantApp {
                 teach: &mut self.teach,
                 coords: &mut self.coords,
                 frame_log: &mut self.frame_log,
+                plots: &mut self.plots,
                 simulator: &mut self.simulator,
                 folder: self
                     .folder

@@ -36,6 +36,7 @@ pub enum Tab {
     FrameLog,
     Simulator,
     Axes,
+    Plots,
 }
 
 impl Tab {
@@ -50,11 +51,12 @@ impl Tab {
             Tab::FrameLog => "Frame log",
             Tab::Simulator => "Simulator",
             Tab::Axes => "RMC axes",
+            Tab::Plots => "Plots",
         }
     }
 }
 
-const ALL: [Tab; 9] = [
+const ALL: [Tab; 10] = [
     Tab::Arm,
     Tab::Position,
     Tab::Status,
@@ -64,10 +66,11 @@ const ALL: [Tab; 9] = [
     Tab::FrameLog,
     Tab::Simulator,
     Tab::Axes,
+    Tab::Plots,
 ];
 
-/// The first layout: the arm view large on the left over the messages and the frame log
-/// (tabs); on the right the position over the status (servo, home), teach list and
+/// The first layout: the arm view large on the left over the messages, the frame log and
+/// the plots (tabs); on the right the position over the status (servo, home), teach list and
 /// coordinate tables as tabs.
 pub fn default_layout() -> Tree<Tab> {
     let mut tiles = Tiles::default();
@@ -87,7 +90,7 @@ pub fn default_layout() -> Tree<Tab> {
             Tab::Simulator,
         ],
     );
-    let traffic = tabs(&mut tiles, &[Tab::Messages, Tab::FrameLog]);
+    let traffic = tabs(&mut tiles, &[Tab::Messages, Tab::FrameLog, Tab::Plots]);
     let left = tiles.insert_container(Linear::new_binary(
         LinearDir::Vertical,
         [arm, traffic],
@@ -122,6 +125,7 @@ pub struct Tabs<'a> {
     pub teach: &'a mut TeachPanel,
     pub coords: &'a mut CoordsPanel,
     pub frame_log: &'a mut FrameLogPanel,
+    pub plots: &'a mut super::plots::PlotsPanel,
     pub simulator: &'a mut SimulatorPanel,
     /// The folder a file name typed without one is in.
     pub folder: &'a std::path::Path,
@@ -171,6 +175,14 @@ impl Behavior<Tab> for Tabs<'_> {
                 self.frame_log
                     .show(ui, self.pendant, self.folder, self.now, self.intents)
             }
+            Tab::Plots => super::plots::show(
+                self.plots,
+                ui,
+                self.pendant,
+                self.intents,
+                self.folder,
+                self.now,
+            ),
             Tab::Axes => {
                 egui::ScrollArea::vertical().show(ui, |ui| {
                     super::axes::show(ui, self.pendant, self.intents, self.axes_pad)

@@ -17,6 +17,7 @@ mod keys;
 mod layout;
 mod messages;
 mod pad;
+pub mod plots;
 mod ports;
 mod readout;
 mod rmc_connection;

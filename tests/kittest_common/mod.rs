@@ -98,3 +98,19 @@ pub fn alarm_code(app: &PendantApp) -> Option<u16> {
         .system
         .map(|s| s.value.critical_error.0)
 }
+
+/// A pointer press and release at `pos`, as a mouse gives them.
+pub fn press(h: &mut Harness<'_, PendantApp>, pos: egui::Pos2) {
+    h.event(egui::Event::PointerMoved(pos));
+    h.step();
+    for pressed in [true, false] {
+        h.event(egui::Event::PointerButton {
+            pos,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: egui::Modifiers::NONE,
+        });
+    }
+    h.step();
+    h.step();
+}

@@ -13,7 +13,7 @@ use xsel_pendant::sim::runner::Dir as SimDir;
 use xsel_pendant::sim::{Fault, FaultSpec};
 use xsel_pendant::ui::{PendantApp, StartOptions};
 
-use crate::kittest_common::{click, replace_text, step_until, step_until_shown, type_into};
+use crate::kittest_common::{click, press, replace_text, step_until, step_until_shown, type_into};
 
 use crate::wire::frame as framed;
 
@@ -194,22 +194,6 @@ fn a_corrupted_reply_is_flagged_with_its_raw_bytes() {
         )
         .count();
     assert_eq!(rows, 1, "row {ascii} not shown among the errors");
-}
-
-/// A pointer press and release at `pos`, as a mouse gives them.
-fn press(h: &mut Harness<'_, PendantApp>, pos: egui::Pos2) {
-    h.event(egui::Event::PointerMoved(pos));
-    h.step();
-    for pressed in [true, false] {
-        h.event(egui::Event::PointerButton {
-            pos,
-            button: egui::PointerButton::Primary,
-            pressed,
-            modifiers: egui::Modifiers::NONE,
-        });
-    }
-    h.step();
-    h.step();
 }
 
 #[test]

@@ -13,6 +13,7 @@ mod frame_log;
 mod frame_log_replay;
 mod frame_log_snapshot;
 mod main_window;
+mod plots;
 mod simulator;
 mod sizes;
 mod snapshots;

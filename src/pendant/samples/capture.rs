@@ -96,6 +96,8 @@ pub struct Summary {
 /// A move's samples from before its trigger to the capture's end.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Capture {
+    /// 1, 2, ... in the order taken (0 for one read from a file).
+    pub number: u64,
     pub label: String,
     /// The series it was copied from (`Axis 1`, `X-SEL work position`).
     pub series: String,
@@ -128,6 +130,7 @@ impl Capture {
             .map(|c| rows.clone().filter_map(|r| series.value(r, c)).collect())
             .collect();
         let mut capture = Capture {
+            number: 0,
             label: trigger.label.clone(),
             series: series.name.clone(),
             channels: series.channels.clone(),
@@ -247,12 +250,13 @@ impl Captures {
                 still.push_back(t);
                 continue;
             }
-            if let Some(c) = Capture::take(store, &t, pre, post) {
+            if let Some(mut c) = Capture::take(store, &t, pre, post) {
                 if self.list.len() == KEEP_CAPTURES {
                     self.list.pop_front();
                 }
-                self.list.push_back(c);
                 self.taken += 1;
+                c.number = self.taken;
+                self.list.push_back(c);
             }
         }
         self.pending = still;

@@ -6,9 +6,11 @@
 pub mod capture;
 #[cfg(test)]
 mod capture_tests;
+pub mod csv;
 pub mod polled;
 #[cfg(test)]
 mod tests;
+pub mod view;
 
 use std::collections::VecDeque;
 use std::ops::Range;
