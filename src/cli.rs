@@ -100,12 +100,26 @@ pub struct Args {
         allow_hyphen_values = true
     )]
     pub target: Option<String>,
-    /// For --render-png: the picture's size, WIDTHxHEIGHT pixels (16 to 16384 each).
-    #[arg(long, default_value = "1280x800", requires = "render_png")]
-    pub size: String,
-    /// For --render-png: the light theme (the default is dark).
-    #[arg(long, requires = "render_png")]
+    /// For --render-png (1280x800 unless named) and --plot-png (1600x900): the picture's
+    /// size, WIDTHxHEIGHT pixels (16 to 16384 each).
+    #[arg(long)]
+    pub size: Option<String>,
+    /// For --render-png and --plot-png: the light theme (the default is dark).
+    #[arg(long)]
     pub light: bool,
+    /// Paint a saved capture (the Plots pane's "Save capture", --capture) into this PNG
+    /// file and exit: its positions on one axis, velocities on another, bits and phases
+    /// beneath; no window, no GPU, no line. 1600x900 unless --size names another.
+    #[arg(
+        long,
+        value_name = "FILE",
+        requires = "capture",
+        conflicts_with = "render_png"
+    )]
+    pub plot_png: Option<std::path::PathBuf>,
+    /// For --plot-png: the capture file (CSV) to paint.
+    #[arg(long, value_name = "FILE", requires = "plot_png")]
+    pub capture: Option<std::path::PathBuf>,
     /// How the window is drawn: glow (OpenGL, the default: the least memory) or wgpu
     /// (Vulkan, DirectX 12, Metal or OpenGL), for a graphics driver that fails with one.
     #[arg(long, value_enum, default_value_t = Renderer::Glow)]

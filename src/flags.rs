@@ -33,11 +33,20 @@ pub fn exit_on_clap_error(program: &str, e: &clap::Error) -> ! {
 /// `--help`.
 pub fn one_line(e: &clap::Error) -> String {
     let text = e.render().to_string();
-    let first = text
-        .lines()
-        .map(str::trim)
-        .find(|l| !l.is_empty())
-        .unwrap_or("bad command line");
+    let mut lines = text.lines().map(str::trim).filter(|l| !l.is_empty());
+    let first = lines.next().unwrap_or("bad command line");
     let first = first.strip_prefix("error: ").unwrap_or(first);
+    // A message that ends in a colon lists what it names on the lines below (the flags a
+    // flag requires): they join it.
+    let named: Vec<&str> = if first.ends_with(':') {
+        lines.take_while(|l| l.starts_with('-')).collect()
+    } else {
+        Vec::new()
+    };
+    let first = if named.is_empty() {
+        first.to_string()
+    } else {
+        format!("{first} {}", named.join(", "))
+    };
     format!("{first} (--help lists the options)")
 }

@@ -1,6 +1,6 @@
 //! The pendant binary: the window (`ui::run_window`), or text mode with `--headless` /
-//! `--watch` (`headless::run`), or the arm view to a PNG with `--render-png`
-//! (`render_cli::run`). Flags and line set-up live in `cli`, shared by both.
+//! `--watch` (`headless::run`), or the arm view or a saved capture to a PNG with
+//! `--render-png` / `--plot-png` (`render_cli::run`). Flags and line set-up live in `cli`, shared by both.
 
 use std::io::Write;
 use std::process::ExitCode;
@@ -18,7 +18,7 @@ fn main() -> ExitCode {
         return session::guardian::run();
     }
     let args: cli::Args = xsel_pendant::flags::parse_or_exit("xsel-pendant");
-    if args.render_png.is_some() {
+    if args.render_png.is_some() || args.plot_png.is_some() {
         return render_cli::run(&args);
     }
     if args.is_headless() {

@@ -1,11 +1,14 @@
 //! `xsel-pendant --render-png FILE`: the arm view of a pose drawn by tiny-skia into a PNG,
-//! with no window, GPU or line (documentation, tests).
+//! with no window, GPU or line (documentation, tests); and `--plot-png FILE --capture CSV`:
+//! a capture the Plots pane saved, painted as the pane draws it.
 
 use std::io::Write;
 use std::process::ExitCode;
 
 use crate::cli::Args;
+use crate::pendant::samples::view::capture_trace;
 use crate::render::paint_png::PngPainter;
+use crate::render::plot::{PlotLine, PlotPicture, plot_png};
 use crate::render::{Ghost, GhostCheck, Palette, SceneInput, build_scene};
 use crate::robot::{Arm, Joints, Pose, Scara};
 
@@ -120,7 +123,7 @@ fn render(args: &Args) -> Result<String, String> {
     };
     let model = args.model().map_err(|e| e.to_string())?;
     let kin = Scara::new(&model);
-    let [w, h] = size(&args.size).map_err(|e| e.to_string())?;
+    let [w, h] = size(args.size.as_deref().unwrap_or("1280x800")).map_err(|e| e.to_string())?;
     let j = joints(args, &kin, model.home).map_err(|e| e.to_string())?;
     let g = ghost(args, &kin, &j).map_err(|e| e.to_string())?;
     let scene = build_scene(&SceneInput {
@@ -147,9 +150,69 @@ fn render(args: &Args) -> Result<String, String> {
     ))
 }
 
-/// Runs `--render-png`: exit 0 and one line on stdout, or exit 2 and one line on stderr.
+/// Paints the capture of `--capture` into `--plot-png`'s file: every channel, positions
+/// and velocities each on their own axis, bits and phases on lanes.
+fn plot(args: &Args) -> Result<String, String> {
+    let (Some(out), Some(input)) = (&args.plot_png, &args.capture) else {
+        return Err("--plot-png needs --capture FILE".into());
+    };
+    let [w, h] = size(args.size.as_deref().unwrap_or("1600x900")).map_err(|e| e.to_string())?;
+    let text =
+        crate::files::read_text_bounded(input, 64 << 20).map_err(|e| format!("--capture: {e}"))?;
+    let capture = crate::pendant::samples::csv::read_capture(text.as_bytes())
+        .map_err(|e| format!("--capture {}: {e}", input.display()))?;
+    let traces: Vec<_> = capture
+        .channels
+        .iter()
+        .filter_map(|c| capture_trace(&capture, &c.name, c.name.clone()))
+        .collect();
+    let picture = PlotPicture {
+        title: format!("{} ({})", capture.label, capture.series),
+        x_label: "seconds from the trigger",
+        x_range: (
+            capture.times.first().copied().unwrap_or(0.0),
+            capture.times.last().copied().unwrap_or(1.0),
+        ),
+        lines: traces
+            .iter()
+            .enumerate()
+            .map(|(i, t)| PlotLine {
+                label: &t.label,
+                unit: &t.unit,
+                step: t.step,
+                top: t.top,
+                points: &t.points,
+                colour: i,
+            })
+            .collect(),
+        cursors: Vec::new(),
+        light: args.light,
+    };
+    let png = plot_png(&picture, w, h).map_err(|e| e.to_string())?;
+    crate::files::write_whole(out, &png).map_err(|e| format!("--plot-png: {e}"))?;
+    let s = capture.summary;
+    let num = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.4}"));
+    Ok(format!(
+        "{}: {w}x{h}, {} samples of {}; duration {} s, final error {}, overshoot {}, settling {} s",
+        out.display(),
+        capture.times.len(),
+        capture.label,
+        num(s.duration),
+        num(s.final_error),
+        num(s.overshoot),
+        num(s.settling)
+    ))
+}
+
+/// Runs `--render-png` or `--plot-png`: exit 0 and one line on stdout, or exit 2 and one
+/// line on stderr.
 pub fn run(args: &Args) -> ExitCode {
-    match render(args) {
+    let result = if args.plot_png.is_some() {
+        plot(args)
+    } else {
+        render(args)
+    };
+    match result {
         Ok(line) => {
             let _ = writeln!(std::io::stdout(), "{line}");
             ExitCode::SUCCESS

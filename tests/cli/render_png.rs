@@ -212,3 +212,81 @@ fn render_png_flag_writes_a_picture_of_the_asked_size_and_names_bad_flags() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A capture as the Plots pane saves one: a step of 10 pu that ends in position.
+fn capture_file() -> String {
+    let mut text = String::from(
+        "# xsel-pendant capture 1\n# label,Axis 1: Move Relative 10 relative to command\n\
+         # series,Axis 1\n# trigger_s,3.5\n# encoding,real\n# roles,2,0,3,4\n\
+         time_s,Command Position (pu),Target Position (pu),Actual Position (pu),In Position (level),TG phase (level)\n",
+    );
+    for i in -10..=40 {
+        let t = f64::from(i) * 0.02;
+        let moving = (0.0..0.5).contains(&t);
+        let target = if t < 0.0 {
+            0.0
+        } else {
+            (t / 0.5).min(1.0) * 10.0
+        };
+        let command = if t < 0.0 { 0.0 } else { 10.0 };
+        let (in_pos, phase) = if moving { (0, 2) } else { (1, 0) };
+        text.push_str(&format!(
+            "{t:.9},{command},{target},{target},{in_pos},{phase}\n"
+        ));
+    }
+    text
+}
+
+#[test]
+fn plot_png_paints_a_saved_capture_and_names_what_is_wrong() {
+    let dir = std::env::temp_dir().join(format!("xsel-plot-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{e}"));
+    let (csv, png) = (dir.join("step.csv"), dir.join("step.png"));
+    std::fs::write(&csv, capture_file()).unwrap_or_else(|e| panic!("{e}"));
+    let run = |args: &[&std::ffi::OsStr]| {
+        Command::new(env!("CARGO_BIN_EXE_xsel-pendant"))
+            .args(args)
+            .output()
+            .unwrap_or_else(|e| panic!("{e}"))
+    };
+    let out = run(&[
+        "--plot-png".as_ref(),
+        png.as_os_str(),
+        "--capture".as_ref(),
+        csv.as_os_str(),
+    ]);
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let p = tiny_skia::Pixmap::load_png(&png).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!((p.width(), p.height()), (1600, 900));
+    assert!(
+        said.contains("51 samples of Axis 1: Move Relative 10"),
+        "{said}"
+    );
+    assert!(said.contains("duration 0.5000 s"), "{said}");
+    assert!(said.contains("final error 0.0000"), "{said}");
+    // A file that is no capture, and no --capture at all: exit 2, one line naming it.
+    std::fs::write(&csv, "time_s,x\n1,2\n").unwrap_or_else(|e| panic!("{e}"));
+    for args in [
+        vec![
+            "--plot-png".as_ref(),
+            png.as_os_str(),
+            "--capture".as_ref(),
+            csv.as_os_str(),
+        ],
+        vec!["--plot-png".as_ref(), png.as_os_str()],
+    ] {
+        let out = run(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(
+            err.contains("--capture") && err.lines().count() == 1,
+            "{err}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

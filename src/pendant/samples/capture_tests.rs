@@ -151,3 +151,44 @@ fn a_held_jog_is_one_capture_and_a_quiet_device_still_gives_what_it_has() {
     assert_eq!(polled.captures.list.len(), 1, "three moves in one capture");
     assert!(!polled.captures.waiting());
 }
+
+#[test]
+fn a_saved_capture_reads_back_exactly_and_a_damaged_one_is_named_by_line() {
+    use super::csv::{read_capture, write_capture};
+    let mut b = Bench::enabled();
+    let mut polled = Polled::new(1);
+    let seen = feed(&b, &mut polled, 0);
+    b.send(axis(0), Command::MoveRelative(MOVE));
+    b.run_for(Duration::from_secs(4), None);
+    feed(&b, &mut polled, seen);
+    polled.poll_captures(b.now);
+    let c = polled.captures.list.front().unwrap();
+    let mut file = Vec::new();
+    write_capture(&mut file, c).unwrap();
+    let back = read_capture(file.as_slice()).unwrap();
+    assert_eq!(back.label, c.label);
+    assert_eq!(back.channels, c.channels);
+    assert_eq!(back.roles, c.roles);
+    assert_eq!(back.values, c.values, "every value exactly as polled");
+    for (a, b) in back.times.iter().zip(&c.times) {
+        assert!((a - b).abs() < 1e-9);
+    }
+    assert_eq!(back.summary.final_error, c.summary.final_error);
+    assert_eq!(
+        back.summary.settling.is_some(),
+        c.summary.settling.is_some()
+    );
+
+    let text = String::from_utf8(file).unwrap();
+    let damaged = text.replacen("\n0.", "\nzero.", 1);
+    let why = read_capture(damaged.as_bytes()).unwrap_err();
+    assert!(
+        why.starts_with("line ") && why.contains("not a number"),
+        "{why}"
+    );
+    assert!(
+        read_capture(&b"time_s,x\n"[..])
+            .unwrap_err()
+            .contains("not an xsel-pendant capture")
+    );
+}

@@ -206,8 +206,13 @@ pub fn read_capture(input: impl BufRead) -> Result<Capture, String> {
                 .ok_or_else(|| format!("line {n}: '{cell}' is not a number"))
         };
         times.push(number(cells.next())?);
-        for v in &mut values {
-            v.push(number(cells.next())?);
+        for (v, channel) in values.iter_mut().zip(&channels) {
+            let value = number(cells.next())?;
+            // A REAL was written in its shortest exact form: read back as the f32 it was.
+            v.push(match encoding {
+                Encoding::Real if !channel.step => f64::from(value as f32),
+                _ => value,
+            });
         }
     }
     let mut capture = Capture {
