@@ -1,7 +1,9 @@
 //! The plots' sample store (DESIGN.md "The window"): every polled value with its poll's
 //! time, one series per polled record (an RMC axis's status, the X-SEL's position), each a
 //! bounded ring. Values read back exactly as polled; for drawing, a time span is decimated
-//! to each pixel column's min and max. Sans-IO: times come in with the samples.
+//! to each pixel column's min and max, whole blocks of rows taken from their kept min and
+//! max so that an hour draws as fast as a minute. Sans-IO: times come in with the
+//! samples.
 
 pub mod capture;
 #[cfg(test)]
@@ -71,6 +73,9 @@ impl Channel {
     }
 }
 
+/// Rows per block of kept minima and maxima.
+const BLOCK: u64 = 16;
+
 /// Identifies a series in its store.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct SeriesId(usize);
@@ -88,6 +93,10 @@ pub struct Series {
     values: VecDeque<u32>,
     /// Rows dropped from the head to keep the bound.
     pub dropped: u64,
+    /// Per block of [`BLOCK`] rows (counted from the first row ever pushed) and channel,
+    /// the block's (min, max), rounded outwards to f32; `blocks[0]` is block
+    /// `dropped / BLOCK` (it may still hold rows dropped since).
+    blocks: VecDeque<(f32, f32)>,
 }
 
 impl Series {
@@ -145,7 +154,9 @@ impl Series {
 
     /// `channel` over `from..to` cut into `columns` equal spans: each span's (min, max),
     /// `None` where a span holds no sample. Every sample counts, so a spike one sample
-    /// wide still shows.
+    /// wide still shows: rows at a span's edges are read one by one, whole blocks between
+    /// them by their kept min and max (exact to f32; a thousandths count beyond 2^24 is
+    /// widened by at most one f32 step).
     pub fn min_max(
         &self,
         channel: usize,
@@ -153,31 +164,94 @@ impl Series {
         to: Duration,
         columns: usize,
     ) -> Vec<Option<(f64, f64)>> {
-        let mut out = vec![None; columns];
+        self.min_max_from(channel, from, to, columns, 0)
+    }
+
+    /// As [`min_max`](Self::min_max), only the columns from `first` on (the same
+    /// columns, worked out the same way).
+    pub fn min_max_from(
+        &self,
+        channel: usize,
+        from: Duration,
+        to: Duration,
+        columns: usize,
+        first: usize,
+    ) -> Vec<Option<(f64, f64)>> {
+        let first = first.min(columns);
+        let mut out = vec![None; columns - first];
         if columns == 0 || to <= from || channel >= self.channels.len() {
             return out;
         }
         let (start, span) = (nanos(from), nanos(to) - nanos(from));
-        for row in self.rows_between(from, to) {
-            let (Some(t), Some(v)) = (self.times.get(row), self.value(row, channel)) else {
-                continue;
+        // A column's start time, and the first row at or after it.
+        let edge =
+            |column: usize| start + ((u128::from(span) * column as u128) / columns as u128) as u64;
+        let all = self.rows_between(from, to);
+        let mut row = self
+            .times
+            .partition_point(|t| *t < edge(first))
+            .clamp(all.start, all.end);
+        for (column, slot) in (first..columns).zip(out.iter_mut()) {
+            let end = if column + 1 == columns {
+                all.end
+            } else {
+                self.times
+                    .partition_point(|t| *t < edge(column + 1))
+                    .clamp(row, all.end)
             };
-            let column = ((u128::from(t - start) * columns as u128) / u128::from(span)) as usize;
-            let Some(slot) = out.get_mut(column.min(columns - 1)) else {
-                continue;
-            };
-            *slot = Some(match *slot {
-                Some((lo, hi)) => (lo.min(v), hi.max(v)),
-                None => (v, v),
-            });
+            *slot = self.span_min_max(channel, row..end);
+            row = end;
         }
         out
     }
 
-    /// Bytes its samples take (times and values).
-    pub fn bytes(&self) -> usize {
-        self.times.len() * 8 + self.values.len() * 4
+    /// The (min, max) of `channel` over `rows`, whole blocks by their kept values.
+    fn span_min_max(&self, channel: usize, rows: Range<usize>) -> Option<(f64, f64)> {
+        if rows.is_empty() {
+            return None;
+        }
+        let n = self.channels.len();
+        let mut acc: Option<(f64, f64)> = None;
+        let mut take = |lo: f64, hi: f64| {
+            acc = Some(match acc {
+                Some((a, b)) => (a.min(lo), b.max(hi)),
+                None => (lo, hi),
+            });
+        };
+        let first_block = self.dropped / BLOCK;
+        let mut r = rows.start;
+        while r < rows.end {
+            let absolute = self.dropped + r as u64;
+            let block_end = ((absolute / BLOCK + 1) * BLOCK - self.dropped) as usize;
+            // A whole block, all of it kept: its min and max.
+            if absolute.is_multiple_of(BLOCK) && block_end <= rows.end {
+                let i = ((absolute / BLOCK - first_block) as usize) * n + channel;
+                if let Some(&(lo, hi)) = self.blocks.get(i) {
+                    take(f64::from(lo), f64::from(hi));
+                    r = block_end;
+                    continue;
+                }
+            }
+            if let Some(v) = self.value(r, channel) {
+                take(v, v);
+            }
+            r += 1;
+        }
+        acc
     }
+
+    /// Bytes its samples take (times, values and the blocks' minima and maxima).
+    pub fn bytes(&self) -> usize {
+        self.times.len() * 8 + self.values.len() * 4 + self.blocks.len() * 8
+    }
+}
+
+/// The f32s just below and above `v` (both `v` when it is an f32).
+fn f32_around(v: f64) -> (f32, f32) {
+    let f = v as f32;
+    let lo = if f64::from(f) > v { f.next_down() } else { f };
+    let hi = if f64::from(f) < v { f.next_up() } else { f };
+    (lo, hi)
 }
 
 fn nanos(d: Duration) -> u64 {
@@ -208,6 +282,7 @@ impl SampleStore {
             times: VecDeque::new(),
             values: VecDeque::new(),
             dropped: 0,
+            blocks: VecDeque::new(),
         });
         SeriesId(self.series.len() - 1)
     }
@@ -234,15 +309,32 @@ impl SampleStore {
         };
         let t = nanos(at.saturating_duration_since(origin));
         let t = s.times.back().map_or(t, |last| t.max(*last));
+        let n = s.channels.len();
         if s.times.len() == s.cap {
             s.times.pop_front();
-            s.values.drain(..s.channels.len());
+            s.values.drain(..n);
             s.dropped += 1;
+            // The first block's rows are all gone.
+            if s.dropped.is_multiple_of(BLOCK) {
+                s.blocks.drain(..n.min(s.blocks.len()));
+            }
         }
+        let absolute = s.dropped + s.times.len() as u64;
         s.times.push_back(t);
-        let n = s.channels.len();
         s.values
             .extend((0..n).map(|i| values.get(i).map_or(0, |v| v.bits())));
+        let row = s.times.len() - 1;
+        let new_block = absolute.is_multiple_of(BLOCK);
+        let base = s.blocks.len().saturating_sub(n);
+        for c in 0..n {
+            let v = s.value(row, c).unwrap_or(0.0);
+            let (lo, hi) = f32_around(v);
+            if new_block {
+                s.blocks.push_back((lo, hi));
+            } else if let Some(b) = s.blocks.get_mut(base + c) {
+                *b = (b.0.min(lo), b.1.max(hi));
+            }
+        }
     }
 
     /// Bytes all samples take.

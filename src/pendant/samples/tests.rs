@@ -50,8 +50,9 @@ fn a_million_samples_read_back_exactly() {
         assert_eq!(series.value(row, 1), Some(f64::from(-value(i))));
         assert_eq!(series.value(row, 2), Some(f64::from(i % 2)));
     }
-    // One hour at 50 Hz of this 3-channel series: 180,000 rows of 20 bytes.
-    assert_eq!(series.bytes(), 1_000_000 * 20);
+    // 20 bytes a row (time and three values) and, per 16 rows, each channel's min and
+    // max (8 bytes).
+    assert_eq!(series.bytes(), 1_000_000 * 20 + 1_000_000 / 16 * 3 * 8);
 }
 
 #[test]
@@ -111,6 +112,38 @@ proptest! {
     }
 }
 
+proptest! {
+    #[test]
+    fn decimation_by_blocks_equals_every_sample_read_one_by_one(
+        values in prop::collection::vec(-1e6f32..1e6, 1..3000),
+        cap in 20usize..1500,
+        columns in 1usize..40,
+        from_ms in 0u64..10_000,
+        len_ms in 1u64..25_000,
+    ) {
+        let (mut s, id, t0) = store(cap);
+        for (i, v) in values.iter().enumerate() {
+            s.push(id, t0 + Duration::from_millis(i as u64 * 7), &[Sample::Real(*v)]);
+        }
+        let series = s.series(id).unwrap();
+        let (from, to) = (Duration::from_millis(from_ms), Duration::from_millis(from_ms + len_ms));
+        let got = series.min_max(0, from, to, columns);
+        let (start, span) = (from.as_nanos(), (to - from).as_nanos());
+        let mut want = vec![None::<(f64, f64)>; columns];
+        for row in 0..series.len() {
+            let t = series.time(row).unwrap();
+            if t < from || t > to {
+                continue;
+            }
+            let c = (((t.as_nanos() - start) * columns as u128) / span) as usize;
+            let v = series.value(row, 0).unwrap();
+            let slot = &mut want[c.min(columns - 1)];
+            *slot = Some(slot.map_or((v, v), |(lo, hi)| (lo.min(v), hi.max(v))));
+        }
+        prop_assert_eq!(got, want);
+    }
+}
+
 #[test]
 fn an_hour_of_the_pendants_polls_is_bounded_and_under_30_mb() {
     use super::polled::{HOUR_ROWS, Polled};
@@ -142,4 +175,29 @@ fn an_hour_of_the_pendants_polls_is_bounded_and_under_30_mb() {
     );
     let bytes = p.store.bytes();
     assert!(bytes <= 30_000_000, "an hour takes {bytes} bytes");
+}
+
+proptest! {
+    #[test]
+    fn a_kept_trace_grown_row_by_row_equals_one_worked_out_afresh(
+        values in prop::collection::vec(-1e3f32..1e3, 2..600),
+        columns in 1usize..50,
+        cut in 1usize..600,
+    ) {
+        use super::view::{TraceCache, TraceChoice, live_trace};
+        let (mut s, id, t0) = store(10_000);
+        let choice = TraceChoice::new("Axis 1", "Actual Position");
+        let mut cache = TraceCache::default();
+        let to = values.len() as f64 * 0.007 + 0.5;
+        let cut = cut.min(values.len());
+        for (k, part) in [&values[..cut], &values[cut..]].iter().enumerate() {
+            for (i, v) in part.iter().enumerate() {
+                let n = if k == 0 { i } else { cut + i };
+                s.push(id, t0 + Duration::from_millis(n as u64 * 7), &[Sample::Real(*v)]);
+            }
+            let kept = cache.trace(&s, &choice, 0.0, to, columns).unwrap();
+            let fresh = live_trace(&s, &choice, 0.0, to, columns).unwrap();
+            prop_assert_eq!(kept.points, fresh.points);
+        }
+    }
 }

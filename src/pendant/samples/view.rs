@@ -96,31 +96,112 @@ pub fn live_trace(
     to: f64,
     columns: usize,
 ) -> Option<Trace> {
-    let (series, channel) = store.find(choice)?;
-    let mut trace = Trace::new(choice.label(), &series.channels[channel]);
-    // Nothing lies before the origin: the columns there stay empty.
-    let start = from.max(0.0);
-    if to <= start || columns == 0 {
-        return Some(trace);
+    TraceCache::default().trace(store, choice, from, to, columns)
+}
+
+/// The decimated columns of one trace kept between frames: while the span and the
+/// columns stay the same and rows only come in at the end, only the columns the new
+/// rows fall in are worked out again (a live plot whose span moves a column at a time
+/// costs a column a frame, however long the span).
+#[derive(Clone, Debug, Default)]
+pub struct TraceCache {
+    entries: Vec<Cached>,
+}
+
+#[derive(Clone, Debug)]
+struct Cached {
+    choice: TraceChoice,
+    from: f64,
+    to: f64,
+    columns: usize,
+    /// Rows dropped and kept when worked out.
+    dropped: u64,
+    len: usize,
+    spans: Vec<Option<(f64, f64)>>,
+}
+
+impl TraceCache {
+    /// As [`live_trace`], from the columns kept where they still hold. Nothing lies
+    /// before the origin: columns there are left out.
+    pub fn trace(
+        &mut self,
+        store: &SampleStore,
+        choice: &TraceChoice,
+        from: f64,
+        to: f64,
+        columns: usize,
+    ) -> Option<Trace> {
+        let (series, channel) = store.find(choice)?;
+        let mut trace = Trace::new(choice.label(), &series.channels[channel]);
+        let start = from.max(0.0);
+        if to <= start || columns == 0 {
+            return Some(trace);
+        }
+        let width = (to - from) / columns as f64;
+        let columns = ((to - start) / width).round().max(1.0) as usize;
+        let width = (to - start) / columns as f64;
+        let i = match self.entries.iter().position(|e| e.choice == *choice) {
+            Some(i) => i,
+            None => {
+                self.entries.push(Cached {
+                    choice: choice.clone(),
+                    from: f64::NAN,
+                    to: f64::NAN,
+                    columns: 0,
+                    dropped: 0,
+                    len: 0,
+                    spans: Vec::new(),
+                });
+                self.entries.len() - 1
+            }
+        };
+        let e = &mut self.entries[i];
+        let same = e.from == start
+            && e.to == to
+            && e.columns == columns
+            && e.dropped == series.dropped
+            && e.len <= series.len();
+        if !same {
+            e.spans = series.min_max(channel, secs(start), secs(to), columns);
+        } else if e.len < series.len() {
+            // The new rows' first column (one before it, lest rounding put a row on a
+            // column's edge in the wrong one), and every column after it, again.
+            let first_new = series
+                .time(e.len)
+                .map_or(columns, |t| {
+                    ((t.as_secs_f64() - start) / width).floor().max(1.0) as usize - 1
+                })
+                .min(columns);
+            if first_new < columns {
+                let again = series.min_max_from(channel, secs(start), secs(to), columns, first_new);
+                e.spans.truncate(first_new);
+                e.spans.extend(again);
+            }
+        }
+        (e.from, e.to, e.columns, e.dropped, e.len) =
+            (start, to, columns, series.dropped, series.len());
+        trace.points = points_of(&e.spans, start, width);
+        Some(trace)
     }
-    let width = (to - from) / columns as f64;
-    let columns = ((to - start) / width).round().max(1.0) as usize;
-    let (f, t) = (secs(start), secs(to));
-    let width = (to - start) / columns as f64;
-    let from = start;
-    for (i, span) in series
-        .min_max(channel, f, t, columns)
-        .into_iter()
-        .enumerate()
-    {
+
+    /// Forgets traces no longer chosen.
+    pub fn keep_only(&mut self, chosen: &[TraceChoice]) {
+        self.entries.retain(|e| chosen.contains(&e.choice));
+    }
+}
+
+/// Each column's min and max as points at the column's middle.
+fn points_of(spans: &[Option<(f64, f64)>], from: f64, width: f64) -> Vec<[f64; 2]> {
+    let mut points = Vec::with_capacity(spans.len() * 2);
+    for (i, span) in spans.iter().enumerate() {
         let Some((lo, hi)) = span else { continue };
         let x = from + (i as f64 + 0.5) * width;
-        trace.points.push([x, lo]);
+        points.push([x, *lo]);
         if hi != lo {
-            trace.points.push([x, hi]);
+            points.push([x, *hi]);
         }
     }
-    Some(trace)
+    points
 }
 
 /// The value of `choice` at `t` seconds since the origin: the last sample at or before

@@ -14,7 +14,7 @@ use egui_plot::{Line, Plot, PlotBounds, PlotPoints, Text, VLine};
 
 use crate::pendant::samples::capture::Capture;
 use crate::pendant::samples::view::{
-    Trace, TraceChoice, capture_trace, capture_value_at, live_trace, live_value_at,
+    Trace, TraceCache, TraceChoice, capture_trace, capture_value_at, live_value_at,
 };
 use crate::pendant::{Intent, Pendant};
 use crate::render::plot::TRACE_COLOURS;
@@ -58,6 +58,8 @@ pub struct PlotsPanel {
     /// The capture a Save acts on.
     pub selected: Option<u64>,
     pub(super) export: export::Export,
+    /// The decimated traces of the last frame.
+    cache: TraceCache,
     /// The captures the overlay's span was last fitted to.
     overlay_key: Vec<u64>,
     /// Where each plot was drawn last frame (its data area), top first.
@@ -83,6 +85,7 @@ impl Default for PlotsPanel {
             export: export::Export::default(),
             plot_rects: Vec::new(),
             overlay_key: Vec::new(),
+            cache: TraceCache::default(),
             tools_open: None,
             defaulted: false,
         }
@@ -354,26 +357,35 @@ fn trace_choosers(p: &mut PlotsPanel, ui: &mut Ui, pendant: &Pendant) {
     });
 }
 
-/// The chosen channels over the span shown, one min/max pair per pixel column.
+/// The chosen channels over the span shown, one min/max pair per pixel column. A live
+/// span moves a column at a time, so only the newest columns are worked out each frame.
 fn live_traces(
     p: &mut PlotsPanel,
     ui: &Ui,
     pendant: &Pendant,
     now: Instant,
 ) -> Vec<(usize, Trace)> {
+    let columns = ui.available_width().max(50.0) as usize;
     let span = if p.paused.is_some() {
         p.shown
     } else {
-        p.live_span(pendant, now)
+        let (_, end) = p.live_span(pendant, now);
+        let column = p.window_s / columns as f64;
+        let end = (end / column).ceil() * column;
+        (end - p.window_s, end)
     };
     p.shown = span;
-    let columns = ui.available_width().max(50.0) as usize;
+    let chosen = p.chosen();
+    p.cache.keep_only(&chosen);
+    let store = &pendant.samples.store;
     p.traces
         .iter()
         .enumerate()
         .filter_map(|(i, c)| {
             let c = c.as_ref()?;
-            live_trace(&pendant.samples.store, c, span.0, span.1, columns).map(|t| (i, t))
+            p.cache
+                .trace(store, c, span.0, span.1, columns)
+                .map(|t| (i, t))
         })
         .collect()
 }
@@ -484,7 +496,7 @@ fn draw(p: &mut PlotsPanel, ui: &mut Ui, traces: &[(usize, Trace)], height: f32)
                 pui.line(
                     Line::new(t.label.clone(), PlotPoints::new(points))
                         .color(colour)
-                        .allow_band(false)
+                        .allow_band(!lanes)
                         .id((k, *i, lane)),
                 );
                 if lanes {
