@@ -23,6 +23,12 @@ pub struct RmcHandle {
     ids: AtomicU64,
 }
 
+/// Events the window may leave unread before traffic is left out: a round (two axes and
+/// the controller, every 20 ms) brings about 9 events, the frame log's rows among them,
+/// about 450 a second; an idle window takes them in every 2 s (`ui::wake::IDLE_WAKE`), so
+/// 4096 leave it four times that.
+const EVENT_BACKLOG: usize = 4096;
+
 /// Starts the RMC link thread on `connector` (a TCP connection to the controller, or to
 /// the built-in simulator).
 pub fn spawn(
@@ -31,7 +37,7 @@ pub fn spawn(
     repaint: RmcRepaint,
 ) -> std::io::Result<(RmcHandle, Receiver<RmcEvent>)> {
     let core = RmcCore::new(config, Instant::now());
-    let (driver, events) = driver::spawn("rmc-link", core, connector, repaint, 1024)?;
+    let (driver, events) = driver::spawn("rmc-link", core, connector, repaint, EVENT_BACKLOG)?;
     Ok((
         RmcHandle {
             driver,

@@ -463,15 +463,17 @@ fn draw(p: &mut PlotsPanel, ui: &mut Ui, traces: &[(usize, Trace)], height: f32)
             .y_axis_min_width(56.0)
             .allow_double_click_reset(false)
             .show_x(true)
-            .show_y(!lanes)
-            .legend(egui_plot::Legend::default().position(egui_plot::Corner::LeftTop));
+            .show_y(!lanes);
         plot = if lanes {
             plot.y_axis_label("levels")
                 .show_axes([k == last, false])
                 .allow_zoom([true, false])
                 .allow_drag([true, false])
         } else {
-            plot.y_axis_label(unit.clone()).show_axes([k == last, true])
+            // The lanes name themselves; the curves have a legend.
+            plot.y_axis_label(unit.clone())
+                .show_axes([k == last, true])
+                .legend(egui_plot::Legend::default().position(egui_plot::Corner::LeftTop))
         };
         if k == last {
             plot = plot.x_axis_label(x_label);
