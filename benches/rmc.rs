@@ -173,8 +173,10 @@ fn link(addr: String, poll: Duration) -> (RmcHandle, Receiver<RmcEvent>) {
         TcpTransport::connect(&addr, Duration::from_secs(1))
             .map(|t| Box::new(t) as Box<dyn Transport>)
     });
+    // The same rounds however still the axes stand (the figure is the link's rate).
     let config = RmcLinkConfig {
         poll_interval: poll,
+        idle_poll_interval: poll,
         ..RmcLinkConfig::default()
     };
     xsel_pendant::rmc::spawn(connector, config, Arc::new(|_: &RmcEvent| {})).unwrap()

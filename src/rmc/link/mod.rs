@@ -40,8 +40,12 @@ pub struct RmcLinkConfig {
     /// Axes shown and polled (1-8).
     pub axes: usize,
     pub reply_timeout: Duration,
-    /// Time between two status rounds.
+    /// Time between two status rounds while an axis moves or a command is awaited.
     pub poll_interval: Duration,
+    /// Time between two status rounds while every axis stands still, nothing is owed
+    /// and nothing awaited [I: motion started elsewhere (RMCTools, a PLC program) shows
+    /// within one of them, and the fast rounds follow it]; never below `poll_interval`.
+    pub idle_poll_interval: Duration,
     /// Stop (Closed Loop) (6)'s deceleration for STOP, pu/s².
     pub stop_decel: f32,
     /// A held jog stops when its lease is not renewed for this long.
@@ -58,6 +62,7 @@ impl Default for RmcLinkConfig {
             axes: 2,
             reply_timeout: Duration::from_millis(100),
             poll_interval: Duration::from_millis(20),
+            idle_poll_interval: Duration::from_millis(100),
             stop_decel: 1000.0,
             lease: crate::link::JOG_LEASE,
             reconnect_interval: Duration::from_millis(500),

@@ -91,9 +91,32 @@ impl RmcCore {
         self.round_at += 1;
         if self.round_at > self.axes.len() {
             self.round_at = 0;
-            self.next_round = now + self.config.poll_interval;
+            self.next_round = now + self.round_interval();
         }
         Some(purpose)
+    }
+
+    /// The time to the next status round: the fast one while anything moves, is owed or
+    /// awaited (or no status is known), the idle one else.
+    fn round_interval(&self) -> std::time::Duration {
+        let moving = |s: &crate::rmc::AxisStatus| {
+            !s.bits.tg_done() || s.target_velocity != 0.0 || s.actual_velocity != 0.0
+        };
+        let busy = !self.queue.is_empty()
+            || self.axes.iter().any(|a| {
+                a.chain.is_some()
+                    || a.awaiting.is_some()
+                    || a.may_move
+                    || a.stop_owed
+                    || a.last.as_ref().is_none_or(moving)
+            });
+        if busy {
+            self.config.poll_interval
+        } else {
+            self.config
+                .idle_poll_interval
+                .max(self.config.poll_interval)
+        }
     }
 
     pub(super) fn request_of(&mut self, purpose: Purpose) -> Request {
@@ -135,6 +158,8 @@ impl RmcCore {
         else {
             return;
         };
+        // Its ACK is read within a fast round, however still the axes stood.
+        self.next_round = self.next_round.min(now + self.config.poll_interval);
         let Some(a) = self.axis(axis) else {
             return;
         };

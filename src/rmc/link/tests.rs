@@ -386,3 +386,38 @@ fn every_frame_is_reported_for_the_log_and_a_lost_reply_as_a_time_out() {
     assert_eq!(sent, b.wire.len(), "every request written is reported");
     assert_eq!(timeouts, 1, "the lost write reply, once");
 }
+
+#[test]
+fn still_axes_are_polled_slowly_and_a_command_brings_the_fast_rounds_back() {
+    let mut b = Bench::enabled();
+    b.run_for(2 * SECOND, None);
+    let reads_between = |b: &Bench, from: std::time::Instant, to: std::time::Instant| {
+        b.wire
+            .iter()
+            .filter(|(at, r)| {
+                *at >= from
+                    && *at < to
+                    && matches!(r, crate::rmc::modbus::Request::Read { count: 116, address }
+                        if *address == axis(0).status_block())
+            })
+            .count()
+    };
+    let idle = reads_between(&b, b.now - SECOND, b.now);
+    assert!(
+        (9..=11).contains(&idle),
+        "{idle} reads of a still axis in 1 s"
+    );
+    let sent_at = b.now;
+    b.send(axis(0), move_by(50.0, RelativeTo::Command));
+    b.run_for(Duration::from_millis(500), None);
+    let moving = reads_between(&b, sent_at, b.now);
+    assert!(moving >= 20, "{moving} reads of a moving axis in 0.5 s");
+    // The ACK was read within a fast round of the write.
+    let acked = b
+        .events
+        .iter()
+        .find(|(at, e)| *at >= sent_at && matches!(e, RmcEvent::Acknowledged { .. }))
+        .map(|(at, _)| *at - sent_at)
+        .unwrap();
+    assert!(acked <= Duration::from_millis(45), "ACK after {acked:?}");
+}

@@ -13,7 +13,8 @@ use super::controller::{RmcConfig, RmcController};
 
 /// Connections served at once (RMC.md section 1: up to 64); one more is closed at once.
 pub const MAX_CONNECTIONS: usize = 64;
-/// How often the listener looks for a shutdown, and a connection's read timeout.
+/// How often a connection looks for a shutdown (its read timeout), and the listener's
+/// pause after a failed accept.
 const POLL: Duration = Duration::from_millis(20);
 /// A client that takes longer than this to take a reply is dropped.
 const WRITE_TIMEOUT: Duration = Duration::from_secs(2);
@@ -31,8 +32,9 @@ pub enum ServerEvent {
 /// Called from the server's threads with each [`ServerEvent`].
 pub type EventLog = Arc<dyn Fn(ServerEvent) + Send + Sync>;
 
-/// A running server; dropping it stops accepting, closes every connection and joins the
-/// threads (within a poll interval, 20 ms).
+/// A running server; dropping it stops accepting (the listener blocks in accept and is
+/// woken by a connection of its own), closes every connection and joins the threads
+/// (within a poll interval, 20 ms).
 pub struct RmcServer {
     addr: SocketAddr,
     stop: Arc<AtomicBool>,
@@ -79,7 +81,7 @@ impl RmcServer {
         log: Option<EventLog>,
     ) -> io::Result<RmcServer> {
         let addr = listener.local_addr()?;
-        listener.set_nonblocking(true)?;
+        listener.set_nonblocking(false)?;
         let shared = Shared {
             stop: Arc::new(AtomicBool::new(false)),
             open: Arc::new(AtomicUsize::new(0)),
@@ -132,6 +134,16 @@ impl Drop for RmcServer {
     fn drop(&mut self) {
         self.stop.store(true, Ordering::SeqCst);
         if let Some(thread) = self.listener.take() {
+            // Wakes the listener from accept: it sees the flag and ends. (A listener on
+            // every address is reached on loopback.)
+            let mut wake = self.addr;
+            if wake.ip().is_unspecified() {
+                wake.set_ip(match wake {
+                    SocketAddr::V4(_) => std::net::Ipv4Addr::LOCALHOST.into(),
+                    SocketAddr::V6(_) => std::net::Ipv6Addr::LOCALHOST.into(),
+                });
+            }
+            let _ = std::net::TcpStream::connect_timeout(&wake, Duration::from_secs(1));
             let _ = thread.join();
         }
     }
@@ -142,6 +154,7 @@ fn accept_loop(listener: &TcpListener, shared: &Shared) {
     let mut threads: Vec<JoinHandle<()>> = Vec::new();
     while !shared.stop.load(Ordering::SeqCst) {
         match listener.accept() {
+            Ok(_) if shared.stop.load(Ordering::SeqCst) => break,
             Ok((stream, peer)) => {
                 threads.retain(|t| !t.is_finished());
                 if shared.open.load(Ordering::SeqCst) >= MAX_CONNECTIONS {
@@ -167,8 +180,8 @@ fn accept_loop(listener: &TcpListener, shared: &Shared) {
                     }
                 }
             }
-            Err(e) if e.kind() == io::ErrorKind::WouldBlock => std::thread::sleep(POLL),
-            // A connection that failed before it was accepted: go on.
+            // A connection that failed before it was accepted (or no descriptor is
+            // free): go on after a pause.
             Err(_) => std::thread::sleep(POLL),
         }
     }
