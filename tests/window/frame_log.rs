@@ -385,3 +385,57 @@ fn a_filter_with_follow_tail_on_fills_the_view_with_matching_rows() {
         drawn(&h)
     );
 }
+
+#[test]
+fn the_splitter_between_rows_and_decode_moves_with_the_pointer() {
+    let mut h = app();
+    step_until(&mut h, "a few rows", |a| log(a).len() >= 6);
+    click(&mut h, "Frame log");
+    click(&mut h, "Pause");
+    // The tools rows hidden: room for the rows and the decode.
+    if h.state().frame_log_panel().tools_shown() {
+        click(&mut h, "Filter, files, raw");
+    }
+    // A sent row in view selected as assistive technology selects it.
+    let shown = h.query_all_by_label_contains(">>").count();
+    assert!(shown >= 1, "no sent row in view");
+    h.query_all_by_label_contains(">>")
+        .nth(shown / 2)
+        .unwrap()
+        .click_accesskit();
+    h.step();
+    h.step();
+    assert!(h.state().frame_log_panel().selected().is_some());
+    let top = |h: &Harness<'_, PendantApp>| h.get_by_label("Close decode").rect().top();
+    let before = top(&h);
+    // Drag the splitter up by 50 px.
+    let from = h.get_by_label("Rows and decode splitter").rect().center();
+    h.event(egui::Event::PointerMoved(from));
+    h.step();
+    h.event(egui::Event::PointerButton {
+        pos: from,
+        button: egui::PointerButton::Primary,
+        pressed: true,
+        modifiers: egui::Modifiers::NONE,
+    });
+    h.step();
+    for k in 1..=5 {
+        h.event(egui::Event::PointerMoved(
+            from - egui::vec2(0.0, 10.0 * k as f32),
+        ));
+        h.step();
+    }
+    h.event(egui::Event::PointerButton {
+        pos: from - egui::vec2(0.0, 50.0),
+        button: egui::PointerButton::Primary,
+        pressed: false,
+        modifiers: egui::Modifiers::NONE,
+    });
+    h.step();
+    assert!(h.state().frame_log_panel().decode_height().is_some());
+    let after = top(&h);
+    assert!(
+        (before - after - 50.0).abs() < 12.0,
+        "the decode's top moved from {before} to {after}"
+    );
+}

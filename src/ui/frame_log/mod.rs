@@ -100,6 +100,32 @@ pub struct FrameLogPanel {
     rows_x: f32,
     /// Drawn this frame showing the live log (new rows are worth waking the window for).
     pub(crate) live_in_sight: bool,
+    /// The decode's height as the splitter left it (None: 60% of the pane).
+    decode_height: Option<f32>,
+}
+
+/// The height of the bar between the rows and the decode (px).
+const SPLITTER: f32 = 8.0;
+
+/// The bar between the rows and the decode: dragged, it moves by the pointer's travel.
+fn splitter(ui: &mut Ui) -> Option<f32> {
+    let (rect, response) = ui.allocate_exact_size(
+        egui::vec2(ui.available_width(), SPLITTER),
+        egui::Sense::drag(),
+    );
+    response.widget_info(|| {
+        egui::WidgetInfo::labeled(egui::Role::Splitter, true, "Rows and decode splitter")
+    });
+    let response = response
+        .on_hover_cursor(egui::CursorIcon::ResizeVertical)
+        .on_hover_text("Drag to share the pane between the rows and the decode");
+    let stroke = if response.hovered() || response.dragged() {
+        ui.visuals().widgets.active.fg_stroke
+    } else {
+        ui.visuals().widgets.noninteractive.bg_stroke
+    };
+    ui.painter().hline(rect.x_range(), rect.center().y, stroke);
+    response.dragged().then(|| response.drag_delta().y)
 }
 
 /// A pane at least this tall shows the tools rows until the user hides them (px).
@@ -131,6 +157,7 @@ impl Default for FrameLogPanel {
             tools_shown: true,
             rows_x: 0.0,
             live_in_sight: false,
+            decode_height: None,
         }
     }
 }
@@ -139,6 +166,16 @@ impl FrameLogPanel {
     /// Shows or hides the filter, file and raw-frame rows (the user's choice from now on).
     pub(super) fn set_tools_open(&mut self, open: bool) {
         self.tools_open = Some(open);
+    }
+
+    /// Whether the filter, file and raw-frame rows are shown.
+    pub fn tools_shown(&self) -> bool {
+        self.tools_shown
+    }
+
+    /// The decode's height as the splitter left it (tests read it).
+    pub fn decode_height(&self) -> Option<f32> {
+        self.decode_height
     }
 
     /// Whether a filter job is still running (tests and benches wait for it).
@@ -293,15 +330,31 @@ impl FrameLogPanel {
             tools::raw_bar(self, ui, pendant, out);
         }
         ui.separator();
-        let share = if self.selected.is_some() { 0.5 } else { 1.0 };
-        let table_height = (ui.available_height() * share).max(80.0);
+        let available = ui.available_height();
+        if self.selected.is_none() {
+            ui.allocate_ui(
+                egui::vec2(ui.available_width(), available.max(80.0)),
+                |ui| {
+                    table::show(self, ui, pendant);
+                },
+            );
+            return;
+        }
+        // The decode below the rows, 60% of the pane unless the splitter was dragged;
+        // the rows keep at least three lines.
+        let rows_min = 3.0 * ui.text_style_height(&egui::TextStyle::Monospace) + 30.0;
+        let decode = self
+            .decode_height
+            .unwrap_or(available * 0.6)
+            .clamp(60.0, (available - rows_min - SPLITTER).max(60.0));
+        let table_height = (available - decode - SPLITTER).max(rows_min);
         ui.allocate_ui(egui::vec2(ui.available_width(), table_height), |ui| {
             table::show(self, ui, pendant);
         });
-        if self.selected.is_some() {
-            ui.separator();
-            detail::show(self, ui, pendant);
+        if let Some(dy) = splitter(ui) {
+            self.decode_height = Some(decode - dy);
         }
+        detail::show(self, ui, pendant);
     }
 
     fn poll_files(&mut self, now: std::time::Instant, out: &mut Vec<Intent>) {
