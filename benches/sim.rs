@@ -5,13 +5,10 @@
 //! median). `cargo bench --bench sim -- --quick` for a short run.
 
 use std::hint::black_box;
-use std::io::{Read, Write};
 use std::time::{Duration, Instant};
 
 use criterion::{Criterion, Throughput};
-use xsel_pendant::line::byte_time_8n1;
-use xsel_pendant::sim::runner::{RunOptions, SimCore, start_pty};
-use xsel_pendant::sim::{Controller, FaultSpec, SimSetup};
+use xsel_pendant::sim::{Controller, SimSetup};
 
 fn frame(body: &str) -> Vec<u8> {
     let sc = body.bytes().fold(0u8, |s, b| s.wrapping_add(b));
@@ -66,53 +63,66 @@ fn motion(c: &mut Criterion) {
     g.finish();
 }
 
-/// Over a pty paced at 115200 baud with a 2 ms reply delay: time from the command's last
-/// byte written to the reply's last byte read, minus the delay, against the wire time.
-fn pacing_timing() {
-    let mut setup = SimSetup::default();
-    setup.config.start_ready = true;
-    let delay = Duration::from_millis(2);
-    setup.config.reply_delay = delay;
-    let opts = RunOptions {
-        pacing: Some(byte_time_8n1(115_200)),
-        ..RunOptions::default()
-    };
-    let server = start_pty(
-        SimCore::new(Controller::new(setup), FaultSpec::none()),
-        opts,
-    )
-    .unwrap();
-    let mut port = serialport::new(&server.path, 115_200)
-        .timeout(Duration::from_millis(200))
-        .open_native()
+/// Reply timing over a pseudo-terminal (Unix only).
+#[cfg(unix)]
+mod pty {
+    use std::io::{Read, Write};
+    use std::time::{Duration, Instant};
+
+    use xsel_pendant::line::byte_time_8n1;
+    use xsel_pendant::sim::runner::{RunOptions, SimCore, start_pty};
+    use xsel_pendant::sim::{Controller, FaultSpec, SimSetup};
+
+    use super::frame;
+
+    /// Over a pty (Unix) paced at 115200 baud with a 2 ms reply delay: time from the command's last
+    /// byte written to the reply's last byte read, minus the delay, against the wire time.
+    pub fn pacing_timing() {
+        let mut setup = SimSetup::default();
+        setup.config.start_ready = true;
+        let delay = Duration::from_millis(2);
+        setup.config.reply_delay = delay;
+        let opts = RunOptions {
+            pacing: Some(byte_time_8n1(115_200)),
+            ..RunOptions::default()
+        };
+        let server = start_pty(
+            SimCore::new(Controller::new(setup), FaultSpec::none()),
+            opts,
+        )
         .unwrap();
-    let mut errors = Vec::new();
-    let mut reply_len = 0;
-    for i in 0..200 {
-        let f = frame(if i % 2 == 0 { "!992A10F0" } else { "!99215" });
-        port.write_all(&f).unwrap();
-        let sent = Instant::now();
-        let mut got = Vec::new();
-        let mut buf = [0u8; 256];
-        while !got.ends_with(b"\n") {
-            let n = port.read(&mut buf).unwrap_or(0);
-            got.extend_from_slice(&buf[..n]);
+        let mut port = serialport::new(&server.path, 115_200)
+            .timeout(Duration::from_millis(200))
+            .open_native()
+            .unwrap();
+        let mut errors = Vec::new();
+        let mut reply_len = 0;
+        for i in 0..200 {
+            let f = frame(if i % 2 == 0 { "!992A10F0" } else { "!99215" });
+            port.write_all(&f).unwrap();
+            let sent = Instant::now();
+            let mut got = Vec::new();
+            let mut buf = [0u8; 256];
+            while !got.ends_with(b"\n") {
+                let n = port.read(&mut buf).unwrap_or(0);
+                got.extend_from_slice(&buf[..n]);
+            }
+            let took = sent.elapsed();
+            let wire = Duration::from_nanos(got.len() as u64 * 10 * 1_000_000_000 / 115_200);
+            reply_len = reply_len.max(got.len());
+            errors.push((took.as_secs_f64() - delay.as_secs_f64() - wire.as_secs_f64()) * 1e3);
+            std::thread::sleep(Duration::from_millis(2));
         }
-        let took = sent.elapsed();
-        let wire = Duration::from_nanos(got.len() as u64 * 10 * 1_000_000_000 / 115_200);
-        reply_len = reply_len.max(got.len());
-        errors.push((took.as_secs_f64() - delay.as_secs_f64() - wire.as_secs_f64()) * 1e3);
-        std::thread::sleep(Duration::from_millis(2));
+        errors.sort_by(|a, b| a.total_cmp(b));
+        let pct = |p: f64| errors[((errors.len() - 1) as f64 * p) as usize];
+        println!(
+            "pacing 115200 baud over a pty, replies up to {reply_len} bytes, 200 transactions: \
+             (measured - delay - wire time) median {:+.3} ms, p90 {:+.3} ms, max {:+.3} ms",
+            pct(0.5),
+            pct(0.9),
+            pct(1.0)
+        );
     }
-    errors.sort_by(|a, b| a.total_cmp(b));
-    let pct = |p: f64| errors[((errors.len() - 1) as f64 * p) as usize];
-    println!(
-        "pacing 115200 baud over a pty, replies up to {reply_len} bytes, 200 transactions: \
-         (measured - delay - wire time) median {:+.3} ms, p90 {:+.3} ms, max {:+.3} ms",
-        pct(0.5),
-        pct(0.9),
-        pct(1.0)
-    );
 }
 
 fn main() {
@@ -123,5 +133,6 @@ fn main() {
     status_queries(&mut c);
     motion(&mut c);
     c.final_summary();
-    pacing_timing();
+    #[cfg(unix)]
+    pty::pacing_timing();
 }

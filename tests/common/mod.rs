@@ -68,6 +68,7 @@ pub fn quiet_config() -> LinkConfig {
 }
 
 /// Link over a serial port (or pty) path that can be reopened.
+#[cfg(unix)]
 pub fn serial_link(path: &str, config: LinkConfig) -> (LinkHandle, Receiver<LinkEvent>) {
     let path = path.to_owned();
     let connector: Connector = Box::new(move |line| {
@@ -77,7 +78,8 @@ pub fn serial_link(path: &str, config: LinkConfig) -> (LinkHandle, Receiver<Link
     spawn(connector, config, std::sync::Arc::new(|_| {})).expect("link thread")
 }
 
-/// A simulator serving a pseudo-terminal (its path in `.path`).
+/// A simulator serving a pseudo-terminal (its path in `.path`; Unix only).
+#[cfg(unix)]
 pub fn pty_server(setup: SimSetup) -> xsel_pendant::sim::runner::PtyServer {
     use xsel_pendant::sim::Controller;
     use xsel_pendant::sim::runner::{RunOptions, SimCore, start_pty};

@@ -223,6 +223,8 @@ fn an_idle_line_without_polling_still_notices_the_loss() {
     );
 }
 
+// A pseudo-terminal: Unix only.
+#[cfg(unix)]
 #[test]
 fn closing_the_pseudo_terminal_gives_disconnected() {
     let server = pty_server(ready_setup(Duration::from_millis(1)));
@@ -242,6 +244,8 @@ fn closing_the_pseudo_terminal_gives_disconnected() {
     assert!(lost.is_some(), "no Disconnected after the pty closed");
 }
 
+// A pseudo-terminal: Unix only.
+#[cfg(unix)]
 #[test]
 fn reconnect_on_request_reopens_the_port_and_polling_resumes() {
     let server = pty_server(ready_setup(Duration::from_millis(1)));

@@ -147,6 +147,7 @@ impl Window {
         }
     }
 
+    #[cfg(unix)]
     fn signal(&self, name: &str) {
         let status = Process::new("kill")
             .args([name, &self.child.id().to_string()])

@@ -117,6 +117,8 @@ fn a_refused_move_is_reported_with_the_controllers_error_code() {
     assert_eq!(code, ErrorCode(0xB04), "B04 = emergency stop active");
 }
 
+// A pseudo-terminal: Unix only.
+#[cfg(unix)]
 #[test]
 fn link_and_simulator_talk_over_a_real_pseudo_terminal() {
     let server = pty_server(ready_setup(Duration::from_millis(2)));

@@ -1,20 +1,59 @@
-#![cfg(unix)]
-//! Conformance of the simulated controller over a real pseudo-terminal, driven by an
-//! independent client: frames are built by hand with the checksum of `tests/wire`, not
-//! with the project's protocol encoder, so the two implementations check each other.
+//! Conformance of the simulated controller driven by an independent client, over a real
+//! pseudo-terminal (Unix) and over TCP (everywhere, Windows too): frames are built by hand
+//! with the checksum of `tests/wire`, not with the project's protocol encoder, so the two
+//! implementations check each other. Each test runs on both lines (`_over_pty`,
+//! `_over_tcp`); what a pty alone shows (the real binary's `--pty`) runs on a pty only.
 
 use std::io::{Read, Write};
 use std::time::{Duration, Instant};
 
-use serialport::TTYPort;
-use xsel_pendant::sim::runner::{PtyServer, RunOptions, SimCore, start_pty};
+#[cfg(unix)]
+use xsel_pendant::sim::runner::{PtyServer, start_pty};
+use xsel_pendant::sim::runner::{RunOptions, SimCore, SimHandle, TcpServer, start_tcp};
 use xsel_pendant::sim::{Controller, FaultSpec, Mode, SimSetup};
 
 use crate::wire::{frame, sc};
 
+/// The line a test talks over.
+#[derive(Clone, Copy, Debug)]
+enum Line {
+    #[cfg(unix)]
+    Pty,
+    Tcp,
+}
+
+/// The client's end: a pty or a TCP stream, reads time out after 20 ms.
+trait Port: Read + Write + Send {}
+impl<T: Read + Write + Send> Port for T {}
+
+/// The simulator serving the line (kept alive with the client).
+enum Server {
+    #[cfg(unix)]
+    Pty(PtyServer),
+    Tcp(TcpServer),
+}
+
 struct Client {
-    port: TTYPort,
-    server: PtyServer,
+    port: Box<dyn Port>,
+    server: Server,
+}
+
+/// Generates `NAME_over_pty` (Unix) and `NAME_over_tcp` from `fn NAME(line: Line)`.
+macro_rules! on_both_lines {
+    ($name:ident) => {
+        mod $name {
+            #[cfg(unix)]
+            #[test]
+            fn over_pty() {
+                super::$name(super::Line::Pty);
+            }
+
+            #[test]
+            fn over_tcp() {
+                super::$name(super::Line::Tcp);
+            }
+        }
+    };
 }
 
 fn fast_setup() -> SimSetup {
@@ -26,7 +65,8 @@ fn fast_setup() -> SimSetup {
     s
 }
 
-fn open(path: &str) -> TTYPort {
+#[cfg(unix)]
+fn open(path: &str) -> serialport::TTYPort {
     serialport::new(path, 115_200)
         .timeout(Duration::from_millis(20))
         .open_native()
@@ -34,11 +74,39 @@ fn open(path: &str) -> TTYPort {
 }
 
 impl Client {
-    fn start(setup: SimSetup) -> Client {
+    fn start(line: Line, setup: SimSetup) -> Client {
         let core = SimCore::new(Controller::new(setup), FaultSpec::none());
-        let server = start_pty(core, RunOptions::default()).expect("pty");
-        let port = open(&server.path);
-        Client { port, server }
+        match line {
+            #[cfg(unix)]
+            Line::Pty => {
+                let server = start_pty(core, RunOptions::default()).expect("pty");
+                let port = open(&server.path);
+                Client {
+                    port: Box::new(port),
+                    server: Server::Pty(server),
+                }
+            }
+            Line::Tcp => {
+                let server = start_tcp(core, "127.0.0.1:0", RunOptions::default()).expect("tcp");
+                let port = std::net::TcpStream::connect(server.addr).expect("connect");
+                port.set_read_timeout(Some(Duration::from_millis(20)))
+                    .expect("read timeout");
+                port.set_nodelay(true).expect("no delay");
+                Client {
+                    port: Box::new(port),
+                    server: Server::Tcp(server),
+                }
+            }
+        }
+    }
+
+    /// The simulator's handle (counters, the operator's switches).
+    fn sim(&self) -> &SimHandle {
+        match &self.server {
+            #[cfg(unix)]
+            Server::Pty(s) => &s.handle,
+            Server::Tcp(s) => &s.handle,
+        }
     }
 
     fn send_raw(&mut self, bytes: &[u8]) {
@@ -159,9 +227,9 @@ fn i32hex(v: i32) -> String {
     format!("{:08X}", v as u32)
 }
 
-#[test]
-fn framing_checksum_and_at_at() {
-    let mut c = Client::start(fast_setup());
+on_both_lines!(framing_checksum_and_at_at);
+fn framing_checksum_and_at_at(line: Line) {
+    let mut c = Client::start(line, fast_setup());
     assert_eq!(c.cmd("!99200"), "#9920027");
     assert_eq!(
         c.cmd("!992000123456789"),
@@ -178,9 +246,9 @@ fn framing_checksum_and_at_at() {
     assert_eq!(c.cmd("!99200"), "#9920027");
 }
 
-#[test]
-fn silence_on_wrong_station_header_checksum_or_terminator() {
-    let mut c = Client::start(fast_setup());
+on_both_lines!(silence_on_wrong_station_header_checksum_or_terminator);
+fn silence_on_wrong_station_header_checksum_or_terminator(line: Line) {
+    let mut c = Client::start(line, fast_setup());
     assert!(c.silent(&frame("!98215")), "wrong station");
     assert!(c.silent(&frame("#99215")), "wrong header");
     assert!(c.silent(b"!99215FF\r\n"), "wrong checksum");
@@ -189,15 +257,15 @@ fn silence_on_wrong_station_header_checksum_or_terminator() {
     assert!(c.silent(b"!99215\r\n"), "no SC");
     // Still alive and answering afterwards.
     assert_eq!(c.cmd("!99215"), "#9921510000000000060004");
-    let n = c.server.handle.counters();
+    let n = c.sim().counters();
     assert!(n.silent_station >= 1 && n.silent_checksum >= 1, "{n:?}");
 }
 
-#[test]
-fn every_message_is_answered_with_its_layout() {
+on_both_lines!(every_message_is_answered_with_its_layout);
+fn every_message_is_answered_with_its_layout(line: Line) {
     let mut setup = fast_setup();
     setup.config.linear_axes = 1;
-    let mut c = Client::start(setup);
+    let mut c = Client::start(line, setup);
     let lens = |r: &str| r.len();
     // 201H: 31 characters before SC.
     let r = c.cmd("!99201000");
@@ -303,11 +371,11 @@ fn every_message_is_answered_with_its_layout() {
     assert_eq!(c.cmd("!99299"), err("A01"));
 }
 
-#[test]
-fn relative_ptp_and_cp_moves_change_work_positions_by_exactly_the_delta() {
-    let mut c = Client::start(fast_setup());
-    assert!(c.server.handle.select_work(2));
-    assert!(c.server.handle.select_tool(1));
+on_both_lines!(relative_ptp_and_cp_moves_change_work_positions_by_exactly_the_delta);
+fn relative_ptp_and_cp_moves_change_work_positions_by_exactly_the_delta(line: Line) {
+    let mut c = Client::start(line, fast_setup());
+    assert!(c.sim().select_work(2));
+    assert!(c.sim().select_tool(1));
     c.servo_and_home();
     let r = c.cmd("!992A10F1");
     assert_eq!(
@@ -346,14 +414,14 @@ fn relative_ptp_and_cp_moves_change_work_positions_by_exactly_the_delta() {
             );
         }
     }
-    let n = c.server.handle.counters();
+    let n = c.sim().counters();
     assert_eq!(n.motion_started, 4); // home + 3 moves
     assert_eq!(n.motion_completed, 4);
 }
 
-#[test]
-fn stop_mid_move_ends_short_and_not_completed() {
-    let mut c = Client::start(fast_setup());
+on_both_lines!(stop_mid_move_ends_short_and_not_completed);
+fn stop_mid_move_ends_short_and_not_completed(line: Line) {
+    let mut c = Client::start(line, fast_setup());
     c.servo_and_home();
     let (_, before) = c.scara(0);
     // CP, Y -150 mm at 50 mm/s: 3 s.
@@ -378,7 +446,7 @@ fn stop_mid_move_ends_short_and_not_completed() {
         "moved {moved} µm of 150 mm"
     );
     assert_eq!(after[0], before[0], "a CP line in Y keeps X");
-    let n = c.server.handle.counters();
+    let n = c.sim().counters();
     assert_eq!(n.motion_cancelled, 1);
     // Jog until STOP, then an inching step in the each-axis system.
     assert_eq!(c.cmd(&jog(1, 20, 0, 1)), "#9923630");
@@ -394,9 +462,9 @@ fn stop_mid_move_ends_short_and_not_completed() {
     assert_eq!(j1[0] - j0[0], 1_000, "J1 +1.000 deg");
 }
 
-#[test]
-fn moves_out_of_reach_or_range_are_refused_and_the_arm_stays() {
-    let mut c = Client::start(fast_setup());
+on_both_lines!(moves_out_of_reach_or_range_are_refused_and_the_arm_stays);
+fn moves_out_of_reach_or_range_are_refused_and_the_arm_stays(line: Line) {
+    let mut c = Client::start(line, fast_setup());
     c.servo_and_home();
     let (_, before) = c.scara(0);
     let (_, joints_before) = c.scara(3);
@@ -430,13 +498,13 @@ fn moves_out_of_reach_or_range_are_refused_and_the_arm_stays() {
     }
     std::thread::sleep(Duration::from_millis(100));
     assert_eq!(c.scara(3).1, joints_before);
-    let n = c.server.handle.counters();
+    let n = c.sim().counters();
     assert_eq!(n.motion_refused, refusals.len() as u64);
 }
 
-#[test]
-fn coordinate_queries_are_limited_to_the_reply_buffer() {
-    let mut c = Client::start(fast_setup());
+on_both_lines!(coordinate_queries_are_limited_to_the_reply_buffer);
+fn coordinate_queries_are_limited_to_the_reply_buffer(line: Line) {
+    let mut c = Client::start(line, fast_setup());
     // 2A4H, tool table (128 entries), ask for 100: 63 fit in 2048 bytes.
     c.send_raw(&frame("!992A40F10064"));
     let r = check_reply(&c.read_reply(Duration::from_secs(2)).unwrap());
@@ -454,14 +522,14 @@ fn coordinate_queries_are_limited_to_the_reply_buffer() {
     // A J/K/TT reply buffer of 1024 bytes: 31 records.
     let mut setup = fast_setup();
     setup.config.reply_buffer = 1024;
-    let mut small = Client::start(setup);
+    let mut small = Client::start(line, setup);
     let r = small.cmd("!992A40F10064");
     assert_eq!(&r[11..13], "1F");
 }
 
-#[test]
-fn error_replies_name_the_reason() {
-    let mut c = Client::start(fast_setup());
+on_both_lines!(error_replies_name_the_reason);
+fn error_replies_name_the_reason(line: Line) {
+    let mut c = Client::start(line, fast_setup());
     let mv = format!("!992D50100000000000002{}", i32hex(1_000));
     assert_eq!(c.cmd("!99999"), err("A01"));
     assert_eq!(c.cmd("!99215FF"), err("A02"));
@@ -486,20 +554,20 @@ fn error_replies_name_the_reason() {
         err("B0A"),
         "no position 99"
     );
-    c.server.handle.set_mode(Mode::Manual);
+    c.sim().set_mode(Mode::Manual);
     assert_eq!(c.cmd(&mv), err("B05"));
     assert_eq!(c.cmd("!99215")[6..7], *"2");
-    c.server.handle.set_mode(Mode::Auto);
-    c.server.handle.set_emergency_stop(true);
+    c.sim().set_mode(Mode::Auto);
+    c.sim().set_emergency_stop(true);
     assert_eq!(c.cmd(&mv), err("B04"));
     let r = c.cmd("!99215");
     assert_eq!(hex(&r[13..15]) & 0x08, 0x08, "E-stop bit: {r}");
     let (st, _) = c.scara(0);
     assert!(st.iter().all(|s| s & 0x08 == 0), "servo off under E-stop");
-    c.server.handle.set_emergency_stop(false);
+    c.sim().set_emergency_stop(false);
     assert_eq!(c.cmd("!992320F1"), "#992322C");
     c.wait_idle();
-    c.server.handle.raise_alarm(0xD0A, Some(2));
+    c.sim().raise_alarm(0xD0A, Some(2));
     assert_eq!(c.cmd(&mv), err("B07"));
     let r = c.cmd("!99215");
     assert_eq!(&r[7..10], "D0A", "critical error: {r}");
@@ -514,6 +582,7 @@ fn error_replies_name_the_reason() {
     );
 }
 
+#[cfg(unix)]
 #[test]
 fn the_real_binary_serves_a_pty() {
     let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_xsel-sim"))
