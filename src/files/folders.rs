@@ -14,14 +14,18 @@ pub fn default_folder(last: Option<&Path>) -> PathBuf {
         .unwrap_or_else(|| PathBuf::from("."))
 }
 
-/// The full path of what the user typed: absolute as typed, `~/` from home, else in
-/// `folder`.
+/// The full path of what the user typed: absolute as typed, `~/` (and on Windows `~\`)
+/// from home, else in `folder`.
 pub fn resolve(typed: &str, folder: &Path) -> Result<PathBuf, String> {
     let typed = typed.trim();
     if typed.is_empty() {
         return Err("type a file name or choose one with Browse...".into());
     }
-    let path = match typed.strip_prefix("~/").zip(home()) {
+    // `~/` from home; on Windows `~\` too.
+    let rest = typed
+        .strip_prefix("~/")
+        .or_else(|| typed.strip_prefix("~\\").filter(|_| cfg!(windows)));
+    let path = match rest.zip(home()) {
         Some((rest, home)) => home.join(rest),
         None => folder.join(typed),
     };

@@ -13,6 +13,15 @@ use std::io::Read;
 use job::Ctl;
 use std::path::Path;
 
+/// CSV as the pendant writes it, for Excel as much as for programs: a UTF-8 byte order
+/// mark first and CR LF line ends (RFC 4180's, and Excel's own) [I: Excel on Windows takes
+/// a CSV without the mark as the system's code page, so `Überführung` would not read back
+/// as written]. Every CSV reader of the pendant takes files with or without either.
+pub mod csv_style {
+    pub const BOM: &str = "\u{feff}";
+    pub const EOL: &str = "\r\n";
+}
+
 /// The most a teach list or coordinate-table file may hold (10,000 points are about
 /// 1 MB as CSV).
 pub const DOCUMENT_LIMIT: u64 = 8 * 1024 * 1024;

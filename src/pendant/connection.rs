@@ -66,10 +66,14 @@ pub fn open_hint(reason: &crate::link::LineDownReason) -> Option<&'static str> {
     if e.kind == ErrorKind::NotFound
         || detail.contains("no such file")
         || detail.contains("not found")
+        || detail.contains("cannot find the file")
     {
-        return Some(
-            "the port does not exist: check the cable and the name (Refresh lists the ports)",
-        );
+        return Some(if cfg!(windows) {
+            "the port does not exist: check the cable, and the port's COM number in Device \
+             Manager under Ports (COM & LPT) (Refresh lists the ports)"
+        } else {
+            "the port does not exist: check the cable and the name (Refresh lists the ports)"
+        });
     }
     if e.kind == ErrorKind::ConnectionRefused || e.kind == ErrorKind::TimedOut {
         return Some(

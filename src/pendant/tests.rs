@@ -508,7 +508,9 @@ fn a_point_taught_with_rmc_axes_goes_there_with_move_absolute_or_not_at_all() {
     assert_eq!(point.axes, vec![12_345, 0], "Command Positions in 0.001 pu");
     // The CSV and JSON files keep them.
     let csv = p.teach.list().to_csv();
-    assert!(csv.starts_with("name,x_mm,y_mm,z_mm,r_deg,arm,work,tool,axis1_pu,axis2_pu\n"));
+    assert!(
+        csv.starts_with("\u{feff}name,x_mm,y_mm,z_mm,r_deg,arm,work,tool,axis1_pu,axis2_pu\r\n")
+    );
     assert_eq!(
         crate::pendant::teach::TeachList::from_csv(&csv).unwrap(),
         *p.teach.list()

@@ -63,7 +63,12 @@ impl ConnectionPanel {
                                         );
                                     }
                                     if self.ports.ports.is_empty() {
-                                        ui.label("no serial ports found");
+                                        ui.label(if cfg!(windows) {
+                                            "no COM ports found: Device Manager lists them \
+                                             under Ports (COM & LPT)"
+                                        } else {
+                                            "no serial ports found"
+                                        });
                                     }
                                 })
                                 .response

@@ -122,12 +122,9 @@ fn a_step_is_plotted_paused_zoomed_cursored_and_exported_as_csv_and_png() {
     let rows = series.rows_between(secs(from), secs(to));
     let lines: Vec<&str> = text.lines().skip(1).collect();
     assert_eq!(lines.len(), rows.len(), "one line per polled sample");
-    assert!(
-        text.lines()
-            .next()
-            .unwrap()
-            .starts_with("time_s,Axis 1 Target Position (pu)")
-    );
+    // A byte order mark and CR LF line ends, for Excel (`files::csv_style`).
+    assert!(text.starts_with("\u{feff}time_s,Axis 1 Target Position (pu)"));
+    assert!(text.ends_with("\r\n"));
     for (line, row) in lines.iter().zip(rows.clone()) {
         let cell: f32 = line.split(',').nth(1).unwrap().parse().unwrap();
         assert_eq!(cell.to_bits(), series.raw(row, channel).unwrap(), "{line}");

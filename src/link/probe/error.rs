@@ -97,6 +97,9 @@ fn permission_hint() -> &'static str {
          out and in again"
     } else if cfg!(target_os = "macos") {
         "check the device's permissions"
+    } else if cfg!(windows) {
+        "check in Device Manager that the port is there and enabled, and that no other \
+         program holds it"
     } else {
         "check that this user may use the port"
     }

@@ -1,12 +1,14 @@
-//! Plots as CSV: the shown channels over the shown time, one row per poll with the exact
-//! polled values; and a capture, with its trigger and roles in `#` lines above its
-//! samples, read back whole (for `--plot-png` and to compare moves later).
+//! Plots as CSV (`files::csv_style`: a byte order mark, CR LF): the shown channels over
+//! the shown time, one row per poll with the exact polled values; and a capture, with its
+//! trigger and roles in `#` lines above its samples, read back whole (for `--plot-png` and
+//! to compare moves later).
 
 use std::io::{self, BufRead, Write};
 
 use super::capture::{Capture, Roles};
 use super::view::{TraceChoice, exact_text};
 use super::{Channel, Encoding, SampleStore};
+use crate::files::csv_style::{BOM, EOL};
 
 /// The first line of a saved capture.
 const CAPTURE_MAGIC: &str = "# xsel-pendant capture 1";
@@ -42,7 +44,7 @@ pub fn write_shown(
         .iter()
         .map(|(c, (s, ch))| heading(&c.label(), &s.channels[*ch]))
         .collect();
-    writeln!(out, "time_s,{}", headings.join(","))?;
+    write!(out, "{BOM}time_s,{}{EOL}", headings.join(","))?;
     // Each series once, with the columns it fills.
     let mut series: Vec<&super::Series> = Vec::new();
     for (_, (s, _)) in &found {
@@ -72,7 +74,7 @@ pub fn write_shown(
                 line.push_str(&exact_text(s.encoding, &s.channels[*ch], v));
             }
         }
-        writeln!(out, "{line}")?;
+        write!(out, "{line}{EOL}")?;
     }
     out.flush()?;
     Ok(rows.len() as u64)
@@ -81,26 +83,26 @@ pub fn write_shown(
 /// Writes a capture: its `#` lines, a heading, one line per sample (seconds from the
 /// trigger, then every channel).
 pub fn write_capture(out: &mut impl Write, c: &Capture) -> io::Result<()> {
-    writeln!(out, "{CAPTURE_MAGIC}")?;
-    writeln!(out, "# label,{}", c.label.replace(['\n', '\r'], " "))?;
-    writeln!(out, "# series,{}", c.series.replace(['\n', '\r'], " "))?;
-    writeln!(out, "# trigger_s,{}", c.trigger_s)?;
+    write!(out, "{BOM}{CAPTURE_MAGIC}{EOL}")?;
+    write!(out, "# label,{}{EOL}", c.label.replace(['\n', '\r'], " "))?;
+    write!(out, "# series,{}{EOL}", c.series.replace(['\n', '\r'], " "))?;
+    write!(out, "# trigger_s,{}{EOL}", c.trigger_s)?;
     let encoding = match c.encoding {
         Encoding::Real => "real",
         Encoding::Milli => "milli",
     };
-    writeln!(out, "# encoding,{encoding}")?;
+    write!(out, "# encoding,{encoding}{EOL}")?;
     let role = |r: Option<usize>| r.map_or(String::new(), |i| i.to_string());
-    writeln!(
+    write!(
         out,
-        "# roles,{},{},{},{}",
+        "# roles,{},{},{},{}{EOL}",
         c.roles.actual,
         role(c.roles.command),
         role(c.roles.in_position),
         role(c.roles.phase)
     )?;
     let headings: Vec<String> = c.channels.iter().map(|ch| heading(&ch.name, ch)).collect();
-    writeln!(out, "time_s,{}", headings.join(","))?;
+    write!(out, "time_s,{}{EOL}", headings.join(","))?;
     for (i, t) in c.times.iter().enumerate() {
         let mut line = format!("{t:.9}");
         for (ch, values) in c.channels.iter().zip(&c.values) {
@@ -109,7 +111,7 @@ pub fn write_capture(out: &mut impl Write, c: &Capture) -> io::Result<()> {
                 line.push_str(&exact_text(c.encoding, ch, *v));
             }
         }
-        writeln!(out, "{line}")?;
+        write!(out, "{line}{EOL}")?;
     }
     out.flush()
 }
@@ -120,7 +122,9 @@ pub fn read_capture(input: impl BufRead) -> Result<Capture, String> {
     let mut next = || -> Result<Option<(usize, String)>, String> {
         match lines.next() {
             None => Ok(None),
-            Some((i, Ok(l))) if l.len() <= MAX_LINE => Ok(Some((i + 1, l))),
+            Some((i, Ok(l))) if l.len() <= MAX_LINE => {
+                Ok(Some((i + 1, l.trim_end_matches('\r').to_string())))
+            }
             Some((i, Ok(_))) => Err(format!("line {}: longer than {MAX_LINE} bytes", i + 1)),
             Some((i, Err(e))) => Err(format!("line {}: {e}", i + 1)),
         }

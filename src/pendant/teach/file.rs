@@ -14,6 +14,7 @@
 //! -150000, 20000, 45000], "arm": "right", "work": 0, "tool": 0}]}` (wire units), read
 //! in `teach_json`.
 
+use crate::files::csv_style::{BOM, EOL};
 use std::collections::HashMap;
 use std::fmt;
 
@@ -65,13 +66,15 @@ impl fmt::Display for FileError {
 impl std::error::Error for FileError {}
 
 impl TeachList {
-    /// The list as CSV (header first, one point a line, LF line ends).
+    /// The list as CSV: a byte order mark, the header, one point a line, CR LF line ends
+    /// (`files::csv_style`).
     pub fn to_csv(&self) -> String {
-        let mut out = String::with_capacity(CSV_HEADER.len() + 1 + 64 * self.len());
+        let mut out = String::with_capacity(CSV_HEADER.len() + 4 + 64 * self.len());
+        out.push_str(BOM);
         // RMC axes' columns, as many as the point with the most (none: the plain header).
         let axes = self.iter().map(|p| p.axes.len()).max().unwrap_or(0);
         out.push_str(&header_line(axes));
-        out.push('\n');
+        out.push_str(EOL);
         for p in self {
             push_csv_text(&mut out, &p.name);
             for v in p.pose {
@@ -87,7 +90,7 @@ impl TeachList {
                     out.push_str(&Milli(*v).to_string());
                 }
             }
-            out.push('\n');
+            out.push_str(EOL);
         }
         out
     }
