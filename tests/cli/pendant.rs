@@ -69,6 +69,8 @@ fn a_line_that_cannot_be_opened_is_reported_at_once() {
     }
 }
 
+/// Where a window needs X11 or Wayland (Linux, the BSDs), none opens without them.
+#[cfg(all(unix, not(target_os = "macos")))]
 #[test]
 fn with_no_display_the_window_says_to_use_headless() {
     for args in [vec![], vec!["--sim", "--baud", "9600"]] {
@@ -84,6 +86,22 @@ fn with_no_display_the_window_says_to_use_headless() {
         );
         assert_no_panic(&run.stderr);
     }
+}
+
+/// Windows needs no DISPLAY: without one the window opens (under Wine, on Wine's own
+/// display) and runs until it is closed, killed here; it is not refused.
+#[cfg(windows)]
+#[test]
+fn on_windows_the_window_opens_without_a_display_variable() {
+    let run = run(PENDANT, &["--no-rmc"], Duration::from_secs(8));
+    assert!(
+        run.status.is_none(),
+        "the window ran until it was closed: {:?} {}",
+        run.status,
+        run.stderr
+    );
+    assert!(!run.stderr.contains("no display"), "{}", run.stderr);
+    assert_no_panic(&run.stderr);
 }
 
 #[test]
