@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use crate::cli::Args;
 use crate::pendant::samples::view::capture_trace;
 use crate::render::paint_png::PngPainter;
-use crate::render::plot::{PlotLine, PlotPicture, plot_png};
+use crate::render::plot::plot_png;
 use crate::render::{Ghost, GhostCheck, Palette, SceneInput, build_scene};
 use crate::robot::{Arm, Joints, Pose, Scara};
 
@@ -164,30 +164,23 @@ fn plot(args: &Args) -> Result<String, String> {
     let traces: Vec<_> = capture
         .channels
         .iter()
-        .filter_map(|c| capture_trace(&capture, &c.name, c.name.clone()))
+        .enumerate()
+        .filter_map(|(i, c)| capture_trace(&capture, &c.name, c.name.clone()).map(|t| (i, t)))
         .collect();
-    let picture = PlotPicture {
-        title: format!("{} ({})", capture.label, capture.series),
-        x_label: "seconds from the trigger",
-        x_range: (
-            capture.times.first().copied().unwrap_or(0.0),
-            capture.times.last().copied().unwrap_or(1.0),
-        ),
-        lines: traces
-            .iter()
-            .enumerate()
-            .map(|(i, t)| PlotLine {
-                label: &t.label,
-                unit: &t.unit,
-                step: t.step,
-                top: t.top,
-                points: &t.points,
-                colour: i,
-            })
-            .collect(),
-        cursors: Vec::new(),
-        light: args.light,
-    };
+    let x_range = (
+        capture.times.first().copied().unwrap_or(0.0),
+        capture.times.last().copied().unwrap_or(1.0),
+    );
+    let title = format!("{} ({})", capture.label, capture.series);
+    // The picture as the Plots pane's export paints it.
+    let picture = crate::ui::plots::picture(
+        &title,
+        "seconds from the trigger",
+        x_range,
+        &traces,
+        Vec::new(),
+        args.light,
+    );
     let png = plot_png(&picture, w, h).map_err(|e| e.to_string())?;
     crate::files::write_whole(out, &png).map_err(|e| format!("--plot-png: {e}"))?;
     let s = capture.summary;

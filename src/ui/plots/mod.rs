@@ -6,6 +6,8 @@
 mod captures;
 mod export;
 
+pub use export::picture;
+
 use std::collections::BTreeSet;
 use std::time::{Duration, Instant};
 
