@@ -66,7 +66,7 @@ fn hour_of_samples(now: Instant) -> Polled {
                 0,
                 90_000,
             ];
-            p.xsel_work(at, pose);
+            p.xsel_work(at, pose, true, 0);
         }
     }
     p

@@ -405,3 +405,36 @@ fn the_speed_cap_limits_the_speed_a_jog_sends() {
         }
     );
 }
+
+#[test]
+fn each_poll_records_the_work_position_joints_in_position_and_phase_for_the_plots() {
+    let now = Instant::now();
+    let mut p = continuous(now);
+    poll(&mut p, now + FRAME, ready_system());
+    let store = &p.samples.store;
+    let work = store.series(p.samples.xsel_series()).unwrap();
+    let last = work.len() - 1;
+    let joints = store
+        .all()
+        .iter()
+        .find(|s| s.name == "X-SEL joints")
+        .unwrap();
+    // The joint poll's J2 and J3 exactly as polled; the work poll's in-position bit and
+    // the pendant's phase (standing: idle) beside its position.
+    assert_eq!(joints.value(joints.len() - 1, 1), Some(60.0));
+    assert_eq!(joints.value(joints.len() - 1, 2), Some(50.0));
+    assert_eq!(
+        work.value(
+            last,
+            crate::pendant::samples::polled::xsel_channel::MOTION_PHASE
+        ),
+        Some(0.0)
+    );
+    assert!(
+        work.value(
+            last,
+            crate::pendant::samples::polled::xsel_channel::IN_POSITION
+        )
+        .is_some()
+    );
+}

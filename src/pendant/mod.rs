@@ -458,21 +458,30 @@ impl Pendant {
                 self.controller.system = Some(controller::Stamped { value: s, at: now });
             }
             Reply::ScaraStatus(s) => {
-                if s.common.system == crate::protocol::PositionSystem::Work {
-                    let mut pose = [0i32; 4];
-                    for (i, slot) in pose.iter_mut().enumerate() {
-                        let axis = crate::protocol::Axis::from_index(i as u8);
-                        if let Some(a) = axis.and_then(|axis| s.axes.get(axis)) {
-                            *slot = a.position.0;
-                        }
+                let mut values = [0i32; 4];
+                for (i, slot) in values.iter_mut().enumerate() {
+                    let axis = crate::protocol::Axis::from_index(i as u8);
+                    if let Some(a) = axis.and_then(|axis| s.axes.get(axis)) {
+                        *slot = a.position.0;
                     }
-                    self.samples.xsel_work(now, pose);
+                }
+                let system = s.common.system;
+                if system == crate::protocol::PositionSystem::Joint {
+                    self.samples.xsel_joints(now, values);
+                }
+                if system == crate::protocol::PositionSystem::Work {
                     let old = self.controller.work.as_ref().map(|o| &o.value.axes);
                     for (level, text) in transitions::axes(old, &s.axes) {
                         self.say(level, text, now);
                     }
                 }
                 self.controller.scara_status(s, now);
+                if system == crate::protocol::PositionSystem::Work {
+                    // In position and the phase as the pendant reads them with this poll in.
+                    let in_position = self.in_position().unwrap_or(false);
+                    let phase = samples::polled::phase_level(self.motion_phase(now));
+                    self.samples.xsel_work(now, values, in_position, phase);
+                }
             }
             Reply::Version(v) => self.controller.version = Some(v),
             Reply::Ack(_) => match command {

@@ -18,6 +18,9 @@ const MAX_LINE: usize = 64 * 1024;
 
 /// A column's heading: `Axis 1 Actual Position (pu)`, `Axis 1 In Position (level)`.
 fn heading(label: &str, channel: &Channel) -> String {
+    if channel.step && channel.top > 1 {
+        return format!("{label} (level 0-{})", channel.top);
+    }
     let unit = if channel.step {
         "level"
     } else {
@@ -185,6 +188,8 @@ pub fn read_capture(input: impl BufRead) -> Result<Capture, String> {
                 .map_or((h, ""), |(n, u)| (n, u.trim_end_matches(')')));
             if unit == "level" {
                 Channel::level(name)
+            } else if let Some(top) = unit.strip_prefix("level 0-").and_then(|t| t.parse().ok()) {
+                Channel::levels(name, top)
             } else {
                 Channel::new(name, unit)
             }

@@ -53,6 +53,8 @@ pub struct Channel {
     pub unit: String,
     /// Bits and phases (drawn as steps under the curves).
     pub step: bool,
+    /// A level's largest value (1 for a bit).
+    pub top: u8,
 }
 
 impl Channel {
@@ -61,14 +63,22 @@ impl Channel {
             name: name.into(),
             unit: unit.into(),
             step: false,
+            top: 1,
         }
     }
 
+    /// A bit.
     pub fn level(name: impl Into<String>) -> Self {
+        Self::levels(name, 1)
+    }
+
+    /// A phase or state numbered 0 to `top`.
+    pub fn levels(name: impl Into<String>, top: u8) -> Self {
         Self {
             name: name.into(),
             unit: String::new(),
             step: true,
+            top: top.max(1),
         }
     }
 }

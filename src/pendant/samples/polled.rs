@@ -21,8 +21,28 @@ pub mod rmc_channel {
     pub const ACK: usize = 8;
 }
 
-/// The X-SEL series' speed channel (after X, Y, Z, R).
-pub const XSEL_SPEED: usize = 4;
+/// The X-SEL work series' channels after X, Y, Z, R.
+pub mod xsel_channel {
+    pub const SPEED: usize = 4;
+    pub const IN_POSITION: usize = 5;
+    pub const MOTION_PHASE: usize = 6;
+}
+
+/// The pendant's motion phase of the X-SEL's move as a level: 0 idle, 1 accelerating,
+/// 2 constant, 3 decelerating, 4 done, 5 jogging, 6 stopped [I: from the move's planned
+/// profile and the controller's answers; the controller reports no phase].
+pub fn phase_level(phase: crate::pendant::MotionPhase) -> u8 {
+    use crate::pendant::MotionPhase::*;
+    match phase {
+        Idle => 0,
+        Accelerating => 1,
+        Constant => 2,
+        Decelerating => 3,
+        Done => 4,
+        Jogging => 5,
+        Stopped => 6,
+    }
+}
 
 /// Rows kept per series: an hour at 50 polls a second (the RMC's round is 20 ms; the
 /// X-SEL's work position comes less often).
@@ -34,6 +54,7 @@ pub struct Polled {
     pub store: SampleStore,
     pub captures: Captures,
     xsel: SeriesId,
+    joints: SeriesId,
     rmc: Vec<SeriesId>,
     /// The last work pose and its time, for the tool tip's speed.
     last_pose: Option<(Instant, [i32; 4])>,
@@ -50,6 +71,19 @@ impl Polled {
                 Channel::new("Z", "mm"),
                 Channel::new("R", "deg"),
                 Channel::new("Tool-tip speed", "mm/s"),
+                Channel::level("In position"),
+                Channel::levels("Motion phase", 6),
+            ],
+            Encoding::Milli,
+            HOUR_ROWS,
+        );
+        let joints = store.add(
+            "X-SEL joints",
+            vec![
+                Channel::new("J1", "deg"),
+                Channel::new("J2", "deg"),
+                Channel::new("J3", "mm"),
+                Channel::new("J4", "deg"),
             ],
             Encoding::Milli,
             HOUR_ROWS,
@@ -66,7 +100,7 @@ impl Polled {
                         Channel::new("Actual Velocity", "pu/s"),
                         Channel::new("Following Error", "pu"),
                         Channel::level("In Position"),
-                        Channel::level("TG phase"),
+                        Channel::levels("TG phase", 3),
                         Channel::level("ACK"),
                     ],
                     Encoding::Real,
@@ -78,6 +112,7 @@ impl Polled {
             store,
             captures: Captures::default(),
             xsel,
+            joints,
             rmc,
             last_pose: None,
         }
@@ -86,7 +121,7 @@ impl Polled {
     /// A 2A1H reply in the work system: X, Y, Z, R in thousandths. The tool tip's speed
     /// is the XYZ distance from the last poll over the time between them [I: polled
     /// positions, so a move shorter than a poll interval reads slower than it ran].
-    pub fn xsel_work(&mut self, at: Instant, pose: [i32; 4]) {
+    pub fn xsel_work(&mut self, at: Instant, pose: [i32; 4], in_position: bool, phase: u8) {
         let speed = self.last_pose.map_or(0, |(t, last)| {
             let dt = at.saturating_duration_since(t).as_secs_f64();
             let d = (0..3)
@@ -97,8 +132,14 @@ impl Polled {
         });
         self.last_pose = Some((at, pose));
         let [x, y, z, r] = pose.map(Sample::Milli);
-        self.store
-            .push(self.xsel, at, &[x, y, z, r, Sample::Milli(speed)]);
+        let levels = [Sample::Level(u8::from(in_position)), Sample::Level(phase)];
+        let values = [x, y, z, r, Sample::Milli(speed), levels[0], levels[1]];
+        self.store.push(self.xsel, at, &values);
+    }
+
+    /// A 2A1H reply in the joint system: J1, J2, J3, J4 in thousandths.
+    pub fn xsel_joints(&mut self, at: Instant, joints: [i32; 4]) {
+        self.store.push(self.joints, at, &joints.map(Sample::Milli));
     }
 
     /// The X-SEL accepted a move at `at`: a capture of the work position, read on
@@ -110,6 +151,7 @@ impl Polled {
             series: self.xsel,
             roles: Roles {
                 actual: channel.min(3),
+                in_position: Some(xsel_channel::IN_POSITION),
                 ..Roles::default()
             },
         });

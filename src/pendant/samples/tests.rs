@@ -158,7 +158,8 @@ fn an_hour_of_the_pendants_polls_is_bounded_and_under_30_mb() {
     };
     for i in 0..(HOUR_ROWS + 10) as u64 {
         let at = t0 + Duration::from_millis(i * 20);
-        p.xsel_work(at, [250_000, 250_000, 0, 90_000]);
+        p.xsel_work(at, [250_000, 250_000, 0, 90_000], true, 0);
+        p.xsel_joints(at, [0, 90_000, 0, 0]);
         for axis in AxisId::first(2) {
             p.rmc_status(at, axis, &status);
         }

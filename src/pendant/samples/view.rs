@@ -52,7 +52,7 @@ impl Trace {
             label,
             unit: channel.unit.clone(),
             step: channel.step,
-            top: if channel.name == "TG phase" { 3.0 } else { 1.0 },
+            top: f64::from(channel.top),
             points: Vec::new(),
         }
     }
