@@ -45,8 +45,9 @@ const PANEL_ANSWER: Duration = Duration::from_millis(60);
 pub struct StartOptions {
     /// A connection given on the command line replaces the saved one.
     pub connection: Option<ConnectionSettings>,
-    /// The RMC151 named on the command line: `Some(None)` none at all, `Some(Some(""))`
-    /// the built-in one, `Some(Some(addr))` a real one; `None` the saved choice.
+    /// The RMC151 named on the command line: `Some(None)` none this run (`--no-rmc`; the
+    /// saved choice is kept for the next), `Some(Some(""))` the built-in one,
+    /// `Some(Some(addr))` a real one (saved, as a named line is); `None` the saved choice.
     pub rmc: Option<Option<String>>,
     /// Ignore saved settings (tests, a clean start).
     pub fresh: bool,
@@ -149,14 +150,12 @@ impl PendantApp {
             // No line named: the built-in simulator, the saved line settings kept.
             None => settings.connection.kind = crate::pendant::LineKind::Simulator,
         }
-        match options.rmc {
-            Some(Some(address)) => {
-                settings.rmc.enabled = true;
-                settings.rmc.address = address;
-            }
-            Some(None) => settings.rmc.enabled = false,
-            None => {}
+        if let Some(Some(address)) = &options.rmc {
+            settings.rmc.enabled = true;
+            settings.rmc.address = address.clone();
         }
+        // `--no-rmc` leaves the RMC disconnected this run only.
+        let rmc_this_run = options.rmc != Some(None);
         let now = Instant::now();
         let (model, problem) = match load_model(&settings.connection.robot) {
             Ok(m) => (m, None),
@@ -178,7 +177,7 @@ impl PendantApp {
         } else if !options.offline {
             pendant.connect(now);
         }
-        if !options.offline && pendant.settings.rmc.enabled {
+        if !options.offline && rmc_this_run && pendant.settings.rmc.enabled {
             pendant.apply(Intent::Axes(crate::pendant::axes::AxisIntent::Connect), now);
         }
         if let Some(rows) = std::env::var("XSEL_PENDANT_BENCH_LOG_ROWS")

@@ -253,3 +253,26 @@ fn a_step_shows_in_the_frame_log_as_modbus_rows_decoded_field_by_field() {
             .is_some()
     );
 }
+
+#[test]
+fn no_rmc_on_the_command_line_leaves_it_off_this_run_and_the_saved_choice_as_it_was() {
+    let mut h = Harness::builder()
+        .with_size([1280.0, 800.0])
+        .build_eframe(|cc| {
+            PendantApp::new(
+                cc,
+                StartOptions {
+                    rmc: Some(None),
+                    ..StartOptions::fresh_simulator()
+                },
+            )
+        });
+    step_until(&mut h, "the X-SEL's first status", |a| {
+        a.pendant().controller_ready(Instant::now()).is_ok()
+    });
+    assert!(h.state().rmc().is_none(), "no RMC link this run");
+    assert!(
+        h.state().pendant().settings.rmc.enabled,
+        "the saved choice (on) is kept for the next run"
+    );
+}
