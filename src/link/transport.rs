@@ -282,6 +282,31 @@ mod tests {
         assert_eq!(guardian_of("x (guardian process )"), None);
     }
 
+    /// Ports above COM9 need the device namespace: `COM200` as typed, `com200` and
+    /// `\\.\COM200` all reach the device layer (serialport adds `\\.\` to a name
+    /// without a backslash) and a missing one is said to be missing, with the Device
+    /// Manager hint, not refused as a bad name. Runs under Wine in CI.
+    #[cfg(windows)]
+    #[test]
+    fn com_names_above_9_reach_the_device_namespace_and_a_missing_one_is_named() {
+        use crate::link::reason::{IoFailure, LineDownReason};
+        for name in ["COM200", "com200", r"\\.\COM200"] {
+            let Err(e) = SerialTransport::open(name, LineSettings::default()) else {
+                panic!("{name} opened: there is no such port here");
+            };
+            let detail = e.to_string();
+            assert!(detail.contains(name), "{detail}");
+            // Not ERROR_INVALID_NAME: the name was taken as a device path.
+            assert!(!detail.contains("syntax is incorrect"), "{detail}");
+            let reason = LineDownReason::OpenFailed(IoFailure {
+                kind: e.kind(),
+                detail,
+            });
+            let hint = crate::pendant::connection::open_hint(&reason).unwrap_or_default();
+            assert!(hint.contains("Device Manager"), "{reason:?}: {hint}");
+        }
+    }
+
     #[cfg(unix)]
     #[test]
     fn serial_pair_carries_a_frame_and_times_out_when_idle() {
