@@ -2,6 +2,7 @@
 # The release artefacts: the pendant, xsel-sim and rmc-sim for Linux (x86_64) and Windows
 # (x86_64, cross-built with mingw-w64), each zipped with the README and the licences into
 # target/dist/xsel-pendant-VERSION-{linux,windows}-x86_64.zip. No installer: unzip and run.
+# The pendant is built with both renderers (the `wgpu` feature).
 #
 #   scripts/package.sh                  build (release) and package
 #   scripts/package.sh --profile dev    package the dev build's binaries (CI does this after
@@ -48,8 +49,11 @@ package() { # platform, folder of the binaries, file suffix
 }
 
 if [ "$build" = 1 ]; then
-  cargo build --profile "$profile" --bins
-  cargo build --profile "$profile" --bins --target x86_64-pc-windows-gnu
+  # The release zips carry the wgpu renderer too (`--renderer wgpu`, for a graphics
+  # driver that fails with OpenGL); a first `cargo run --release` builds glow only.
+  cargo build --profile "$profile" -p xsel-pendant --bins --features wgpu
+  cargo build --profile "$profile" -p xsel-pendant --bins --features wgpu \
+    --target x86_64-pc-windows-gnu
 fi
 package linux-x86_64 "target/$(dir_of)" ""
 package windows-x86_64 "target/x86_64-pc-windows-gnu/$(dir_of)" ".exe"

@@ -47,11 +47,7 @@ fn main() -> ExitCode {
             LineOwner::guardian()
         },
     };
-    let renderer = match args.renderer {
-        cli::Renderer::Glow => eframe::Renderer::Glow,
-        cli::Renderer::Wgpu => eframe::Renderer::Wgpu,
-    };
-    match run_window(options, renderer) {
+    match run_window(options, args.renderer) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             let _ = writeln!(std::io::stderr(), "xsel-pendant: {e}");

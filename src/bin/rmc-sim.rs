@@ -9,9 +9,9 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use clap::Parser;
-use xsel_pendant::flags::parse_or_exit;
-use xsel_pendant::rmc::AxisId;
-use xsel_pendant::sim::rmc::{RmcAction, RmcConfig, RmcController, RmcServer, ServerEvent};
+use xsel_pendant_core::flags::parse_or_exit;
+use xsel_pendant_core::rmc::AxisId;
+use xsel_pendant_core::sim::rmc::{RmcAction, RmcConfig, RmcController, RmcServer, ServerEvent};
 
 const AFTER_HELP: &str = "\
 Modbus/TCP, function codes 3, 16 and 23, any unit ID (echoed). Per axis n (0-based):
@@ -81,7 +81,7 @@ fn main() -> ExitCode {
         ServerEvent::Opened(peer) => say(&format!("rmc-sim: {peer} connected")),
         ServerEvent::Refused(peer) => say(&format!(
             "rmc-sim: {peer} refused: {} connections are open",
-            xsel_pendant::sim::rmc::MAX_CONNECTIONS
+            xsel_pendant_core::sim::rmc::MAX_CONNECTIONS
         )),
         ServerEvent::Closed(peer, why) => say(&format!("rmc-sim: {peer} closed: {why}")),
     });

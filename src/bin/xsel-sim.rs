@@ -8,18 +8,18 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use clap::Parser;
-use xsel_pendant::files::coords_file;
-use xsel_pendant::flags::parse_or_exit;
-use xsel_pendant::line::{BAUD_RANGE, byte_time_8n1};
-use xsel_pendant::protocol::Station;
-use xsel_pendant::robot::RobotModel;
-use xsel_pendant::sim::console::{self, OperatorAction, parse_code};
-use xsel_pendant::sim::errors::code_table_text;
-use xsel_pendant::sim::log_limit::LogLimiter;
-use xsel_pendant::sim::runner::{RunOptions, SimCore, start_tcp};
-use xsel_pendant::sim::state::DEFAULT_SERVO_SWITCH_MS;
-use xsel_pendant::sim::{Controller, FaultSpec, SimSetup};
-use xsel_pendant::sim::{Mode, SimHandle, SimWatch};
+use xsel_pendant_core::files::coords_file;
+use xsel_pendant_core::flags::parse_or_exit;
+use xsel_pendant_core::line::{BAUD_RANGE, byte_time_8n1};
+use xsel_pendant_core::protocol::Station;
+use xsel_pendant_core::robot::RobotModel;
+use xsel_pendant_core::sim::console::{self, OperatorAction, parse_code};
+use xsel_pendant_core::sim::errors::code_table_text;
+use xsel_pendant_core::sim::log_limit::LogLimiter;
+use xsel_pendant_core::sim::runner::{RunOptions, SimCore, start_tcp};
+use xsel_pendant_core::sim::state::DEFAULT_SERVO_SWITCH_MS;
+use xsel_pendant_core::sim::{Controller, FaultSpec, SimSetup};
+use xsel_pendant_core::sim::{Mode, SimHandle, SimWatch};
 
 const AFTER_HELP: &str = "\
 Every frame in and out is logged to stderr with the time since start, e.g.
@@ -119,7 +119,7 @@ struct Args {
     no_console: bool,
     /// Reply buffer size: 2048, or 1024 for a J/K/TT model setting (the longest command
     /// received is then 2051 or 1023 bytes).
-    #[arg(long, default_value_t = xsel_pendant::protocol::REPLY_BUFFER, value_parser = parse_reply_buffer)]
+    #[arg(long, default_value_t = xsel_pendant_core::protocol::REPLY_BUFFER, value_parser = parse_reply_buffer)]
     reply_buffer: usize,
     /// Do not log frames to stderr.
     #[arg(long)]
@@ -131,7 +131,7 @@ struct Args {
 
 /// The two reply-buffer sizes of the X-SEL family.
 fn parse_reply_buffer(s: &str) -> Result<usize, String> {
-    use xsel_pendant::protocol::{REPLY_BUFFER, SMALL_REPLY_BUFFER};
+    use xsel_pendant_core::protocol::{REPLY_BUFFER, SMALL_REPLY_BUFFER};
     match s.trim().parse() {
         Ok(n) if n == REPLY_BUFFER || n == SMALL_REPLY_BUFFER => Ok(n),
         _ => Err(format!(
@@ -338,7 +338,7 @@ fn console_loop(watch: &SimWatch, stop: &AtomicBool) {
 /// Serves a pseudo-terminal and prints its path.
 #[cfg(unix)]
 fn serve_pty(core: SimCore, opts: RunOptions) -> Result<SimHandle, String> {
-    let server = xsel_pendant::sim::runner::start_pty(core, opts)
+    let server = xsel_pendant_core::sim::runner::start_pty(core, opts)
         .map_err(|e| format!("cannot create a pseudo-terminal: {e}"))?;
     let mut out = std::io::stdout();
     let _ = writeln!(out, "{}", server.path);
@@ -355,9 +355,9 @@ fn serve_pty(_: SimCore, _: RunOptions) -> Result<SimHandle, String> {
 /// A robot model file, read with the same bounds as the pendant's (a regular file of at
 /// most 1 MB: a FIFO or `/dev/zero` is refused, not read).
 fn load_model_file(path: &str) -> Result<RobotModel, String> {
-    let text = xsel_pendant::files::read_text_bounded(
+    let text = xsel_pendant_core::files::read_text_bounded(
         std::path::Path::new(path),
-        xsel_pendant::files::CONFIG_LIMIT,
+        xsel_pendant_core::files::CONFIG_LIMIT,
     )?;
     RobotModel::from_toml_str(&text).map_err(|e| format!("{path}: {e}"))
 }

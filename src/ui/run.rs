@@ -1,9 +1,11 @@
 //! Opening the native window, with a plain one-line error where there is no display.
 
 use super::app::{APP_ID, PendantApp, StartOptions};
+use crate::cli::Renderer;
 
 /// Opens the window and runs until it closes, drawn by `renderer`.
-pub fn run_window(options: StartOptions, renderer: eframe::Renderer) -> Result<(), String> {
+pub fn run_window(options: StartOptions, renderer: Renderer) -> Result<(), String> {
+    let renderer = eframe_renderer(renderer)?;
     if let Some(why) = no_display() {
         return Err(why);
     }
@@ -22,12 +24,34 @@ pub fn run_window(options: StartOptions, renderer: eframe::Renderer) -> Result<(
         Box::new(move |cc| Ok(Box::new(PendantApp::new(cc, options)))),
     )
     .map_err(|e| {
-        let other = match renderer {
-            eframe::Renderer::Glow => "--renderer wgpu",
-            _ => "--renderer glow",
+        let other = if renderer == eframe::Renderer::Glow {
+            OTHER_THAN_GLOW
+        } else {
+            "--renderer glow"
         };
         format!("cannot open the window ({e}); try {other}, or --headless for text mode")
     })
+}
+
+/// What to try when OpenGL fails.
+const OTHER_THAN_GLOW: &str = if cfg!(feature = "wgpu") {
+    "--renderer wgpu"
+} else {
+    "a build with `--features wgpu` and --renderer wgpu"
+};
+
+/// eframe's renderer for `--renderer`; wgpu only in builds with the `wgpu` feature.
+fn eframe_renderer(renderer: Renderer) -> Result<eframe::Renderer, String> {
+    match renderer {
+        Renderer::Glow => Ok(eframe::Renderer::Glow),
+        #[cfg(feature = "wgpu")]
+        Renderer::Wgpu => Ok(eframe::Renderer::Wgpu),
+        #[cfg(not(feature = "wgpu"))]
+        Renderer::Wgpu => Err("this build has no wgpu renderer (it is a cargo feature): \
+             build with `cargo build --release --features wgpu`, or leave --renderer out for \
+             OpenGL"
+            .to_owned()),
+    }
 }
 
 /// On Linux and the BSDs a window needs X11 or Wayland.

@@ -5,6 +5,7 @@
 #[path = "../bin_common/mod.rs"]
 mod bin_common;
 
+mod lean;
 mod pendant;
 mod render_png;
 mod sim;

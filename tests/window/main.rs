@@ -11,9 +11,12 @@ mod axes;
 mod coords;
 mod frame_log;
 mod frame_log_replay;
+// Image snapshots render with wgpu: `cargo test --features wgpu` (CI runs them).
+#[cfg(feature = "wgpu")]
 mod frame_log_snapshot;
 mod main_window;
 mod plots;
 mod simulator;
 mod sizes;
+#[cfg(feature = "wgpu")]
 mod snapshots;

@@ -18,17 +18,21 @@ const SIZES: [([f32; 2], f32); 4] = [
     ([1280.0, 800.0], 2.0),
 ];
 
-/// With `XSEL_PENDANT_SHOTS=DIR` set, the window at each size is also rendered into DIR
-/// as a PNG, for a person to look at the layout.
+/// With `XSEL_PENDANT_SHOTS=DIR` set (and the `wgpu` feature, which renders), the window
+/// at each size is also rendered into DIR as a PNG, for a person to look at the layout.
+#[cfg(feature = "wgpu")]
 const SHOTS: &str = "XSEL_PENDANT_SHOTS";
 
 fn app<'a>(size: [f32; 2], ppp: f32) -> Harness<'a, PendantApp> {
-    let mut builder = Harness::builder()
+    let builder = Harness::builder()
         .with_size(size)
         .with_pixels_per_point(ppp);
-    if std::env::var_os(SHOTS).is_some() {
-        builder = builder.wgpu();
-    }
+    #[cfg(feature = "wgpu")]
+    let builder = if std::env::var_os(SHOTS).is_some() {
+        builder.wgpu()
+    } else {
+        builder
+    };
     let mut h = builder.build_eframe(|cc| PendantApp::new(cc, StartOptions::fresh_simulator()));
     step_until(&mut h, "a position", |a| {
         a.pendant().controller.work.is_some()
@@ -37,6 +41,10 @@ fn app<'a>(size: [f32; 2], ppp: f32) -> Harness<'a, PendantApp> {
     h
 }
 
+#[cfg(not(feature = "wgpu"))]
+fn shot(_: &mut Harness<'_, PendantApp>, _: &str, _: [f32; 2], _: f32) {}
+
+#[cfg(feature = "wgpu")]
 fn shot(h: &mut Harness<'_, PendantApp>, what: &str, size: [f32; 2], ppp: f32) {
     if let Some(dir) = std::env::var_os(SHOTS) {
         let name = format!("{what}-{}x{}-x{ppp}.png", size[0], size[1]);

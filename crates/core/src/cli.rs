@@ -121,7 +121,8 @@ pub struct Args {
     #[arg(long, value_name = "FILE", requires = "plot_png")]
     pub capture: Option<std::path::PathBuf>,
     /// How the window is drawn: glow (OpenGL, the default: the least memory) or wgpu
-    /// (Vulkan, DirectX 12, Metal or OpenGL), for a graphics driver that fails with one.
+    /// (Vulkan, DirectX 12, Metal or OpenGL; builds with the `wgpu` feature), for a
+    /// graphics driver that fails with one.
     #[arg(long, value_enum, default_value_t = Renderer::Glow)]
     pub renderer: Renderer,
 }

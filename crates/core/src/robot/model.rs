@@ -14,11 +14,11 @@ pub const G_MM_S2: f64 = 9806.65;
 pub const BUILTIN_MODELS: [(&str, &str); 2] = [
     (
         "scara-500",
-        include_str!("../../assets/robots/scara-500.toml"),
+        include_str!("../../../../assets/robots/scara-500.toml"),
     ),
     (
         "scara-250",
-        include_str!("../../assets/robots/scara-250.toml"),
+        include_str!("../../../../assets/robots/scara-250.toml"),
     ),
 ];
 

@@ -247,7 +247,7 @@ pub fn to_toml(tables: &CoordTables, positions: &PositionTable) -> String {
 
 /// The shipped example (`assets/coords/example.toml`), compiled in: the simulator's
 /// default tables.
-pub const EXAMPLE: &str = include_str!("../../assets/coords/example.toml");
+pub const EXAMPLE: &str = include_str!("../../../../assets/coords/example.toml");
 
 /// The default tables and positions for a model: the shipped example, or empty tables if
 /// it does not fit the model.
