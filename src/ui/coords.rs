@@ -63,6 +63,9 @@ pub struct CoordsPanel {
     pub(super) edit: Option<CellEdit>,
     pub(super) show_diff: bool,
     pub(super) only_differences: bool,
+    /// How far each table (work, tool) is scrolled down, shared by its frozen No. column
+    /// and its values.
+    pub(super) rows_offset: [f32; 2],
     file: FileField<TablesFile>,
     job: Option<Job<TablesDone>>,
     write_note: bool,
@@ -75,6 +78,7 @@ impl Default for CoordsPanel {
             edit: None,
             show_diff: false,
             only_differences: false,
+            rows_offset: [0.0; 2],
             file: FileField::new(&FILE_FIELD, ""),
             job: None,
             write_note: false,

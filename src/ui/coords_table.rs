@@ -15,6 +15,8 @@ use crate::pendant::coords::{CellEntry, CoordsIntent};
 use crate::robot::{CoordSystem, FrameKind};
 
 const ROW_HEIGHT: f32 = 22.0;
+/// The frozen No. column's width.
+const NUMBER_WIDTH: f32 = 34.0;
 /// The colour of a cell that differs from the controller's value.
 const EDITED: Color32 = AMBER;
 
@@ -61,40 +63,128 @@ pub fn table(
             })
             .collect()
     };
-    // A narrow pane scrolls the columns sideways; the rows scroll inside the table.
-    egui::ScrollArea::horizontal()
-        .id_salt(("coords-table-sideways", kind))
-        .show(ui, |ui| {
-            rows_table(ui, panel, pendant, ask, &controller, in_use, &rows)
-        });
+    // The No. column stays put while a narrow pane scrolls the values sideways; the two
+    // tables scroll down together, whichever the wheel or the bar moved.
+    let offset = panel.rows_offset[kind_index(kind)];
+    let whole = ui.available_rect_before_wrap();
+    let (left, right) = whole.split_left_right_at_x(whole.left() + NUMBER_WIDTH + 8.0);
+    let column = |rect| {
+        egui::UiBuilder::new()
+            .max_rect(rect)
+            .layout(egui::Layout::top_down(egui::Align::Min))
+    };
+    let numbers = ui
+        .scope_builder(column(left), |ui| {
+            numbers_table(ui, kind, &rows, in_use, offset)
+        })
+        .inner;
+    let values = ui
+        .scope_builder(column(right), |ui| {
+            egui::ScrollArea::horizontal()
+                .id_salt(("coords-table-sideways", kind))
+                .show(ui, |ui| {
+                    let shown = Shown {
+                        controller: &controller,
+                        in_use,
+                        rows: &rows,
+                        offset,
+                    };
+                    rows_table(ui, panel, pendant, ask, &shown)
+                })
+                .inner
+        })
+        .inner;
+    let moved = [values, numbers]
+        .into_iter()
+        .find(|o| (o - offset).abs() > 0.5);
+    if let Some(to) = moved {
+        panel.rows_offset[kind_index(kind)] = to;
+        // The other table follows on the next frame.
+        ui.ctx().request_repaint();
+    }
 }
 
+fn kind_index(kind: FrameKind) -> usize {
+    match kind {
+        FrameKind::Work => 0,
+        FrameKind::Tool => 1,
+    }
+}
+
+/// The frozen No. column, scrolled to `offset`; returns where it was scrolled to.
+fn numbers_table(
+    ui: &mut Ui,
+    kind: FrameKind,
+    rows: &[usize],
+    in_use: Option<usize>,
+    offset: f32,
+) -> f32 {
+    TableBuilder::new(ui)
+        .id_salt(("coords-numbers", kind))
+        .striped(true)
+        .vertical_scroll_offset(offset)
+        .scroll_bar_visibility(egui::scroll_area::ScrollBarVisibility::AlwaysHidden)
+        .auto_shrink([true, false])
+        .cell_layout(egui::Layout::left_to_right(egui::Align::Center))
+        .column(Col::exact(NUMBER_WIDTH))
+        .header(ROW_HEIGHT, |mut h| {
+            h.col(|ui| {
+                ui.strong("No.");
+            });
+        })
+        .body(|body| {
+            body.rows(ROW_HEIGHT, rows.len(), |mut row| {
+                let n = rows[row.index()];
+                row.set_selected(in_use == Some(n));
+                row.col(|ui| {
+                    ui.label(n.to_string());
+                });
+            });
+        })
+        .state
+        .clamped_offset()
+        .y
+}
+
+/// What one frame of the values table shows.
+struct Shown<'a> {
+    /// The controller's records as read.
+    controller: &'a [Option<CoordSystem>],
+    /// The record the controller uses now.
+    in_use: Option<usize>,
+    /// The record numbers shown (all, or those that differ).
+    rows: &'a [usize],
+    /// How far down the table is scrolled.
+    offset: f32,
+}
+
+/// The values table scrolled to `shown.offset`; returns where it was scrolled to.
 fn rows_table(
     ui: &mut Ui,
     panel: &mut CoordsPanel,
     pendant: &Pendant,
     ask: &mut impl FnMut(CoordsIntent),
-    controller: &[Option<CoordSystem>],
-    in_use: Option<usize>,
-    rows: &[usize],
-) {
+    shown: &Shown<'_>,
+) -> f32 {
+    let &Shown {
+        controller,
+        in_use,
+        rows,
+        offset,
+    } = shown;
     let kind = panel.kind;
-    let mut builder = TableBuilder::new(ui)
+    let value = Col::initial(74.0).at_least(60.0);
+    // With the diff shown, each controller column sits beside its draft column.
+    let per_value = if panel.show_diff { 2 } else { 1 };
+    TableBuilder::new(ui)
         .id_salt(("coords-table", kind))
         .striped(true)
+        .vertical_scroll_offset(offset)
         .cell_layout(egui::Layout::left_to_right(egui::Align::Center))
-        .column(Col::exact(34.0))
         .column(Col::exact(30.0))
-        .columns(Col::initial(74.0).at_least(60.0), 4);
-    if panel.show_diff {
-        builder = builder.columns(Col::initial(74.0).at_least(60.0), 4);
-    }
-    builder = builder.column(Col::auto().at_least(90.0));
-    builder
+        .columns(value, Column::ALL.len() * per_value)
+        .column(Col::auto().at_least(90.0))
         .header(ROW_HEIGHT, |mut h| {
-            h.col(|ui| {
-                ui.strong("No.");
-            });
             h.col(|ui| {
                 ui.strong("Arm")
                     .on_hover_text("Show this frame over the arm view");
@@ -103,11 +193,10 @@ fn rows_table(
                 h.col(|ui| {
                     ui.strong(c.heading());
                 });
-            }
-            if panel.show_diff {
-                for c in Column::ALL {
+                if panel.show_diff {
                     h.col(|ui| {
-                        ui.strong(format!("ctrl {}", c.heading()));
+                        ui.strong(format!("ctrl {}", c.heading()))
+                            .on_hover_text("The controller's value, beside the draft's");
                     });
                 }
             }
@@ -122,9 +211,6 @@ fn rows_table(
                 let theirs = controller.get(n).copied().flatten();
                 let read = controller.get(n).is_some_and(|r| r.is_some());
                 row.set_selected(in_use == Some(n));
-                row.col(|ui| {
-                    ui.label(n.to_string());
-                });
                 row.col(|ui| {
                     let mut on = pendant.coords.is_over_arm(kind, n as u8);
                     let r = ui.checkbox(&mut on, "");
@@ -146,9 +232,7 @@ fn rows_table(
                 });
                 for column in Column::ALL {
                     row.col(|ui| value_cell(ui, panel, pendant, ask, controller, n, column));
-                }
-                if panel.show_diff {
-                    for column in Column::ALL {
+                    if panel.show_diff {
                         row.col(|ui| {
                             let differs = cell_differs(draft, theirs, column);
                             let text = theirs
@@ -175,7 +259,10 @@ fn rows_table(
                     ui.label(words.join(", "));
                 });
             });
-        });
+        })
+        .state
+        .clamped_offset()
+        .y
 }
 
 fn value_cell(

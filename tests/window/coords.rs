@@ -9,7 +9,7 @@ use std::time::Duration;
 
 use egui::Key;
 use egui_kittest::Harness;
-use egui_kittest::kittest::Queryable;
+use egui_kittest::kittest::{NodeT, Queryable};
 use xsel_pendant::pendant::coords::{Column, diff};
 use xsel_pendant::robot::{CoordSystem, CoordTables, FrameKind};
 use xsel_pendant::sim::runner::Dir;
@@ -653,4 +653,97 @@ fn a_save_that_fails_is_said_in_red_retried_and_its_recovery_said() {
     });
     assert!(std::fs::read_to_string(&file).unwrap().contains("SECOND"));
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The mouse wheel over `at`, moving the content by `delta` points.
+fn wheel(h: &mut Harness<'_, PendantApp>, at: egui::Pos2, delta: egui::Vec2) {
+    h.event(egui::Event::PointerMoved(at));
+    h.event(egui::Event::MouseWheel {
+        unit: egui::MouseWheelUnit::Point,
+        delta,
+        phase: egui::TouchPhase::Move,
+        source: egui::MouseWheelSource::Wheel,
+        modifiers: egui::Modifiers::NONE,
+    });
+    // Wheel scrolling is eased over a few frames.
+    h.run_steps(20);
+}
+
+/// The record number drawn in the frozen No. column level with `cell` (`work 7 X mm`).
+fn number_beside(h: &Harness<'_, PendantApp>, cell: egui::Rect) -> Option<String> {
+    let no = h.get_by_label("No.").rect();
+    h.query_all(egui_kittest::kittest::by()).find_map(|n| {
+        let node = n.accesskit_node();
+        // Pixels are points here (1 px/pt).
+        let b = node.bounding_box()?;
+        let level = ((b.y0 + b.y1) / 2.0 - f64::from(cell.center().y)).abs() < 3.0;
+        let in_column = ((b.x0 + b.x1) / 2.0) < f64::from(no.right()) + 1.0;
+        // A label's text is its value in AccessKit.
+        (level && in_column)
+            .then(|| node.value().or_else(|| node.label()))
+            .flatten()
+            .filter(|l| l.parse::<usize>().is_ok())
+    })
+}
+
+#[test]
+fn in_a_narrow_pane_the_no_column_stays_while_the_values_scroll_and_diff_sits_beside() {
+    // The default layout's right column: too narrow for the values and the diff.
+    let mut h = Harness::builder()
+        .with_size([1280.0, 1000.0])
+        .build_eframe(|cc| PendantApp::new(cc, StartOptions::fresh_simulator()));
+    step_until(&mut h, "both tables read", both_read);
+    show_tab(&mut h, "Coordinate tables");
+    h.get_by_label("Diff with controller").click();
+    h.run_steps(3);
+    // Each controller column right after its draft column.
+    let x = |h: &Harness<'_, PendantApp>, l: &str| h.get_by_label(l).rect();
+    for (draft, ctrl, next) in [
+        ("X mm", "ctrl X mm", "Y mm"),
+        ("Y mm", "ctrl Y mm", "Z mm"),
+        ("Z mm", "ctrl Z mm", "R deg"),
+    ] {
+        let (d, c, n) = (x(&h, draft), x(&h, ctrl), x(&h, next));
+        assert!(
+            d.left() < c.left() && c.left() < n.left(),
+            "{ctrl} at {c:?} is not between {draft} {d:?} and {next} {n:?}"
+        );
+    }
+    let no = x(&h, "No.");
+    let first_x = x(&h, "work 1 X mm");
+    assert_eq!(number_beside(&h, first_x).as_deref(), Some("1"));
+    // Sideways: the values move, the No. column does not.
+    wheel(&mut h, first_x.center(), egui::vec2(-200.0, 0.0));
+    let moved = x(&h, "X mm");
+    assert!(
+        moved.left() < first_x.left() - 50.0,
+        "the values did not scroll sideways: X mm at {moved:?}"
+    );
+    assert_eq!(x(&h, "No."), no, "the No. column moved");
+    // Down: both tables follow the wheel together, each number level with its row.
+    let r_cell = x(&h, "work 1 R deg");
+    wheel(
+        &mut h,
+        egui::pos2(r_cell.left() + 5.0, r_cell.center().y),
+        egui::vec2(0.0, -200.0),
+    );
+    let visible = h.state().pane_rect(xsel_pendant::ui::Tab::Coords).unwrap();
+    let rows: Vec<(usize, egui::Rect)> = (0..32)
+        .filter_map(|n| {
+            h.query_by_label(&format!("work {n} R deg"))
+                .map(|c| (n, c.rect()))
+        })
+        .filter(|(_, r)| r.top() > no.bottom() && r.bottom() < visible.bottom())
+        .collect();
+    assert!(
+        rows.first().is_some_and(|(n, _)| *n > 3),
+        "the table did not scroll down: {rows:?}"
+    );
+    for (n, cell) in rows {
+        assert_eq!(
+            number_beside(&h, cell),
+            Some(n.to_string()),
+            "row {n} and its number are not level"
+        );
+    }
 }
