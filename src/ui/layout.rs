@@ -94,7 +94,7 @@ pub fn default_layout() -> Tree<Tab> {
     let left = tiles.insert_container(Linear::new_binary(
         LinearDir::Vertical,
         [arm, traffic],
-        0.66,
+        0.48,
     ));
     let right = tiles.insert_container(Linear::new_binary(
         LinearDir::Vertical,

@@ -165,3 +165,24 @@ fn no_two_widgets_of_the_top_bar_overlap_at_any_size() {
         }
     }
 }
+
+#[test]
+fn the_frame_log_decode_shows_ten_lines_in_the_default_layout_at_1280x800() {
+    let (size, ppp) = ([1280.0, 800.0], 1.0);
+    let mut h = app(size, ppp);
+    show_tab(&mut h, "Frame log");
+    step_until(&mut h, "a few rows", |a| a.pendant().frame_log.len() >= 6);
+    // The newest sent row in view, selected as a user selects it.
+    h.query_all_by_label_contains(">>")
+        .last()
+        .expect("a sent row in view")
+        .click_accesskit();
+    h.run_steps(3);
+    assert!(h.state().frame_log_panel().selected().is_some());
+    shot(&mut h, "frame-log-decode", size, ppp);
+    let lines = h.state().frame_log_panel().decode_lines_shown();
+    assert!(lines >= 10.0, "the decode shows {lines:.1} lines");
+    // The rows keep theirs above it, the newest inside the pane.
+    check(&h, "Close decode", Some(Tab::FrameLog), size, ppp);
+    assert!(h.query_all_by_label_contains(">>").count() >= 1);
+}

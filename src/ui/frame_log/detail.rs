@@ -6,7 +6,8 @@ use egui::{Color32, FontId, RichText, Ui};
 
 use super::{FrameLogPanel, plain};
 use crate::pendant::Pendant;
-use crate::pendant::frame_log::Protocol;
+use crate::pendant::frame_log::{Protocol, Row};
+use crate::protocol::Columns;
 
 const MARK: Color32 = Color32::from_rgb(120, 90, 10);
 
@@ -42,45 +43,15 @@ pub fn show(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant) {
         copy = ui.button("Copy").clicked();
         close = ui.button("Close decode").clicked();
     });
-    // The raw text, the hovered field's bytes marked.
     let hovered = p.hovered.take();
-    let mut job = LayoutJob::default();
-    // Long replies wrap at any byte (they have no spaces to wrap at).
-    job.wrap.max_width = ui.available_width();
-    job.wrap.break_anywhere = true;
-    let font = FontId::monospace(14.0);
-    for (i, b) in row.bytes().iter().enumerate() {
-        let column = i + 1;
-        let marked = hovered.is_some_and(|c| c.first <= column && column <= c.last);
-        let format = TextFormat {
-            font_id: font.clone(),
-            color: ui.visuals().text_color(),
-            background: if marked { MARK } else { Color32::TRANSPARENT },
-            ..TextFormat::default()
-        };
-        let text = if modbus {
-            // Binary: each byte as a hex pair, its column its place in the frame.
-            format!("{b:02X} ")
-        } else {
-            [*b].escape_ascii().to_string()
-        };
-        job.append(&text, 0.0, format);
-    }
-    if row.bytes().is_empty() {
-        job.append(
-            row.note(),
-            0.0,
-            TextFormat::simple(font, ui.visuals().text_color()),
-        );
-    }
-    ui.label(job);
-    if !row.note().is_empty() && !row.bytes().is_empty() {
-        ui.label(RichText::new(plain(row.note())).color(crate::ui::widgets::RED));
-    }
-    egui::ScrollArea::vertical()
+    let fields = egui::ScrollArea::vertical()
         .id_salt("frame-log-decode")
         .auto_shrink([false, false])
         .show(ui, |ui| {
+            // The raw text first, scrolling with the fields (the pane's height goes to the
+            // decode, not to a heading that stays); lines stacked without gaps.
+            ui.spacing_mut().item_spacing.y = 0.0;
+            raw_text(ui, &row, modbus, hovered);
             ui.label(RichText::new(plain(&d.title)).monospace());
             for f in &d.fields {
                 let cols = if f.columns.last > f.columns.first {
@@ -117,6 +88,9 @@ pub fn show(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant) {
                 );
             }
         });
+    let line = ui.text_style_height(&egui::TextStyle::Monospace);
+    p.decode_drawn.inner = fields.inner_rect.height();
+    p.decode_drawn.lines = fields.inner_rect.height() / line;
     if p.hovered != hovered {
         // The raw text above was drawn with the old mark: draw again with the new one.
         ui.ctx().request_repaint();
@@ -132,5 +106,42 @@ pub fn show(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant) {
     }
     if close {
         p.selected = None;
+    }
+}
+
+/// The row's raw text, the hovered field's bytes marked.
+fn raw_text(ui: &mut Ui, row: &Row<'_>, modbus: bool, hovered: Option<Columns>) {
+    let mut job = LayoutJob::default();
+    // Long replies wrap at any byte (they have no spaces to wrap at).
+    job.wrap.max_width = ui.available_width();
+    job.wrap.break_anywhere = true;
+    let font = FontId::monospace(14.0);
+    for (i, b) in row.bytes().iter().enumerate() {
+        let column = i + 1;
+        let marked = hovered.is_some_and(|c| c.first <= column && column <= c.last);
+        let format = TextFormat {
+            font_id: font.clone(),
+            color: ui.visuals().text_color(),
+            background: if marked { MARK } else { Color32::TRANSPARENT },
+            ..TextFormat::default()
+        };
+        let text = if modbus {
+            // Binary: each byte as a hex pair, its column its place in the frame.
+            format!("{b:02X} ")
+        } else {
+            [*b].escape_ascii().to_string()
+        };
+        job.append(&text, 0.0, format);
+    }
+    if row.bytes().is_empty() {
+        job.append(
+            row.note(),
+            0.0,
+            TextFormat::simple(font, ui.visuals().text_color()),
+        );
+    }
+    ui.label(job);
+    if !row.note().is_empty() && !row.bytes().is_empty() {
+        ui.label(RichText::new(plain(row.note())).color(crate::ui::widgets::RED));
     }
 }

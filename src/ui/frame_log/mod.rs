@@ -100,9 +100,26 @@ pub struct FrameLogPanel {
     rows_x: f32,
     /// Drawn this frame showing the live log (new rows are worth waking the window for).
     pub(crate) live_in_sight: bool,
-    /// The decode's height as the splitter left it (None: 60% of the pane).
+    /// The decode's height as the splitter left it (None: 60% of the pane, or room for
+    /// [`DECODE_LINES`] lines if that is more and the rows keep theirs).
     decode_height: Option<f32>,
+    /// What the decode drew last frame: the height of its heading (the row's name, the
+    /// buttons and the raw bytes) and how many lines its fields had room for.
+    pub(super) decode_drawn: DecodeDrawn,
 }
+
+/// The decode's heading height and lines shown, as last drawn.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct DecodeDrawn {
+    /// All but the fields' lines: the row's name and buttons, margins.
+    pub heading: f32,
+    /// The height of the fields' view.
+    pub inner: f32,
+    pub lines: f32,
+}
+
+/// The decode's fields get room for this many lines where the pane has it.
+const DECODE_LINES: f32 = 10.0;
 
 /// The height of the bar between the rows and the decode (px).
 const SPLITTER: f32 = 8.0;
@@ -158,6 +175,7 @@ impl Default for FrameLogPanel {
             rows_x: 0.0,
             live_in_sight: false,
             decode_height: None,
+            decode_drawn: DecodeDrawn::default(),
         }
     }
 }
@@ -176,6 +194,11 @@ impl FrameLogPanel {
     /// The decode's height as the splitter left it (tests read it).
     pub fn decode_height(&self) -> Option<f32> {
         self.decode_height
+    }
+
+    /// How many lines of the decode's fields were in sight last frame (tests read it).
+    pub fn decode_lines_shown(&self) -> f32 {
+        self.decode_drawn.lines
     }
 
     /// Whether a filter job is still running (tests and benches wait for it).
@@ -326,7 +349,7 @@ impl FrameLogPanel {
         tools::header(self, ui, pendant, out);
         if self.tools_shown {
             tools::filter_bar(self, ui);
-            tools::file_bar(self, ui, pendant, folder, now);
+            tools::file_bar(self, ui, pendant, folder, now, out);
             tools::raw_bar(self, ui, pendant, out);
         }
         ui.separator();
@@ -340,12 +363,15 @@ impl FrameLogPanel {
             );
             return;
         }
-        // The decode below the rows, 60% of the pane unless the splitter was dragged;
-        // the rows keep at least three lines.
-        let rows_min = 3.0 * ui.text_style_height(&egui::TextStyle::Monospace) + 30.0;
+        // The decode below the rows: 60% of the pane, or room for its heading and ten
+        // lines of fields if more, unless the splitter was dragged; the rows keep at least
+        // three lines.
+        let line = ui.text_style_height(&egui::TextStyle::Monospace);
+        let rows_min = 3.0 * line + 30.0;
+        let ten_lines = self.decode_drawn.heading + DECODE_LINES * line;
         let decode = self
             .decode_height
-            .unwrap_or(available * 0.6)
+            .unwrap_or((available * 0.6).max(ten_lines))
             .clamp(60.0, (available - rows_min - SPLITTER).max(60.0));
         let table_height = (available - decode - SPLITTER).max(rows_min);
         ui.allocate_ui(egui::vec2(ui.available_width(), table_height), |ui| {
@@ -355,6 +381,7 @@ impl FrameLogPanel {
             self.decode_height = Some(decode - dy);
         }
         detail::show(self, ui, pendant);
+        self.decode_drawn.heading = decode - self.decode_drawn.inner;
     }
 
     fn poll_files(&mut self, now: std::time::Instant, out: &mut Vec<Intent>) {

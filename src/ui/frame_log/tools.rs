@@ -17,6 +17,8 @@ use crate::ui::widgets::{AMBER, level_color, reserved_line};
 
 /// Counts, pause, follow, clock, clear, and the way back from an opened file.
 pub fn header(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant, out: &mut Vec<Intent>) {
+    // One wrapped row (two in the default layout): the pane's height goes to the rows
+    // and the decode.
     ui.horizontal_wrapped(|ui| {
         let log = p.log(pendant);
         let (len, head_drops, link_drops, cap) =
@@ -27,9 +29,8 @@ pub fn header(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant, out: &mut V
             Some(o) => ui.label(RichText::new(format!("File {} (read-only)", o.name)).strong()),
             None => ui.label(RichText::new("Live").strong()),
         };
-        ui.label(format!(
-            "{shown} shown of {len} rows (cap {cap}, {megabytes:.1} MB)"
-        ));
+        ui.label(format!("{shown} shown of {len} rows"))
+            .on_hover_text(format!("Kept at most {cap} rows; {megabytes:.1} MB now"));
         if head_drops > 0 {
             ui.label(RichText::new(format!("{head_drops} dropped from the head")).color(AMBER));
         }
@@ -39,8 +40,6 @@ pub fn header(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant, out: &mut V
                     .color(AMBER),
             );
         }
-    });
-    ui.horizontal_wrapped(|ui| {
         let end = p.log(pendant).end();
         if p.paused_at.is_some() {
             let waiting = end.saturating_sub(p.paused_at.unwrap_or(end));
@@ -53,20 +52,6 @@ pub fn header(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant, out: &mut V
             p.follow = false;
         }
         ui.checkbox(&mut p.follow, "Follow tail");
-        if p.opened.is_none() {
-            let mut cap = pendant.frame_log.cap();
-            let l = ui.label("Keep rows");
-            let r = ui
-                .add(
-                    egui::DragValue::new(&mut cap)
-                        .range(1_000..=5_000_000)
-                        .speed(1000),
-                )
-                .labelled_by(l.id);
-            if r.changed() {
-                out.push(Intent::FrameLogCap(cap));
-            }
-        }
         ui.checkbox(&mut p.wall_clock, "Wall clock");
         let shown = p.tools_shown;
         if ui
@@ -93,6 +78,22 @@ pub fn header(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant, out: &mut V
             ui.label("filtering...");
         }
     });
+}
+
+/// How many rows the live log keeps (a setting, with the files).
+fn keep_rows(ui: &mut Ui, pendant: &Pendant, out: &mut Vec<Intent>) {
+    let mut cap = pendant.frame_log.cap();
+    let l = ui.label("Keep rows");
+    let r = ui
+        .add(
+            egui::DragValue::new(&mut cap)
+                .range(1_000..=5_000_000)
+                .speed(1000),
+        )
+        .labelled_by(l.id);
+    if r.changed() {
+        out.push(Intent::FrameLogCap(cap));
+    }
 }
 
 /// Line, message ID, direction, problems only, time range, free text.
@@ -197,9 +198,13 @@ pub fn file_bar(
     pendant: &Pendant,
     folder: &Path,
     now: Instant,
+    out: &mut Vec<Intent>,
 ) {
     let busy = p.save_job.is_some() || p.open_job.is_some();
     ui.horizontal_wrapped(|ui| {
+        if p.opened.is_none() {
+            keep_rows(ui, pendant, out);
+        }
         ui.add_enabled_ui(!busy, |ui| p.file.show(ui, folder, now));
         ui.checkbox(&mut p.only_filtered, "filtered rows only");
         for (label, action) in [
