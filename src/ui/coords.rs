@@ -69,7 +69,13 @@ pub struct CoordsPanel {
     file: FileField<TablesFile>,
     job: Option<Job<TablesDone>>,
     write_note: bool,
+    /// The files rows: as the user chose, else shown only when the pane has room for
+    /// them and the table (the default layout at 1280x800 has not).
+    files_open: Option<bool>,
 }
+
+/// A pane at least this tall shows the files rows until the user hides them (px).
+const ROOMY_PANE: f32 = 520.0;
 
 impl Default for CoordsPanel {
     fn default() -> Self {
@@ -82,6 +88,7 @@ impl Default for CoordsPanel {
             file: FileField::new(&FILE_FIELD, ""),
             job: None,
             write_note: false,
+            files_open: None,
         }
     }
 }
@@ -105,12 +112,19 @@ impl CoordsPanel {
         out: &mut Vec<Intent>,
     ) {
         let mut from_files = Vec::new();
+        let files_shown = self
+            .files_open
+            .unwrap_or(ui.available_height() >= ROOMY_PANE);
         {
             let mut ask = |i: CoordsIntent| out.push(Intent::Coords(i));
-            self.tabs_and_reading(ui, pendant, now, &mut ask);
+            self.tabs_and_reading(ui, pendant, now, files_shown, &mut ask);
             self.draft_bar(ui, pendant, &mut ask);
         }
-        self.files(ui, pendant, folder, now, &mut |i| from_files.push(i));
+        // A file job finishes (and says so) even while its rows are hidden.
+        self.poll_job(now, &mut |i| from_files.push(i));
+        if files_shown {
+            self.files(ui, pendant, folder, now, &mut |i| from_files.push(i));
+        }
         out.append(&mut from_files);
         let mut ask = |i: CoordsIntent| out.push(Intent::Coords(i));
         // The refusal and the file result in lines that are always there: the table
@@ -126,6 +140,7 @@ impl CoordsPanel {
         ui: &mut Ui,
         pendant: &Pendant,
         now: Instant,
+        files_shown: bool,
         ask: &mut impl FnMut(CoordsIntent),
     ) {
         let kind = self.kind;
@@ -138,6 +153,14 @@ impl CoordsPanel {
                     self.kind = k;
                     self.edit = None;
                 }
+            }
+            // Before the read controls, so it never moves when they change.
+            if ui
+                .selectable_label(files_shown, "Files")
+                .on_hover_text("Show or hide the import, export and simulator rows")
+                .clicked()
+            {
+                self.files_open = Some(!files_shown);
             }
             ui.separator();
             let reading = pendant.coords.reading();
@@ -262,7 +285,6 @@ impl CoordsPanel {
         now: Instant,
         ask: &mut impl FnMut(Intent),
     ) {
-        self.poll_job(now, ask);
         let idle = self.job.is_none();
         ui.horizontal_wrapped(|ui| {
             ui.add_enabled_ui(idle, |ui| self.file.show(ui, folder, now))

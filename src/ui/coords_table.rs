@@ -173,7 +173,11 @@ fn rows_table(
         offset,
     } = shown;
     let kind = panel.kind;
-    let value = Col::initial(74.0).at_least(60.0);
+    // X to R share the width in sight (54 to 100 px each), so they fit a narrow pane; the
+    // Arm toggle, the state and the diff's columns come after them, sideways.
+    ui.spacing_mut().item_spacing.x = 4.0;
+    let share = (ui.available_width() - 8.0) / Column::ALL.len() as f32 - 4.0;
+    let value = Col::exact(share.clamp(54.0, 100.0));
     // With the diff shown, each controller column sits beside its draft column.
     let per_value = if panel.show_diff { 2 } else { 1 };
     TableBuilder::new(ui)
@@ -181,14 +185,10 @@ fn rows_table(
         .striped(true)
         .vertical_scroll_offset(offset)
         .cell_layout(egui::Layout::left_to_right(egui::Align::Center))
-        .column(Col::exact(30.0))
         .columns(value, Column::ALL.len() * per_value)
+        .column(Col::exact(34.0))
         .column(Col::auto().at_least(90.0))
         .header(ROW_HEIGHT, |mut h| {
-            h.col(|ui| {
-                ui.strong("Arm")
-                    .on_hover_text("Show this frame over the arm view");
-            });
             for c in Column::ALL {
                 h.col(|ui| {
                     ui.strong(c.heading());
@@ -201,6 +201,10 @@ fn rows_table(
                 }
             }
             h.col(|ui| {
+                ui.strong("Arm")
+                    .on_hover_text("Show this frame over the arm view");
+            });
+            h.col(|ui| {
                 ui.strong("State");
             });
         })
@@ -211,6 +215,18 @@ fn rows_table(
                 let theirs = controller.get(n).copied().flatten();
                 let read = controller.get(n).is_some_and(|r| r.is_some());
                 row.set_selected(in_use == Some(n));
+                for column in Column::ALL {
+                    row.col(|ui| value_cell(ui, panel, pendant, ask, controller, n, column));
+                    if panel.show_diff {
+                        row.col(|ui| {
+                            let differs = cell_differs(draft, theirs, column);
+                            let text = theirs
+                                .map_or("unread".to_owned(), |cs| cell::show(column.get(&cs)));
+                            let color = if differs { EDITED } else { GREY };
+                            ui.label(RichText::new(text).color(color));
+                        });
+                    }
+                }
                 row.col(|ui| {
                     let mut on = pendant.coords.is_over_arm(kind, n as u8);
                     let r = ui.checkbox(&mut on, "");
@@ -230,18 +246,6 @@ fn rows_table(
                         });
                     }
                 });
-                for column in Column::ALL {
-                    row.col(|ui| value_cell(ui, panel, pendant, ask, controller, n, column));
-                    if panel.show_diff {
-                        row.col(|ui| {
-                            let differs = cell_differs(draft, theirs, column);
-                            let text = theirs
-                                .map_or("unread".to_owned(), |cs| cell::show(column.get(&cs)));
-                            let color = if differs { EDITED } else { GREY };
-                            ui.label(RichText::new(text).color(color));
-                        });
-                    }
-                }
                 row.col(|ui| {
                     let mut words = Vec::new();
                     if in_use == Some(n) {
@@ -304,6 +308,7 @@ fn value_cell(
     let mut field = TextEdit::singleline(&mut text)
         .id_salt(("coord-cell", kind, n, column.index()))
         .desired_width(f32::INFINITY)
+        .margin(egui::vec2(2.0, 2.0))
         .text_color(color)
         .interactive(!read_only)
         .hint_text(RichText::new("unread").color(GREY));

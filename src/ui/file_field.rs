@@ -96,8 +96,12 @@ impl<A: Copy + Send + 'static> FileField<A> {
         match spec.browse {
             [] => {}
             [only] => {
+                // Never wrapped letter by letter at the end of a short row.
                 if ui
-                    .add_enabled(open, Button::new("Browse..."))
+                    .add_enabled(
+                        open,
+                        Button::new("Browse...").wrap_mode(egui::TextWrapMode::Extend),
+                    )
                     .on_hover_text("Choose the file in the system's file dialog")
                     .clicked()
                 {
@@ -106,6 +110,7 @@ impl<A: Copy + Send + 'static> FileField<A> {
             }
             several => {
                 ui.add_enabled_ui(open, |ui| {
+                    ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Extend);
                     ui.menu_button("Browse...", |ui| {
                         for way in several {
                             if ui.button(way.label).clicked() {

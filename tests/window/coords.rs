@@ -730,7 +730,8 @@ fn in_a_narrow_pane_the_no_column_stays_while_the_values_scroll_and_diff_sits_be
     let visible = h.state().pane_rect(xsel_pendant::ui::Tab::Coords).unwrap();
     let rows: Vec<(usize, egui::Rect)> = (0..32)
         .filter_map(|n| {
-            h.query_by_label(&format!("work {n} R deg"))
+            // The field, not the tooltip the pointer raises over it.
+            h.query_by_role_and_label(egui::accesskit::Role::TextInput, &format!("work {n} R deg"))
                 .map(|c| (n, c.rect()))
         })
         .filter(|(_, r)| r.top() > no.bottom() && r.bottom() < visible.bottom())

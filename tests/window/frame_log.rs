@@ -439,3 +439,44 @@ fn the_splitter_between_rows_and_decode_moves_with_the_pointer() {
         "the decode's top moved from {before} to {after}"
     );
 }
+
+#[test]
+fn the_header_scrolls_sideways_with_the_rows() {
+    let mut h = app();
+    step_until(&mut h, "a few rows", |a| log(a).len() >= 6);
+    click(&mut h, "Frame log");
+    click(&mut h, "Pause");
+    h.run_steps(2);
+    let header = |h: &Harness<'_, PendantApp>| h.get_by_label_contains("+prev ms").rect();
+    // The first sent row under the header (the filters have ">>" words too).
+    let row = |h: &Harness<'_, PendantApp>| {
+        let below = header(h).bottom();
+        h.query_all_by_label_contains(">>")
+            .map(|n| n.rect())
+            .find(|r| r.top() >= below)
+            .expect("a sent row in view")
+    };
+    let (header_before, row_before) = (header(&h).left(), row(&h).left());
+    let at = row(&h).left_center() + egui::vec2(20.0, 0.0);
+    h.event(egui::Event::PointerMoved(at));
+    h.event(egui::Event::MouseWheel {
+        unit: egui::MouseWheelUnit::Point,
+        delta: egui::vec2(-150.0, 0.0),
+        phase: egui::TouchPhase::Move,
+        source: egui::MouseWheelSource::Wheel,
+        modifiers: egui::Modifiers::NONE,
+    });
+    h.run_steps(20);
+    let (header_moved, row_moved) = (
+        header_before - header(&h).left(),
+        row_before - row(&h).left(),
+    );
+    assert!(
+        row_moved > 50.0,
+        "the rows did not scroll sideways ({row_moved})"
+    );
+    assert!(
+        (header_moved - row_moved).abs() < 0.5,
+        "the header moved {header_moved} px, the rows {row_moved} px"
+    );
+}
