@@ -84,6 +84,9 @@ impl StartOptions {
     }
 }
 
+/// The shares of the window's width the left column (the jog pad) keeps within.
+const LEFT_SHARE: std::ops::Range<f32> = 0.27..0.36;
+
 pub struct PendantApp {
     pendant: Pendant,
     session: Option<Session>,
@@ -538,9 +541,15 @@ impl eframe::App for PendantApp {
         let mut pad = PadOutput::default();
         let mut axes_pad = super::axes::AxesPadOutput::default();
         // The jog panel first, at the top of the column: the pad never moves.
+        // The column (and the pad in it) follows the window: 27% to 36% of its width
+        // (370 px at 1280 unless dragged), so a column widened on a large screen shrinks
+        // back with the window.
+        let window_width = ui.ctx().content_rect().width();
+        let least = (window_width * LEFT_SHARE.start).clamp(300.0, 600.0);
         Panel::left("left")
             .resizable(true)
             .default_size(370.0)
+            .size_range(least..=(window_width * LEFT_SHARE.end).max(least))
             .show(ui, |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| {
                     egui::CollapsingHeader::new("Jog")

@@ -132,8 +132,10 @@ fn button(
     };
     let running = pendant.held_jog().is_some_and(|j| j.target == target);
     let held = pendant.held_on(JogInput::Pointer) == Some(target) || running;
-    // Two-line labels (direction and sign) a little smaller, never wrapped further.
-    let size = if text.contains('\n') { 13.0 } else { 15.0 };
+    // Two-line labels (direction and sign) a little smaller, never wrapped further; all
+    // grow with the button (a wide window's pad).
+    let grow = (rect.height() / MIN_BUTTON.y).clamp(1.0, 1.6);
+    let size = grow * if text.contains('\n') { 13.0 } else { 15.0 };
     let widget = Button::new(RichText::new(text).size(size))
         .wrap_mode(egui::TextWrapMode::Extend)
         .selected(held);

@@ -115,12 +115,13 @@ fn key_widgets_lie_inside_the_window_and_their_pane_at_every_size() {
         }
         show_tab(&mut h, "Coordinate tables");
         shot(&mut h, "coords", size, ppp);
-        // [left open] At 1024x700 the coordinate tables' tools still fill their pane in
-        // the default layout (the table scrolls below them).
-        if size[0] > 1024.0 {
-            for label in ["No.", "X mm", "Y mm", "Z mm", "R deg"] {
-                check(&h, label, Some(Tab::Coords), size, ppp);
-            }
+        // The files rows fold away in a short pane: the table's columns stay in sight.
+        for label in ["No.", "X mm", "Y mm", "Z mm", "R deg"] {
+            check(&h, label, Some(Tab::Coords), size, ppp);
+        }
+        // And its first rows too.
+        for label in ["work 1 X mm", "work 1 R deg"] {
+            check(&h, label, Some(Tab::Coords), size, ppp);
         }
         show_tab(&mut h, "Frame log");
         h.run_steps(3);
@@ -185,4 +186,24 @@ fn the_frame_log_decode_shows_ten_lines_in_the_default_layout_at_1280x800() {
     // The rows keep theirs above it, the newest inside the pane.
     check(&h, "Close decode", Some(Tab::FrameLog), size, ppp);
     assert!(h.query_all_by_label_contains(">>").count() >= 1);
+}
+
+#[test]
+fn the_pad_grows_with_the_window() {
+    let pad_button = |size: [f32; 2]| {
+        let h = app(size, 1.0);
+        h.get_by_label("X+").rect()
+    };
+    let (small, default, large) = (
+        pad_button([1024.0, 700.0]),
+        pad_button([1280.0, 800.0]),
+        pad_button([1920.0, 1080.0]),
+    );
+    // Never below the floor of 56x40 px.
+    assert!(small.width() >= 56.0 && small.height() >= 40.0, "{small:?}");
+    assert!(default.width() >= small.width(), "{default:?} {small:?}");
+    assert!(
+        large.width() >= 1.3 * default.width() && large.height() >= 1.3 * default.height(),
+        "at 1920x1080 the pad's X+ is {large:?}, at 1280x800 {default:?}"
+    );
 }
