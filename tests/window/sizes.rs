@@ -128,6 +128,25 @@ fn key_widgets_lie_inside_the_window_and_their_pane_at_every_size() {
         shot(&mut h, "frame-log", size, ppp);
         shot(&mut h, "frame-log", size, ppp);
         check(&h, "Follow tail", Some(Tab::FrameLog), size, ppp);
+        // Following the tail, the lowest row drawn is the newest, and it is whole in sight.
+        let pane = h
+            .state()
+            .pane_rect(Tab::FrameLog)
+            .expect("the frame log pane");
+        let newest = h
+            .query_all_by_label_contains(">>")
+            .chain(h.query_all_by_label_contains("<<"))
+            .map(|n| n.rect())
+            .filter(|r| r.top() > pane.top() && r.left() >= pane.left() - 0.5)
+            .max_by(|a, b| a.bottom().total_cmp(&b.bottom()))
+            .expect("rows in the frame log");
+        assert!(
+            within(
+                egui::Rect::from_x_y_ranges(pane.left()..=pane.left() + 10.0, newest.y_range()),
+                pane
+            ),
+            "the newest row {newest:?} is cut by its pane {pane:?} at {size:?} x{ppp}"
+        );
     }
 }
 
