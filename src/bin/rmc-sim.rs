@@ -38,7 +38,7 @@ Axes are numbered from 1 on the console.";
 
 /// A simulated Delta RMC151E motion controller on Modbus/TCP.
 #[derive(Parser, Debug)]
-#[command(version, after_help = AFTER_HELP)]
+#[command(name = "rmc-sim", version, after_help = AFTER_HELP)]
 struct Args {
     /// Serve Modbus/TCP on this address. The RMC itself listens on port 502 [inferred],
     /// which needs privileges on Unix; the default port 5020 does not.

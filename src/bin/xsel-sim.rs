@@ -61,7 +61,7 @@ Replies: '#' normal, '&' + 3-hex-digit error code. The simulator's error codes
 /// with servos off and not homed, in AUTO mode: send 232H (servo on), 233H (home), then
 /// move. Operator states (E-stop, mode, cut-off, alarms) are typed on stdin.
 #[derive(Parser, Debug)]
-#[command(version, after_help = format!("{AFTER_HELP}{}", code_table_text()))]
+#[command(name = "xsel-sim", version, after_help = format!("{AFTER_HELP}{}", code_table_text()))]
 struct Args {
     /// Create a pseudo-terminal and print its path as the first line of stdout.
     #[arg(long, conflicts_with = "tcp")]

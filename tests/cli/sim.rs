@@ -239,4 +239,17 @@ fn help_states_the_client_rule_units_and_console() {
     ] {
         assert!(run.stdout.contains(want), "--help lacks `{want}`");
     }
+    // Each program calls itself by its own name.
+    assert!(run.stdout.contains("Usage: xsel-sim"), "{}", run.stdout);
+    for (exe, name) in [
+        (SIM, "xsel-sim"),
+        (env!("CARGO_BIN_EXE_rmc-sim"), "rmc-sim"),
+    ] {
+        let version = crate::bin_common::run(exe, &["--version"], Duration::from_secs(20));
+        assert!(
+            version.stdout.starts_with(&format!("{name} ")),
+            "{exe} --version says {:?}",
+            version.stdout
+        );
+    }
 }

@@ -98,6 +98,9 @@ pub struct FrameLogPanel {
     pub(super) tools_shown: bool,
     /// How far the rows are scrolled sideways (the header follows).
     rows_x: f32,
+    /// The rows' view height last frame (a horizontal scroll bar takes some of the
+    /// pane), so the followed tail ends at its bottom edge.
+    pub(super) rows_view_height: Option<f32>,
     /// Drawn this frame showing the live log (new rows are worth waking the window for).
     pub(crate) live_in_sight: bool,
     /// The decode's height as the splitter left it (None: 60% of the pane, or room for
@@ -173,6 +176,7 @@ impl Default for FrameLogPanel {
             tools_open: None,
             tools_shown: true,
             rows_x: 0.0,
+            rows_view_height: None,
             live_in_sight: false,
             decode_height: None,
             decode_drawn: DecodeDrawn::default(),

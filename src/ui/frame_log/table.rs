@@ -48,7 +48,11 @@ pub fn show(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant) {
     } else if p.follow && p.paused_at.is_none() {
         // The last row at the bottom of the view: an offset past the end would leave
         // the view showing the last row or two of a short (filtered) list.
-        let bottom = total as f32 * row_height - ui.available_height();
+        let view = p
+            .rows_view_height
+            .unwrap_or(ui.available_height())
+            .min(ui.available_height());
+        let bottom = total as f32 * row_height - view;
         area = area.vertical_scroll_offset(bottom.max(0.0));
     }
     // While the tail is followed the rows move under the pointer between frames, and
@@ -68,6 +72,9 @@ pub fn show(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant) {
     });
     let mut drawn = Vec::new();
     let mut scrolled_by_user = false;
+    // Rows touch: the scroll area's pitch (row height plus this spacing) must be the
+    // pitch they are drawn at, or the followed tail drifts off the bottom edge.
+    ui.spacing_mut().item_spacing.y = 0.0;
     let out = area.show_rows(ui, row_height, total, |ui, range| {
         ui.spacing_mut().item_spacing.y = 0.0;
         for i in range {
@@ -85,6 +92,7 @@ pub fn show(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant) {
     });
     p.drawn = drawn;
     p.rows_x = out.state.clamped_offset().x;
+    p.rows_view_height = Some(out.inner_rect.height());
     if ui.rect_contains_pointer(out.inner_rect) && ui.input(|i| i.smooth_scroll_delta.y > 0.0) {
         scrolled_by_user = true;
     }
