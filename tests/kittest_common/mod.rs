@@ -115,3 +115,17 @@ pub fn press(h: &mut Harness<'_, PendantApp>, pos: egui::Pos2) {
     h.step();
     h.step();
 }
+
+/// The mouse wheel over `at`, moving the content by `delta` points, then the frames its
+/// eased scrolling takes.
+pub fn wheel(h: &mut Harness<'_, PendantApp>, at: egui::Pos2, delta: egui::Vec2) {
+    h.event(egui::Event::PointerMoved(at));
+    h.event(egui::Event::MouseWheel {
+        unit: egui::MouseWheelUnit::Point,
+        delta,
+        phase: egui::TouchPhase::Move,
+        source: egui::MouseWheelSource::Wheel,
+        modifiers: egui::Modifiers::NONE,
+    });
+    h.run_steps(20);
+}

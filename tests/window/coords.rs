@@ -16,7 +16,7 @@ use xsel_pendant::sim::runner::Dir;
 use xsel_pendant::sim::{Fault, FaultSpec};
 use xsel_pendant::ui::{PendantApp, StartOptions};
 
-use crate::kittest_common::{click, replace_text, show_tab, step_until, step_until_shown};
+use crate::kittest_common::{click, replace_text, show_tab, step_until, step_until_shown, wheel};
 
 fn app<'a>() -> Harness<'a, PendantApp> {
     Harness::builder()
@@ -653,20 +653,6 @@ fn a_save_that_fails_is_said_in_red_retried_and_its_recovery_said() {
     });
     assert!(std::fs::read_to_string(&file).unwrap().contains("SECOND"));
     let _ = std::fs::remove_dir_all(&dir);
-}
-
-/// The mouse wheel over `at`, moving the content by `delta` points.
-fn wheel(h: &mut Harness<'_, PendantApp>, at: egui::Pos2, delta: egui::Vec2) {
-    h.event(egui::Event::PointerMoved(at));
-    h.event(egui::Event::MouseWheel {
-        unit: egui::MouseWheelUnit::Point,
-        delta,
-        phase: egui::TouchPhase::Move,
-        source: egui::MouseWheelSource::Wheel,
-        modifiers: egui::Modifiers::NONE,
-    });
-    // Wheel scrolling is eased over a few frames.
-    h.run_steps(20);
 }
 
 /// The record number drawn in the frozen No. column level with `cell` (`work 7 X mm`).

@@ -13,7 +13,9 @@ use xsel_pendant::sim::runner::Dir as SimDir;
 use xsel_pendant::sim::{Fault, FaultSpec};
 use xsel_pendant::ui::{PendantApp, StartOptions};
 
-use crate::kittest_common::{click, press, replace_text, step_until, step_until_shown, type_into};
+use crate::kittest_common::{
+    click, press, replace_text, step_until, step_until_shown, type_into, wheel,
+};
 
 use crate::wire::frame as framed;
 
@@ -458,15 +460,7 @@ fn the_header_scrolls_sideways_with_the_rows() {
     };
     let (header_before, row_before) = (header(&h).left(), row(&h).left());
     let at = row(&h).left_center() + egui::vec2(20.0, 0.0);
-    h.event(egui::Event::PointerMoved(at));
-    h.event(egui::Event::MouseWheel {
-        unit: egui::MouseWheelUnit::Point,
-        delta: egui::vec2(-150.0, 0.0),
-        phase: egui::TouchPhase::Move,
-        source: egui::MouseWheelSource::Wheel,
-        modifiers: egui::Modifiers::NONE,
-    });
-    h.run_steps(20);
+    wheel(&mut h, at, egui::vec2(-150.0, 0.0));
     let (header_moved, row_moved) = (
         header_before - header(&h).left(),
         row_before - row(&h).left(),

@@ -88,9 +88,8 @@ pub fn show(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant) {
                 );
             }
         });
-    let line = ui.text_style_height(&egui::TextStyle::Monospace);
-    p.decode_drawn.inner = fields.inner_rect.height();
-    p.decode_drawn.lines = fields.inner_rect.height() / line;
+    p.decode_drawn.lines =
+        fields.inner_rect.height() / ui.text_style_height(&egui::TextStyle::Monospace);
     if p.hovered != hovered {
         // The raw text above was drawn with the old mark: draw again with the new one.
         ui.ctx().request_repaint();

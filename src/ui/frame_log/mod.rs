@@ -106,8 +106,8 @@ pub struct FrameLogPanel {
     /// The decode's height as the splitter left it (None: 60% of the pane, or room for
     /// [`DECODE_LINES`] lines if that is more and the rows keep theirs).
     decode_height: Option<f32>,
-    /// What the decode drew last frame: the height of its heading (the row's name, the
-    /// buttons and the raw bytes) and how many lines its fields had room for.
+    /// What the decode drew last frame: the height of its heading (the row's name and
+    /// buttons, margins) and how many lines its fields had room for.
     pub(super) decode_drawn: DecodeDrawn,
 }
 
@@ -116,8 +116,7 @@ pub struct FrameLogPanel {
 pub(super) struct DecodeDrawn {
     /// All but the fields' lines: the row's name and buttons, margins.
     pub heading: f32,
-    /// The height of the fields' view.
-    pub inner: f32,
+    /// Lines of monospace text the fields' view had room for.
     pub lines: f32,
 }
 
@@ -385,7 +384,7 @@ impl FrameLogPanel {
             self.decode_height = Some(decode - dy);
         }
         detail::show(self, ui, pendant);
-        self.decode_drawn.heading = decode - self.decode_drawn.inner;
+        self.decode_drawn.heading = decode - self.decode_drawn.lines * line;
     }
 
     fn poll_files(&mut self, now: std::time::Instant, out: &mut Vec<Intent>) {
