@@ -36,6 +36,7 @@ fn config(baud: u32, polling: Option<Duration>) -> LinkConfig {
     let mut config = LinkConfig {
         polling: Polling {
             interval: polling,
+            idle_interval: None,
             commands: if polling.is_some() {
                 vec![poll_command()]
             } else {

@@ -61,6 +61,7 @@ pub fn quiet_config() -> LinkConfig {
     LinkConfig {
         polling: Polling {
             interval: None,
+            idle_interval: None,
             commands: Vec::new(),
         },
         ..LinkConfig::default()

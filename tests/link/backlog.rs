@@ -16,6 +16,7 @@ fn a_reader_that_stops_reading_leaves_a_bounded_backlog_and_an_exact_dropped_cou
     let config = LinkConfig {
         polling: Polling {
             interval: Some(Duration::ZERO),
+            idle_interval: None,
             commands: vec![Command::SystemStatus],
         },
         event_backlog: backlog,
@@ -49,6 +50,7 @@ fn a_reader_that_stops_reading_leaves_a_bounded_backlog_and_an_exact_dropped_cou
     .expect("polling resumes");
     link.set_polling(Polling {
         interval: None,
+        idle_interval: None,
         commands: Vec::new(),
     });
     // The second health figure after polling stopped counts every poll.

@@ -30,6 +30,7 @@ fn a_thousand_transactions_with_ten_percent_faults() {
     let mut config = LinkConfig {
         polling: Polling {
             interval: Some(Duration::ZERO),
+            idle_interval: None,
             // One command a cycle: a late poll reply carries the very ID the next poll
             // waits for, the hardest case for pairing replies with commands.
             commands: vec![Command::ScaraStatus(ScaraStatusQuery {
@@ -113,6 +114,7 @@ fn a_thousand_transactions_with_ten_percent_faults() {
     // transaction in flight ends first) and read every event it left, to the last.
     link.set_polling(Polling {
         interval: None,
+        idle_interval: None,
         commands: Vec::new(),
     });
     let _report = link.shutdown();

@@ -204,6 +204,7 @@ fn polls_give_way_to_user_commands() {
     let config = LinkConfig {
         polling: Polling {
             interval: Some(Duration::ZERO),
+            idle_interval: None,
             commands: vec![Command::SystemStatus],
         },
         ..LinkConfig::default()

@@ -20,6 +20,11 @@ use crate::protocol::{AxisPattern, Command, ScMode, Station, Stop};
 /// draw what changed; it should return at once.
 pub type Repaint = Arc<dyn Fn(&LinkEvent) + Send + Sync>;
 
+/// Events the reader may leave unread by default (see [`LinkConfig::event_backlog`]).
+/// A poll brings three (the frame sent, the frame received, the reply): about 120 a
+/// second while polls are fast, 50 while steady.
+pub const EVENT_BACKLOG: usize = 4096;
+
 /// How the link behaves.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LinkConfig {
@@ -61,7 +66,7 @@ impl Default for LinkConfig {
             reconnect_interval: Duration::from_millis(500),
             recheck,
             jog_lease: super::lease::JOG_LEASE,
-            event_backlog: 1024,
+            event_backlog: EVENT_BACKLOG,
         }
     }
 }

@@ -14,14 +14,24 @@ pub struct Polling {
     /// Time from one cycle's start to the next; `None` turns polling off. When the line
     /// cannot keep up, cycles run back to back and the rate falls to what it allows.
     pub interval: Option<Duration>,
+    /// Time from one cycle's start to the next once things are steady: no poll has
+    /// answered differently and nothing else has gone on the line for [`STEADY_AFTER`].
+    /// Any change brings `interval` back at once. `None`, or one shorter than
+    /// `interval`: always `interval`.
+    pub idle_interval: Option<Duration>,
     /// Sent in order, one per free slot of the line.
     pub commands: Vec<Command>,
 }
+
+/// How long after the last change polling keeps its fast interval: a move that has just
+/// been sent, or a pause within one, does not slow the polls that follow it.
+pub const STEADY_AFTER: Duration = Duration::from_secs(1);
 
 impl Default for Polling {
     fn default() -> Self {
         Self {
             interval: Some(Duration::from_millis(100)),
+            idle_interval: None,
             commands: vec![
                 Command::ScaraStatus(ScaraStatusQuery {
                     axes: AxisPattern::SCARA_1,
@@ -55,6 +65,8 @@ pub struct Scheduler {
     background_turn: bool,
     /// Polls are paused (the event reader is far behind).
     polls_paused: bool,
+    /// Polls keep their fast interval until then (see [`Scheduler::activity`]).
+    lively_until: Option<Instant>,
     table: Option<TableJob>,
     table_generation: u32,
 }
@@ -78,7 +90,33 @@ impl Scheduler {
             .map(|_| now);
         self.cycle_pos = 0;
         self.cycle_started = None;
+        self.lively_until = Some(super::driver::later(now, STEADY_AFTER));
         self.polling = polling;
+    }
+
+    /// Something changed at `now` (a poll answered differently, a request of the
+    /// application's went out, a reply failed): polls keep their fast interval for
+    /// [`STEADY_AFTER`], and a cycle waiting out the idle interval starts when the fast
+    /// one would have.
+    pub fn activity(&mut self, now: Instant) {
+        self.lively_until = Some(super::driver::later(now, STEADY_AFTER));
+        if let (0, Some(start), Some(at), Some(interval)) = (
+            self.cycle_pos,
+            self.cycle_started,
+            self.next_poll_at,
+            self.polling.interval,
+        ) {
+            self.next_poll_at = Some(at.min(super::driver::later(start, interval).max(now)));
+        }
+    }
+
+    /// The time from this cycle's start to the next one's.
+    fn cycle_interval(&self, now: Instant, interval: Duration) -> Duration {
+        let steady = self.lively_until.is_none_or(|t| now >= t);
+        match self.polling.idle_interval {
+            Some(idle) if steady => idle.max(interval),
+            _ => interval,
+        }
     }
 
     /// Pauses or resumes polling; on resuming, a cycle is due at once.
@@ -196,7 +234,8 @@ impl Scheduler {
         if self.cycle_pos >= self.polling.commands.len() {
             self.cycle_pos = 0;
             let start = self.cycle_started.unwrap_or(now);
-            self.next_poll_at = Some((start + interval).max(now));
+            let gap = self.cycle_interval(now, interval);
+            self.next_poll_at = Some(super::driver::later(start, gap).max(now));
             self.background_turn = true;
         }
         Some(Pending::new(
@@ -296,6 +335,68 @@ mod tests {
     }
 
     #[test]
+    fn steady_polls_slow_to_the_idle_interval_and_a_change_brings_the_fast_one_back_at_once() {
+        let ms = Duration::from_millis;
+        let t0 = Instant::now();
+        let polling = Polling {
+            interval: Some(ms(100)),
+            idle_interval: Some(ms(250)),
+            commands: vec![Command::SystemStatus],
+        };
+        let mut s = Scheduler::new(polling, t0);
+        let mut new_id = ids();
+        let mut now = t0;
+        let mut run_until = |s: &mut Scheduler, end: Instant, now: &mut Instant| {
+            let mut starts = Vec::new();
+            while *now < end {
+                match s.next(*now, &mut new_id) {
+                    Next::Send(p) => {
+                        assert_eq!(p.origin, Origin::Poll);
+                        starts.push(now.duration_since(t0).as_millis());
+                    }
+                    Next::Wait(Some(at)) => *now = at,
+                    Next::Wait(None) => panic!("polling stopped"),
+                }
+            }
+            starts
+        };
+        // Nothing changes: the fast interval for STEADY_AFTER, then the idle one.
+        let starts = run_until(&mut s, t0 + ms(2100), &mut now);
+        assert_eq!(
+            starts,
+            [
+                0, 100, 200, 300, 400, 500, 600, 700, 800, 900, 1000, 1250, 1500, 1750, 2000
+            ]
+        );
+        assert_eq!(now, t0 + ms(2250), "waiting out the idle interval");
+        // A change while an idle wait runs: the next cycle goes when the fast one would
+        // have (at once here: 100 ms after the last cycle have passed), then fast again.
+        s.activity(t0 + ms(2150));
+        now = t0 + ms(2150);
+        let starts = run_until(&mut s, t0 + ms(2500), &mut now);
+        assert_eq!(starts, [2150, 2250, 2350, 2450]);
+        // A change soon after a cycle started: the next one comes 100 ms after it.
+        let mut s = Scheduler::new(
+            Polling {
+                interval: Some(ms(100)),
+                idle_interval: Some(ms(250)),
+                commands: vec![Command::SystemStatus],
+            },
+            t0,
+        );
+        let mut now = t0 + ms(5000);
+        assert!(matches!(s.next(now, &mut new_id), Next::Send(_)));
+        assert_eq!(s.next(now, &mut new_id), Next::Wait(Some(now + ms(250))));
+        s.activity(now + ms(10));
+        assert_eq!(
+            s.next(now + ms(10), &mut new_id),
+            Next::Wait(Some(now + ms(100)))
+        );
+        now += ms(100);
+        assert!(matches!(s.next(now, &mut new_id), Next::Send(_)));
+    }
+
+    #[test]
     fn user_commands_wait_behind_no_more_than_the_poll_in_flight() {
         let t0 = Instant::now();
         let mut s = Scheduler::new(Polling::default(), t0);
@@ -324,6 +425,7 @@ mod tests {
         let t0 = Instant::now();
         let polling = Polling {
             interval: Some(Duration::from_millis(10)),
+            idle_interval: None,
             commands: Vec::new(),
         };
         let mut s = Scheduler::new(polling, t0);
@@ -337,6 +439,7 @@ mod tests {
         let t0 = Instant::now();
         let polling = Polling {
             interval: Some(Duration::ZERO),
+            idle_interval: None,
             commands: vec![Command::SystemStatus],
         };
         let mut s = Scheduler::new(polling, t0);

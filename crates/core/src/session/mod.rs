@@ -39,8 +39,14 @@ use crate::sim::panel::{FrontPanel, front_panel};
 use crate::sim::pipe::PipeEnd;
 use crate::sim::{EmbeddedOptions, SimSetup, start_embedded};
 
-/// How often a poll cycle starts in the window.
+/// How often a poll cycle starts in the window while anything changes.
 pub const POLL_INTERVAL: Duration = Duration::from_millis(100);
+/// How often a poll cycle starts while things are steady (the arm stands, every poll
+/// answers as before, the operator sends nothing): any change brings [`POLL_INTERVAL`]
+/// back at once. [I: a move, an alarm or an emergency stop from elsewhere (the
+/// controller's own panel, a program) shows within one of these, and the fast polls
+/// follow it.]
+pub const IDLE_POLL_INTERVAL: Duration = Duration::from_millis(250);
 
 /// A robot model by name: `scara-500`, `scara-250`, or a TOML file (a regular file of at
 /// most [`files::CONFIG_LIMIT`] bytes).
@@ -240,7 +246,7 @@ pub struct Session {
 
 impl Session {
     /// Checks the settings, prepares the line and starts the link polling `polls` every
-    /// [`POLL_INTERVAL`]; the line opens on the link thread (success or failure arrives
+    /// [`POLL_INTERVAL`] ([`IDLE_POLL_INTERVAL`] while steady); the line opens on the link thread (success or failure arrives
     /// as an event).
     pub fn open(
         settings: &ConnectionSettings,
@@ -269,6 +275,7 @@ impl Session {
             },
             polling: Polling {
                 interval: Some(POLL_INTERVAL),
+                idle_interval: Some(IDLE_POLL_INTERVAL),
                 commands: polls,
             },
             ..LinkConfig::default()

@@ -155,6 +155,7 @@ pub(crate) fn quiet_config() -> LinkConfig {
     LinkConfig {
         polling: Polling {
             interval: None,
+            idle_interval: None,
             commands: Vec::new(),
         },
         ..LinkConfig::default()

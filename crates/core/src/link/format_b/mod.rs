@@ -24,6 +24,7 @@ use super::event::LinkEvent;
 use super::handle::LinkConfig;
 use super::health::{HealthMeter, LinkHealth};
 use super::lease::JogLease;
+use super::poll_answers::PollAnswers;
 use super::reason::{LineDownReason, NotSentReason};
 use super::request::{Origin, Pending, RequestId};
 use super::schedule::{Next, Polling, Scheduler};
@@ -71,6 +72,8 @@ pub struct FormatB {
     open_failure_reported: bool,
     reconnect_requested: bool,
     sched: Scheduler,
+    /// The polls' last answers: a changed one keeps polling fast.
+    poll_answers: PollAnswers,
     decoder: StreamDecoder,
     health: HealthMeter,
     next_health: Instant,
@@ -112,6 +115,7 @@ impl FormatB {
             ever_connected: false,
             open_failure_reported: false,
             reconnect_requested: false,
+            poll_answers: PollAnswers::default(),
             decoder: StreamDecoder::new(),
             health: HealthMeter::default(),
             next_health: later(now, HEALTH_EVERY),
@@ -225,6 +229,7 @@ impl FormatB {
         self.line = LineState::Up;
         self.decoder = StreamDecoder::new();
         self.quiet_until = None;
+        self.poll_answers.clear();
         self.sched.set_polling(self.sched.polling().clone(), now);
         self.sched_wake = Some(now);
         self.emit(if self.ever_connected {
@@ -363,7 +368,11 @@ impl LinkCore for FormatB {
     fn handle_request(&mut self, now: Instant, input: Input<Control>) {
         match input {
             Input::App(control) => self.handle_control(now, control),
-            Input::LeaseRenewed(at) => self.lease.renewed(at),
+            Input::LeaseRenewed(at) => {
+                // A held jog: the operator is moving the arm.
+                self.lease.renewed(at);
+                self.sched.activity(now);
+            }
             Input::Backlog { behind, dropped } => self.backlog(now, behind, dropped),
             Input::Close => self.close(now),
         }

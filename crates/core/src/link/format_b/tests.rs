@@ -487,6 +487,7 @@ fn polls_give_way_to_user_commands() {
     let config = LinkConfig {
         polling: Polling {
             interval: Some(Duration::ZERO),
+            idle_interval: None,
             commands: vec![Command::SystemStatus],
         },
         ..LinkConfig::default()
@@ -1015,6 +1016,7 @@ fn ten_thousand_transactions_with_ten_percent_faults_on_the_virtual_clock() {
     let mut config = LinkConfig {
         polling: Polling {
             interval: Some(Duration::ZERO),
+            idle_interval: None,
             commands: vec![Command::ScaraStatus(crate::protocol::ScaraStatusQuery {
                 axes: AxisPattern::SCARA_1,
                 system: crate::protocol::PositionSystem::Work,
@@ -1042,6 +1044,7 @@ fn ten_thousand_transactions_with_ten_percent_faults_on_the_virtual_clock() {
     }
     bench.control(Control::SetPolling(Polling {
         interval: None,
+        idle_interval: None,
         commands: Vec::new(),
     }));
     bench.close();
@@ -1092,4 +1095,69 @@ fn ten_thousand_transactions_with_ten_percent_faults_on_the_virtual_clock() {
         "each move went out once, or was refused and said so"
     );
     assert_eq!(bench.sim.controller.counters().motion_received, moves_sent);
+}
+
+#[test]
+fn a_standing_arm_is_polled_at_the_idle_interval_and_a_moving_one_at_the_fast_one() {
+    let second = Duration::from_secs(1);
+    let config = LinkConfig {
+        polling: Polling {
+            idle_interval: Some(Duration::from_millis(250)),
+            ..Polling::default()
+        },
+        jog_lease: Duration::from_secs(600),
+        ..LinkConfig::default()
+    };
+    let polls = config.polling.commands.clone();
+    let mut bench = Bench::new(
+        ready_setup(Duration::from_millis(1)),
+        FaultSpec::none(),
+        config,
+    );
+    // Cycles (of two polls) begun in the last second.
+    let mut first = Vec::new();
+    polls[0]
+        .encode_into(
+            crate::protocol::Station::DEFAULT,
+            crate::protocol::ScMode::Computed,
+            &mut first,
+        )
+        .expect("a poll encodes");
+    let cycles = |bench: &Bench| {
+        bench
+            .written
+            .iter()
+            .filter(|(at, bytes)| *at + second > bench.now && *bytes == first)
+            .count()
+    };
+    bench.run_for(3 * second);
+    assert!(
+        (3..=5).contains(&cycles(&bench)),
+        "{} cycles in a second of a standing arm (4 expected)",
+        cycles(&bench)
+    );
+    // A jog: its answers change with every poll, so the polls stay fast long after the
+    // jog itself went out.
+    let jog = bench.submit(jog_x());
+    bench
+        .run_until(LONG, is_reply_to(jog))
+        .expect("jog acknowledged");
+    bench.run_for(3 * second);
+    assert_ne!(bench.sim.controller.in_use(), 0, "the jog runs");
+    assert!(
+        cycles(&bench) >= 9,
+        "{} cycles in a second of a moving arm (10 expected)",
+        cycles(&bench)
+    );
+    // Stopped and standing again: back to the idle interval.
+    let stop = bench.stop_all();
+    bench
+        .run_until(LONG, is_reply_to(stop))
+        .expect("STOP acknowledged");
+    bench.run_for(3 * second);
+    assert!(
+        (3..=5).contains(&cycles(&bench)),
+        "{} cycles in a second once the arm stands again",
+        cycles(&bench)
+    );
 }

@@ -69,6 +69,11 @@ impl FormatB {
             return None;
         }
         pending.attempts = pending.attempts.saturating_add(1);
+        if !matches!(pending.origin, Origin::Poll | Origin::Table { .. }) {
+            // The application's own requests (and the link's safety STOPs and proofs
+            // for them) may change what the polls read: they keep the polls fast.
+            self.sched.activity(now);
+        }
         if pending.command.is_motion() {
             self.motion_may_run = true;
         }
@@ -203,6 +208,7 @@ impl FormatB {
         match reply {
             Ok(Reply::Error(code)) => {
                 self.health.error_reply();
+                self.sched.activity(at);
                 if !self.sync.in_step(at) {
                     // This `&` may be an earlier command's late error; then this
                     // command's own reply is still to come.
@@ -224,6 +230,11 @@ impl FormatB {
             }
             Ok(reply) => {
                 self.health.reply(round_trip);
+                if pending.origin == Origin::Poll
+                    && self.poll_answers.changed(&pending.command, &reply)
+                {
+                    self.sched.activity(at);
+                }
                 self.sync.reply_seen(expected, at);
                 match pending.command {
                     Command::Jog(_) => self.jog_may_run = true,
@@ -316,6 +327,7 @@ impl FormatB {
         let (pending, reply_came_damaged) = (out.pending, out.reply_came_damaged);
         self.end_transaction(now, Settled::TimedOut);
         self.health.timeout();
+        self.sched.activity(now);
         if !reply_came_damaged {
             let until = later(now, self.config.timing.late_reply_window);
             self.sync.may_answer_late(pending.command.id(), until);
