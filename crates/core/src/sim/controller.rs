@@ -454,6 +454,12 @@ impl Controller {
         }
     }
 
+    /// Whether nothing changes with time: no axis in use and no reboot under way (the
+    /// world then only changes by a command).
+    pub fn at_rest(&self) -> bool {
+        self.in_use() == 0 && self.rebooting_until.is_none()
+    }
+
     /// Axis pattern of the axes in use: moving, homing or switching servo.
     pub fn in_use(&self) -> u8 {
         let moving = self.motions.iter().fold(0, |p, m| p | m.axes);

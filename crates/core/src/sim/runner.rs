@@ -95,7 +95,9 @@ pub struct RunOptions {
     /// Pace reply bytes at this time per byte (pty/TCP); `None` for the embedded pipe,
     /// which paces by itself.
     pub pacing: Option<Duration>,
-    /// How often the world is advanced while the line is quiet.
+    /// How often the world is advanced while the line is quiet and anything moves; at
+    /// rest, at most every [`REST_TICK`] (a reply or a look at the controller advances
+    /// it to the present first, so nothing is seen late).
     pub tick: Duration,
     /// Called for every frame in and out.
     pub log: Option<LogFn>,
@@ -108,6 +110,10 @@ pub struct RunOptions {
     /// The front panel's desk, served between frames (the window's Simulator pane).
     pub panel: Option<super::panel::PanelDesk>,
 }
+
+/// The tick while the world is at rest: it only looks for a stop and serves the front
+/// panel then, which may wait this long.
+pub const REST_TICK: Duration = Duration::from_millis(100);
 
 impl Default for RunOptions {
     fn default() -> Self {
@@ -165,7 +171,12 @@ pub fn serve(
         if stop.load(Ordering::Relaxed) {
             return ServeEnd::Stopped;
         }
-        let n = match line.read_timeout(&mut buf, opts.tick) {
+        let tick = if lock(shared).controller.at_rest() {
+            opts.tick.max(REST_TICK)
+        } else {
+            opts.tick
+        };
+        let n = match line.read_timeout(&mut buf, tick) {
             Ok(0) => return ServeEnd::Closed,
             Ok(n) => n,
             Err(e) if is_timeout(&e) => 0,

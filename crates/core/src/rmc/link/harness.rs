@@ -106,6 +106,11 @@ impl Bench {
         self.core.config.poll_interval
     }
 
+    /// The time between status rounds while every axis stands.
+    pub fn core_idle_poll_interval(&self) -> Duration {
+        self.core.config.idle_poll_interval
+    }
+
     pub fn request(&mut self, request: RmcRequest) {
         self.core.handle_request(self.now, Input::App(request));
         self.pump();

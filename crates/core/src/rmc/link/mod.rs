@@ -62,7 +62,8 @@ impl Default for RmcLinkConfig {
             axes: 2,
             reply_timeout: Duration::from_millis(100),
             poll_interval: Duration::from_millis(20),
-            idle_poll_interval: Duration::from_millis(100),
+            // As the X-SEL's (`session::IDLE_POLL_INTERVAL`).
+            idle_poll_interval: Duration::from_millis(250),
             stop_decel: 1000.0,
             lease: crate::link::JOG_LEASE,
             reconnect_interval: Duration::from_millis(500),

@@ -14,8 +14,8 @@ use super::controller::{RmcConfig, RmcController};
 /// Connections served at once (RMC.md section 1: up to 64); one more is closed at once.
 pub const MAX_CONNECTIONS: usize = 64;
 /// How often a connection looks for a shutdown (its read timeout), and the listener's
-/// pause after a failed accept.
-const POLL: Duration = Duration::from_millis(20);
+/// pause after a failed accept. (A client that closes is seen at once: its read ends.)
+const POLL: Duration = Duration::from_millis(100);
 /// A client that takes longer than this to take a reply is dropped.
 const WRITE_TIMEOUT: Duration = Duration::from_secs(2);
 
@@ -34,7 +34,7 @@ pub type EventLog = Arc<dyn Fn(ServerEvent) + Send + Sync>;
 
 /// A running server; dropping it stops accepting (the listener blocks in accept and is
 /// woken by a connection of its own), closes every connection and joins the threads
-/// (within a poll interval, 20 ms).
+/// (within a poll interval, 100 ms).
 pub struct RmcServer {
     addr: SocketAddr,
     stop: Arc<AtomicBool>,
