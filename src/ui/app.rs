@@ -11,6 +11,7 @@ use super::connection::ConnectionPanel;
 use super::coords::CoordsPanel;
 use super::file_field::FolderCache;
 use super::frame_log::FrameLogPanel;
+use super::inbox::{Inbox, Next};
 use super::jog::JogPanel;
 use super::keys::{self, Keys};
 use super::layout::{self, Tab, Tabs};
@@ -34,8 +35,9 @@ use crate::session::{LineOwner, Session, load_model};
 pub const APP_ID: &str = "xsel-pendant";
 const SETTINGS_KEY: &str = "settings";
 const LAYOUT_KEY: &str = "layout";
-/// Most time spent applying link events in one frame.
-const EVENT_BUDGET: Duration = Duration::from_millis(4);
+/// Most time spent applying link events in one frame (about 5 us each: one frame takes
+/// in what 25 s of idle polling of both links brings).
+const EVENT_BUDGET: Duration = Duration::from_millis(16);
 /// The simulator's thread answers the front panel within a tick (20 ms); the window looks
 /// again after this.
 const PANEL_ANSWER: Duration = Duration::from_millis(60);
@@ -93,6 +95,8 @@ pub struct PendantApp {
     /// The RMC151's connection, apart from the robot's line: motion on one never waits
     /// for the other.
     rmc: Option<RmcSession>,
+    /// The links' events, taken in oldest first.
+    inbox: Inbox,
     line_owner: LineOwner,
     connection: ConnectionPanel,
     jog: JogPanel,
@@ -111,6 +115,9 @@ pub struct PendantApp {
     live_log_shown: std::sync::Arc<std::sync::atomic::AtomicBool>,
     /// Link events that woke the window so far.
     link_wakes: std::sync::Arc<std::sync::atomic::AtomicU64>,
+    /// Link events left for later since the window last took every event in (see
+    /// `wake`).
+    unread: std::sync::Arc<std::sync::atomic::AtomicUsize>,
     dock: egui_tiles::Tree<Tab>,
     /// Where each pane shown in the last frame was drawn.
     pane_rects: Vec<(Tab, egui::Rect)>,
@@ -194,6 +201,7 @@ impl PendantApp {
             pendant,
             session: None,
             rmc: None,
+            inbox: Inbox::default(),
             line_owner: options.line_owner.clone(),
             connection: ConnectionPanel::default(),
             jog: JogPanel::default(),
@@ -208,6 +216,7 @@ impl PendantApp {
             folder: FolderCache::default(),
             live_log_shown: Default::default(),
             link_wakes: Default::default(),
+            unread: Default::default(),
             dock: layout::checked_layout(saved_layout),
             pane_rects: Vec::new(),
             started: now,
@@ -307,35 +316,46 @@ impl PendantApp {
         });
     }
 
-    fn drain_events(&mut self, now: Instant) {
+    /// Closes the X-SEL's line (its link sends the STOPs owed first).
+    fn close_session(&mut self) {
+        self.session = None;
+        self.inbox.forget_xsel();
+    }
+
+    /// Closes the RMC151's connection (its link stops what may move first).
+    fn close_rmc(&mut self) {
+        self.rmc = None;
+        self.inbox.forget_rmc();
+    }
+
+    /// Takes in the links' events, both lines' oldest first, for at most
+    /// [`EVENT_BUDGET`]; true when some are left for the next frame.
+    fn drain_events(&mut self, now: Instant) -> bool {
+        if let Some(session) = &mut self.session {
+            // What the simulator's front panel did, said beside it and in Messages.
+            for line in session
+                .panel
+                .as_mut()
+                .map(|p| p.take_news())
+                .unwrap_or_default()
+            {
+                self.simulator.done(format!("Simulator: {line}"));
+                self.pendant.note(format!("simulator: {line}"), now);
+            }
+        }
         let deadline = now + EVENT_BUDGET;
-        if let Some(rmc) = &self.rmc {
-            while let Ok(event) = rmc.events.try_recv() {
-                self.pendant.handle_axes_event(Instant::now(), event);
-                if Instant::now() >= deadline {
-                    break;
-                }
+        let xsel = self.session.as_ref().map(|s| &s.events);
+        let rmc = self.rmc.as_ref().map(|r| &r.events);
+        while let Some(next) = self.inbox.next(xsel, rmc) {
+            match next {
+                Next::Xsel(event) => self.pendant.handle_event(Instant::now(), event),
+                Next::Rmc(event) => self.pendant.handle_axes_event(Instant::now(), event),
             }
-        }
-        let Some(session) = &mut self.session else {
-            return;
-        };
-        // What the simulator's front panel did, said beside it and in Messages.
-        for line in session
-            .panel
-            .as_mut()
-            .map(|p| p.take_news())
-            .unwrap_or_default()
-        {
-            self.simulator.done(format!("Simulator: {line}"));
-            self.pendant.note(format!("simulator: {line}"), now);
-        }
-        while let Ok(event) = session.events.try_recv() {
-            self.pendant.handle_event(Instant::now(), event);
             if Instant::now() >= deadline {
-                break;
+                return true;
             }
         }
+        false
     }
 
     fn run_requests(&mut self, ctx: &egui::Context, now: Instant) {
@@ -383,7 +403,7 @@ impl PendantApp {
                     ),
                 },
                 Request::Connect => self.open_session(ctx, now),
-                Request::Disconnect => self.session = None,
+                Request::Disconnect => self.close_session(),
                 Request::Axes(call) => self.axes_call(ctx, call, now),
             }
         }
@@ -394,8 +414,7 @@ impl PendantApp {
             return self.open_rmc(ctx, now);
         }
         if let AxisCall::Disconnect = call {
-            self.rmc = None;
-            return;
+            return self.close_rmc();
         }
         let Some(rmc) = &self.rmc else {
             return;
@@ -424,10 +443,14 @@ impl PendantApp {
 
     /// Opens the RMC151's connection in the settings (closing the current one).
     fn open_rmc(&mut self, ctx: &egui::Context, now: Instant) {
-        self.rmc = None;
+        self.close_rmc();
         let repaint_ctx = ctx.clone();
         let wakes = self.link_wakes.clone();
-        let last = std::sync::Mutex::new(RmcWake::new(self.live_log_shown.clone()));
+        let last = std::sync::Mutex::new(RmcWake::new(
+            self.live_log_shown.clone(),
+            self.unread.clone(),
+            crate::rmc::EVENT_BACKLOG,
+        ));
         let repaint = std::sync::Arc::new(move |event: &crate::rmc::RmcEvent| {
             // A poll that reads what is already shown wakes nobody.
             if last.lock().map_or(Wake::Soon, |mut l| l.on_event(event)) == Wake::Soon {
@@ -457,7 +480,7 @@ impl PendantApp {
 
     fn open_session(&mut self, ctx: &egui::Context, now: Instant) {
         // The old link shuts down first (stopping any motion), then the new one opens.
-        self.session = None;
+        self.close_session();
         let settings = self.pendant.settings.connection.clone();
         let model = match load_model(&settings.robot) {
             Ok(m) => m,
@@ -468,7 +491,11 @@ impl PendantApp {
         // most every LINK_REPAINT: polls alone bring ~40 events a second, and a repaint
         // each would keep a software renderer busy (see `wake`).
         let repaint_ctx = ctx.clone();
-        let filter = std::sync::Mutex::new(WakeFilter::new(self.live_log_shown.clone()));
+        let filter = std::sync::Mutex::new(WakeFilter::new(
+            self.live_log_shown.clone(),
+            self.unread.clone(),
+            crate::link::EVENT_BACKLOG,
+        ));
         let wakes = self.link_wakes.clone();
         let repaint = std::sync::Arc::new(move |event: &crate::pendant::LinkEvent| {
             let wake = filter.lock().map_or(Wake::Soon, |mut f| f.on_event(event));
@@ -496,7 +523,12 @@ impl PendantApp {
 impl eframe::App for PendantApp {
     fn logic(&mut self, ctx: &egui::Context, _frame: &mut eframe::Frame) {
         let now = Instant::now();
-        self.drain_events(now);
+        if self.drain_events(now) {
+            // The rest of a backlog is taken in next frame.
+            ctx.request_repaint();
+        } else {
+            self.unread.store(0, std::sync::atomic::Ordering::Relaxed);
+        }
         // A window that lost focus cannot see a key or button come up: stop the jog.
         if ctx.input(|i| i.viewport().focused) == Some(false) {
             self.pendant.apply(Intent::FocusLost, now);

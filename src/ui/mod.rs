@@ -12,6 +12,7 @@ mod coords_table;
 mod detect;
 mod file_field;
 pub mod frame_log;
+mod inbox;
 mod jog;
 mod keys;
 mod layout;

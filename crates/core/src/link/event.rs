@@ -109,6 +109,18 @@ pub enum LinkEvent {
 }
 
 impl LinkEvent {
+    /// When it happened on the line, for the events that carry a time: the time the
+    /// frame log files it under (a received frame's first byte).
+    pub fn at(&self) -> Option<Instant> {
+        match self {
+            LinkEvent::FrameSent { at, .. }
+            | LinkEvent::Garbage { at, .. }
+            | LinkEvent::Timeout { at, .. } => Some(*at),
+            LinkEvent::FrameReceived { first_byte, .. } => Some(*first_byte),
+            _ => None,
+        }
+    }
+
     /// Traffic events may be left out when the reader falls behind (counted in
     /// [`LinkEvent::Dropped`]); all others always arrive.
     pub fn is_traffic(&self) -> bool {

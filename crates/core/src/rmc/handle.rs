@@ -24,10 +24,9 @@ pub struct RmcHandle {
 }
 
 /// Events the window may leave unread before traffic is left out: a round (two axes and
-/// the controller, every 20 ms) brings about 9 events, the frame log's rows among them,
-/// about 450 a second; an idle window takes them in every 2 s (`ui::wake::IDLE_WAKE`), so
-/// 4096 leave it four times that.
-const EVENT_BACKLOG: usize = 4096;
+/// the controller, every 20 ms while anything moves, 250 ms while all stand) brings about
+/// 9 events, the frame log's rows among them: about 450 a second, or 36.
+pub const EVENT_BACKLOG: usize = 4096;
 
 /// Starts the RMC link thread on `connector` (a TCP connection to the controller, or to
 /// the built-in simulator).

@@ -14,5 +14,5 @@ pub use status::{AxisStatus, ControllerStatus, ErrorBits, StatusBits, TgPhase};
 pub mod handle;
 pub mod link;
 
-pub use handle::{RmcHandle, RmcRepaint, spawn};
+pub use handle::{EVENT_BACKLOG, RmcHandle, RmcRepaint, spawn};
 pub use link::{HoldJog, RmcCore, RmcEvent, RmcLinkConfig, RmcRequest};

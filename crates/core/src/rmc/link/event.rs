@@ -143,6 +143,24 @@ pub enum RmcEvent {
     Closed,
 }
 
+impl RmcEvent {
+    /// When it happened, for the events that carry a time (the frame log files traffic
+    /// under it).
+    pub fn at(&self) -> Option<Instant> {
+        match self {
+            RmcEvent::Controller { at, .. }
+            | RmcEvent::Status { at, .. }
+            | RmcEvent::Sent { at, .. }
+            | RmcEvent::Acknowledged { at, .. }
+            | RmcEvent::FrameSent { at, .. }
+            | RmcEvent::FrameReceived { at, .. }
+            | RmcEvent::Garbage { at, .. }
+            | RmcEvent::Timeout { at, .. } => Some(*at),
+            _ => None,
+        }
+    }
+}
+
 impl CoreEvent for RmcEvent {
     fn is_traffic(&self) -> bool {
         matches!(
