@@ -208,6 +208,75 @@ fn the_frame_log_decode_shows_ten_lines_in_the_default_layout_at_1280x800() {
 }
 
 #[test]
+fn the_decode_keeps_its_ten_lines_in_the_frame_its_rows_reply_arrives() {
+    use std::time::{Duration, Instant};
+    use xsel_pendant::pendant::script::ready_controller;
+    use xsel_pendant::rmc::{AxisId, RmcEvent};
+    use xsel_pendant::robot::Joints;
+
+    let mut h = Harness::builder()
+        .with_size([1280.0, 800.0])
+        .build_eframe(|cc| PendantApp::new(cc, StartOptions::fresh_offline()));
+    let feed = |h: &mut Harness<'_, PendantApp>, events: Vec<RmcEvent>| {
+        let pendant = h.state_mut().pendant_mut();
+        for event in events {
+            pendant.handle_axes_event(Instant::now(), event);
+        }
+    };
+    let kin = *h.state().pendant().kinematics();
+    let pendant = h.state_mut().pendant_mut();
+    for event in ready_controller(&kin, Joints::new(30.0, 60.0, 50.0, 0.0)) {
+        pendant.handle_event(Instant::now(), event);
+    }
+    pendant.take_requests();
+    // An RMC151 status read (FC3, 116 registers): its name is long, so the heading
+    // wraps once the reply's latency and button join it.
+    let [hi, lo] = AxisId::new(0).expect("axis 1").status_block().to_be_bytes();
+    let request = vec![0, 7, 0, 0, 0, 6, 1, 3, hi, lo, 0, 116];
+    let mut reply = vec![0, 7, 0, 0, 0, 235, 1, 3, 232];
+    reply.resize(9 + 232, 0);
+    let sent_at = Instant::now();
+    feed(
+        &mut h,
+        vec![RmcEvent::FrameSent {
+            bytes: request,
+            at: sent_at,
+        }],
+    );
+    h.run_steps(2);
+    show_tab(&mut h, "Frame log");
+    // The request selected while its reply is still to come: the decode's heading has
+    // no reply to go to yet.
+    h.query_all_by_label_contains(">>")
+        .last()
+        .expect("the request in view")
+        .click_accesskit();
+    h.run_steps(3);
+    assert!(h.state().frame_log_panel().selected().is_some());
+    let lines = h.state().frame_log_panel().decode_lines_shown();
+    assert!(lines >= 10.0, "the decode shows {lines:.1} lines");
+    // The reply comes: its latency and a Go to reply button join the heading, in the
+    // same frame as the fields are drawn.
+    feed(
+        &mut h,
+        vec![RmcEvent::FrameReceived {
+            bytes: reply,
+            at: sent_at + Duration::from_millis(2),
+        }],
+    );
+    h.step();
+    assert!(
+        h.query_by_label("Go to reply").is_some(),
+        "the heading grew"
+    );
+    let lines = h.state().frame_log_panel().decode_lines_shown();
+    assert!(
+        lines >= 10.0,
+        "the decode shows {lines:.1} lines in the frame its reply arrived"
+    );
+}
+
+#[test]
 fn the_pad_grows_with_the_window() {
     let pad_button = |size: [f32; 2]| {
         let h = app(size, 1.0);

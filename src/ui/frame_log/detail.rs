@@ -25,24 +25,31 @@ pub fn show(p: &mut FrameLogPanel, ui: &mut Ui, pendant: &Pendant) {
     let mut goto = None;
     let mut copy = false;
     let mut close = false;
-    ui.horizontal_wrapped(|ui| {
-        ui.label(RichText::new(format!("Row {seq}: {}", plain(&row.name()))).strong());
-        if let Some(us) = row.latency_us() {
-            ui.label(format!("latency {:.3} ms", us as f64 / 1000.0));
-        }
-        if let Some(r) = reply
-            && ui.button("Go to reply").clicked()
-        {
-            goto = Some(r);
-        }
-        if let Some(r) = request
-            && ui.button("Go to request").clicked()
-        {
-            goto = Some(r);
-        }
-        copy = ui.button("Copy").clicked();
-        close = ui.button("Close decode").clicked();
-    });
+    // One line whatever the row: the buttons on the right, the row's name cut to the
+    // room left (whole on hover), so the fields below keep their lines.
+    egui::Sides::new().shrink_left().truncate().show(
+        ui,
+        |ui| {
+            ui.label(RichText::new(format!("Row {seq}: {}", plain(&row.name()))).strong());
+        },
+        |ui| {
+            close = ui.button("Close decode").clicked();
+            copy = ui.button("Copy").clicked();
+            if let Some(r) = request
+                && ui.button("Go to request").clicked()
+            {
+                goto = Some(r);
+            }
+            if let Some(r) = reply
+                && ui.button("Go to reply").clicked()
+            {
+                goto = Some(r);
+            }
+            if let Some(us) = row.latency_us() {
+                ui.label(format!("latency {:.3} ms", us as f64 / 1000.0));
+            }
+        },
+    );
     let hovered = p.hovered.take();
     let fields = egui::ScrollArea::vertical()
         .id_salt("frame-log-decode")

@@ -384,7 +384,16 @@ impl FrameLogPanel {
             self.decode_height = Some(decode - dy);
         }
         detail::show(self, ui, pendant);
-        self.decode_drawn.heading = decode - self.decode_drawn.lines * line;
+        let heading = decode - self.decode_drawn.lines * line;
+        let heading_changed = (heading - self.decode_drawn.heading).abs() > 0.5;
+        self.decode_drawn.heading = heading;
+        if heading_changed && self.decode_height.is_none() {
+            // Sized for last frame's heading (a row selected anew, or a reply that adds
+            // its buttons and wraps the heading): lay the pane out again before it is
+            // painted, so the fields keep their ten lines in this very frame.
+            ui.ctx()
+                .request_discard("the frame log decode's heading changed height");
+        }
     }
 
     fn poll_files(&mut self, now: std::time::Instant, out: &mut Vec<Intent>) {
