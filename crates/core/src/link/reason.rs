@@ -72,6 +72,8 @@ pub enum NotSentReason {
     LeaseLapsed,
     /// The link shut down before its turn came.
     ShuttingDown,
+    /// Motion submitted before a STOP of all axes: the STOP ended it before it went out.
+    StopCameFirst,
 }
 
 impl fmt::Display for NotSentReason {
@@ -91,6 +93,7 @@ impl fmt::Display for NotSentReason {
                 "the jog's lease lapsed (its button was no longer held) before it went out",
             ),
             Self::ShuttingDown => f.write_str("the link shut down before it could be sent"),
+            Self::StopCameFirst => f.write_str("STOP came first"),
         }
     }
 }

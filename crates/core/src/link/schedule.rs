@@ -186,6 +186,20 @@ impl Scheduler {
         all
     }
 
+    /// The queued user requests `ended` picks out, taken from the queue in order (a STOP
+    /// of all axes takes the motion still waiting behind a poll).
+    pub fn take_user(&mut self, mut ended: impl FnMut(&Pending) -> bool) -> Vec<Pending> {
+        let mut taken = Vec::new();
+        self.user.retain(|p| {
+            let end = ended(p);
+            if end {
+                taken.push(p.clone());
+            }
+            !end
+        });
+        taken
+    }
+
     /// Abandons the table download in progress.
     pub fn abort_table(&mut self) -> Option<TableJob> {
         self.background

@@ -211,6 +211,24 @@ impl Bench {
         id
     }
 
+    /// Numbers a submission now (as the handle does) without handing it to the core yet:
+    /// [`Bench::deliver`] hands it over later, as a command that waited in the driver's
+    /// channel while a STOP overtook it in its own.
+    pub(crate) fn number(&mut self, command: Command) -> Pending {
+        Pending::new(
+            RequestId::next(&self.ids),
+            command,
+            Origin::User,
+            Priority::User,
+        )
+    }
+
+    pub(crate) fn deliver(&mut self, pending: Pending) {
+        self.core
+            .handle_request(self.now, Input::App(Control::Submit(pending)));
+        self.pump();
+    }
+
     pub(crate) fn stop_all(&mut self) -> RequestId {
         self.submit(Command::Stop(Stop {
             axes: AxisPattern::ALL,

@@ -4,6 +4,7 @@
 //! an argument; the driver (`driver.rs`) does the IO.
 
 mod closing;
+pub mod safety;
 mod transaction;
 
 #[cfg(test)]
@@ -90,6 +91,9 @@ pub struct FormatB {
     jog_took_lease: bool,
     reader_behind: bool,
     events_dropped: u64,
+    /// The newest STOP of all axes submitted: motion submitted before it (a lower id)
+    /// never goes out after it, whenever it reaches the core.
+    stopped_through: Option<RequestId>,
     /// The command on the line, awaiting its answer.
     outstanding: Option<Outstanding>,
     /// No command goes out before this (the gap after the last answer or time-out).
@@ -125,6 +129,7 @@ impl FormatB {
             jog_took_lease: false,
             reader_behind: false,
             events_dropped: 0,
+            stopped_through: None,
             outstanding: None,
             quiet_until: None,
             sched_wake: None,
@@ -209,10 +214,28 @@ impl FormatB {
             }
             return;
         }
-        if self.takes_requests(now) {
-            self.sched.push(pending);
-        } else {
-            self.not_sent(&pending, NotSentReason::LineDown);
+        if !self.takes_requests(now) {
+            return self.not_sent(&pending, NotSentReason::LineDown);
+        }
+        if ends_motion(&pending.command) {
+            self.stop_ends_queued_motion(pending.id);
+        } else if stopped_by(&pending.command)
+            && self.stopped_through.is_some_and(|stop| pending.id < stop)
+        {
+            // Submitted before the STOP, though it reached the core after it (STOPs take
+            // a channel of their own).
+            return self.not_sent(&pending, NotSentReason::StopCameFirst);
+        }
+        self.sched.push(pending);
+    }
+
+    /// A STOP of all axes (`stop`) is on its way: the motion still queued never goes out
+    /// (each is answered "STOP came first"), nor does any submitted before it that is
+    /// still on its way to the core.
+    pub(super) fn stop_ends_queued_motion(&mut self, stop: RequestId) {
+        self.stopped_through = self.stopped_through.max(Some(stop));
+        for pending in self.sched.take_user(|p| stopped_by(&p.command)) {
+            self.not_sent(&pending, NotSentReason::StopCameFirst);
         }
     }
 
@@ -486,6 +509,16 @@ impl LinkCore for FormatB {
     fn is_closed(&self) -> bool {
         self.closed
     }
+}
+
+/// A STOP of all axes: it ends the motion queued before it.
+fn ends_motion(command: &crate::protocol::Command) -> bool {
+    matches!(command, crate::protocol::Command::Stop(s) if s.axes == crate::protocol::AxisPattern::ALL)
+}
+
+/// Motion a STOP of all axes ends while it still waits: moves, jogs and homing.
+fn stopped_by(command: &crate::protocol::Command) -> bool {
+    command.moves_arm() || matches!(command, crate::protocol::Command::Home(_))
 }
 
 impl CoreEvent for LinkEvent {

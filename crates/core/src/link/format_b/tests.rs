@@ -482,6 +482,77 @@ fn stop_is_the_next_frame_after_the_reply_of_the_poll_in_flight_and_keeps_the_ga
     assert_eq!(gap, Duration::from_millis(1), "the 1 ms gap, no more");
 }
 
+/// A bench at 9600 baud, replies after 150 ms, polling as fast as it may, with a poll
+/// on the line.
+fn poll_in_flight() -> Bench {
+    let mut config = LinkConfig::default();
+    config.timing.line.baud = 9_600;
+    config.polling.interval = Some(Duration::ZERO);
+    let mut bench = Bench::new(
+        ready_setup(Duration::from_millis(150)),
+        FaultSpec::none(),
+        config,
+    );
+    bench
+        .run_until(
+            LONG,
+            |e| matches!(e, LinkEvent::FrameSent { bytes, .. } if bytes.starts_with(b"!992A1")),
+        )
+        .expect("a poll went out");
+    bench
+}
+
+fn stopped_first(bench: &Bench, id: crate::link::RequestId) -> bool {
+    bench.events.iter().any(|e| {
+        matches!(e, LinkEvent::NotSent { id: n, reason: NotSentReason::StopCameFirst, .. } if *n == id)
+    })
+}
+
+#[test]
+fn a_stop_of_all_axes_refuses_the_motion_still_queued_behind_a_poll() {
+    let mut bench = poll_in_flight();
+    let from = bench.written.len();
+    let step = bench.submit(step_x(10_000));
+    let home = bench.submit(Command::Home(crate::protocol::Home {
+        axes: AxisPattern::SCARA_1,
+        search: crate::protocol::MmPerSec(0),
+        creep: crate::protocol::MmPerSec(0),
+    }));
+    let query = bench.submit(Command::SystemStatus);
+    bench.stop_all();
+    bench.run_for(Duration::from_secs(2));
+    let after: Vec<String> = bench.ids_written()[from..].to_vec();
+    assert_eq!(after.first().map(String::as_str), Some("238"), "{after:?}");
+    assert!(
+        !after.iter().any(|id| id == "2D5" || id == "233"),
+        "no motion after the STOP: {after:?}\n{}",
+        bench.story()
+    );
+    assert!(stopped_first(&bench, step) && stopped_first(&bench, home));
+    // A query queued before the STOP still goes: only motion is ended.
+    assert!(bench.events.iter().any(is_reply_to(query)));
+}
+
+#[test]
+fn motion_submitted_before_a_stop_that_overtook_it_on_the_way_is_not_sent() {
+    let mut bench = poll_in_flight();
+    let from = bench.written.len();
+    let step = bench.number(step_x(10_000));
+    let step_id = step.id;
+    bench.stop_all();
+    bench.deliver(step);
+    let later = bench.submit(step_x(10_000));
+    bench.run_for(Duration::from_secs(2));
+    let after: Vec<String> = bench.ids_written()[from..].to_vec();
+    assert!(stopped_first(&bench, step_id), "{}", bench.story());
+    // Motion submitted after the STOP goes out after it, once.
+    let moves: Vec<&String> = after.iter().filter(|id| *id == "2D5").collect();
+    assert_eq!(moves.len(), 1, "{after:?}");
+    let stop_at = after.iter().position(|id| id == "238").expect("STOP sent");
+    assert!(after.iter().position(|id| id == "2D5").unwrap() > stop_at);
+    assert!(bench.events.iter().any(is_reply_to(later)));
+}
+
 #[test]
 fn polls_give_way_to_user_commands() {
     let config = LinkConfig {

@@ -408,6 +408,7 @@ impl FormatB {
     pub(super) fn queue_stop(&mut self, origin: Origin) {
         if !self.sched.stop_queued() {
             let id = self.new_id();
+            self.stop_ends_queued_motion(id);
             self.sched
                 .push(Pending::new(id, stop_all(), origin, Priority::Stop));
         }
