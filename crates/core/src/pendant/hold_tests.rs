@@ -322,6 +322,52 @@ fn focus_loss_stops_and_a_key_still_down_after_it_starts_nothing() {
 }
 
 #[test]
+fn a_tap_inside_one_frame_sends_no_jog_only_its_stop() {
+    for input in [KEY, JogInput::Pointer] {
+        let now = Instant::now();
+        let mut p = continuous(now);
+        // The window reports the press, then the release, in one frame.
+        p.apply_all(
+            [
+                Intent::Jog(input, Press::On(x_plus())),
+                Intent::Jog(input, Press::Up),
+            ],
+            now,
+        );
+        assert_eq!(p.take_requests(), vec![Request::Stop], "{input:?}");
+        assert!(p.held_jog().is_none());
+        assert!(p.stop_latch().is_none(), "a tap latches nothing");
+        // The next press starts a jog as usual.
+        let held = hold_for(&mut p, &mut now.clone(), input, 3);
+        assert_eq!(held.jogs, 1);
+    }
+}
+
+#[test]
+fn a_jog_ended_by_a_stop_before_it_went_out_keeps_the_stops_latch() {
+    let mut now = Instant::now();
+    let mut p = continuous(now);
+    hold_for(&mut p, &mut now, KEY, 2);
+    p.apply(Intent::Stop(StopCause::Esc), now);
+    p.take_requests();
+    let jog = jog::continuous_jog(&p.jog_sent(), JogAxis::X, Direction::Positive);
+    p.handle_event(
+        now,
+        LinkEvent::NotSent {
+            id: RequestId(3),
+            command: jog,
+            reason: NotSentReason::StopCameFirst,
+        },
+    );
+    assert_eq!(p.jog.hold.latch(), Some(StopCause::Esc));
+    assert!(
+        p.messages
+            .iter()
+            .any(|m| m.text.contains("not sent: STOP came first"))
+    );
+}
+
+#[test]
 fn a_stop_in_the_same_frame_as_a_press_wins() {
     let now = Instant::now();
     let mut p = continuous(now);

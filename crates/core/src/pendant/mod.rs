@@ -214,7 +214,9 @@ impl Pendant {
         jog.target(&self.model)
     }
 
-    /// The requests collected since the last call, in order.
+    /// The requests collected since the last call, in the order they must reach their
+    /// line: the window forwards them as they are, never reordering (a STOP already
+    /// took out the motion asked for before it, and a release its own start).
     pub fn take_requests(&mut self) -> Vec<Request> {
         let mut requests = std::mem::take(&mut self.requests);
         requests.extend(self.axes.take_calls().into_iter().map(Request::Axes));
@@ -384,7 +386,19 @@ impl Pendant {
                 command, reason, ..
             } => {
                 let text = format!("{} ({}) not sent: {reason}", command.id(), name(&command));
-                if command.moves_arm() {
+                if reason == crate::link::NotSentReason::StopCameFirst {
+                    // Ended by the STOP the operator (or the link) gave: no refusal, and
+                    // the latch keeps that STOP's cause.
+                    if self
+                        .jog
+                        .followed
+                        .as_ref()
+                        .is_some_and(|f| f.plan.command == command && f.accepted.is_none())
+                    {
+                        self.jog.followed = None;
+                    }
+                    self.say(Level::Info, text, now);
+                } else if command.moves_arm() {
                     self.motion_refused();
                     self.jog_says(Level::Error, text, now);
                 } else {

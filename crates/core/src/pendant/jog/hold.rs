@@ -208,10 +208,12 @@ impl<T: Copy + PartialEq> HoldMachine<T> {
     }
 
     /// STOP, whoever sent it: the jog ends and, while any input is down, the latch holds.
-    /// Answers the jog that was running.
+    /// A latch keeps the cause that set it (the one the operator saw: a lost line's
+    /// latch does not turn into the lapsed lease that follows it). Answers the jog that
+    /// was running.
     pub fn stop(&mut self, cause: StopCause) -> Option<HeldJog<T>> {
         if !self.down.is_empty() {
-            self.latch = Some(cause);
+            self.latch.get_or_insert(cause);
         }
         self.jog.take()
     }
@@ -270,6 +272,24 @@ mod tests {
         axis: JogAxis::Y,
         direction: Direction::Negative,
     };
+
+    #[test]
+    fn a_latch_keeps_the_cause_that_set_it() {
+        let t = Instant::now();
+        let mut m = HoldMachine::default();
+        let key = JogInput::Key(0);
+        assert_eq!(m.report(key, Press::On(X_PLUS)), HoldAction::Press(X_PLUS));
+        m.started(key, X_PLUS, t);
+        assert!(m.stop(StopCause::LineLost).is_some());
+        assert!(m.stop(StopCause::LeaseLapsed).is_none());
+        assert_eq!(m.latch(), Some(StopCause::LineLost));
+        assert_eq!(m.report(key, Press::Up), HoldAction::None);
+        assert_eq!(m.latch(), None);
+        // A new latch takes the new cause.
+        assert_eq!(m.report(key, Press::On(X_PLUS)), HoldAction::Press(X_PLUS));
+        m.stop(StopCause::Esc);
+        assert_eq!(m.latch(), Some(StopCause::Esc));
+    }
 
     #[test]
     fn only_the_edge_of_a_press_acts() {

@@ -249,8 +249,21 @@ impl Pendant {
             },
             HoldAction::Renew => self.requests.push(Request::RenewJogLease),
             HoldAction::Release => {
+                // A press and its release in one frame (a tap, a slow frame): the start
+                // has not gone out, and never will. The STOP still goes (harmless).
+                let before = self.requests.len();
+                self.requests
+                    .retain(|r| !matches!(r, Request::Submit(c) if c.is_continuous_jog()));
                 self.requests.push(Request::Stop);
-                self.jog_says(Level::Info, "jog released: STOP sent", now);
+                if self.requests.len() <= before {
+                    self.jog_says(
+                        Level::Info,
+                        "jog released in the frame it was pressed: nothing sent but STOP",
+                        now,
+                    );
+                } else {
+                    self.jog_says(Level::Info, "jog released: STOP sent", now);
+                }
             }
             HoldAction::Latched(target) => self.jog_says(
                 Level::Warning,
