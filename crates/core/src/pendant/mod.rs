@@ -722,4 +722,6 @@ fn name(command: &Command) -> &'static str {
 #[cfg(test)]
 mod hold_tests;
 #[cfg(test)]
+mod order_props;
+#[cfg(test)]
 mod tests;

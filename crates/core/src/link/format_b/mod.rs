@@ -8,7 +8,7 @@ pub mod safety;
 mod transaction;
 
 #[cfg(test)]
-mod harness;
+pub(crate) mod harness;
 #[cfg(test)]
 mod props;
 #[cfg(test)]
