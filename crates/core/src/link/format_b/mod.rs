@@ -6,6 +6,7 @@
 mod closing;
 pub mod safety;
 mod transaction;
+pub mod safety;
 
 #[cfg(test)]
 pub(crate) mod harness;

@@ -1,47 +1,66 @@
 //! The guardian's rules as a sans-IO state machine (quinn-proto's shape, time passed in):
 //! it relays the window's frames to the line and the line's bytes back, keeps track of
 //! whether motion may run, and owes a 238H STOP when the window closes or falls silent
-//! for longer than the lease while it may. Its STOP waits for the transaction in flight
-//! (one outstanding command, PROTOCOL.md 1.5) and holds the window's next frames back
-//! until it is answered.
+//! for longer than the lease while it may. The line's bytes are split with the protocol's
+//! deframer, and the Format B safety component decides which frame answers the command on
+//! the line: its STOP waits for the transaction in flight (one outstanding command,
+//! PROTOCOL.md 1.5), holds the window's next frames back until it is answered, and is
+//! answered only by a `#` 238 or an `&` of its station. Every buffer is bounded: line bytes
+//! for a window that does not read them are dropped and counted, never its answers.
 
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
+use super::guard::{ToWindow, WindowGone};
 use super::wire::FromGuardian;
+use crate::link::format_b::safety::{Answer, Kind, Safety, classify};
 use crate::link::timing::Timing;
-use crate::protocol::{AxisPattern, Command, Frame, Header, MAX_FRAME_LEN, ScMode, Station, Stop};
+use crate::protocol::{Frame, MAX_FRAME_LEN, Station, StreamDecoder};
 
-/// Tries of the guardian's own STOP when it gets no reply ([inferred] 238H is harmless
-/// to repeat: it stops what is already stopped).
+/// Tries of the guardian's own STOP when it gets no reply or a refusal ([inferred] 238H
+/// is harmless to repeat: it stops what is already stopped).
 const STOP_TRIES: u8 = 2;
+/// Line bytes nobody waits for that the core holds for the window at most (the loop
+/// takes them after every event, so only a loop that falls behind reaches it).
+pub const WINDOW_BYTES_MAX: usize = 64 * 1024;
+/// Line bytes gathered into one message for the window at most.
+const CHUNK: usize = 4096;
+/// The window's frames held back at most (its link sends one command at a time).
+const HELD_MAX: usize = 16;
+/// Log lines kept between two polls at most.
+const LOG_MAX: usize = 256;
+
+/// Whose command is on the line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Sender {
+    Window,
+    Guardian,
+}
 
 /// What the guardian knows and owes.
 #[derive(Debug)]
 pub struct GuardianCore {
-    station: Station,
     lease: Duration,
-    timing: Timing,
-    /// The window's bytes not yet ending in CR LF (frames are checked whole).
+    /// One outstanding command, motion may run, the STOP owed, the reply deadline.
+    safety: Safety<Sender>,
+    /// The window's bytes not yet ending in CR LF (its frames are relayed whole).
     window_partial: Vec<u8>,
-    /// The line's bytes not yet ending in CR LF (a reply ends a transaction).
-    line_partial: Vec<u8>,
-    /// Frames from the window for the line (held while the guardian's STOP is out).
-    to_line: VecDeque<Vec<u8>>,
-    to_window: VecDeque<FromGuardian>,
+    /// The line's bytes, split into frames and noise.
+    decoder: StreamDecoder,
+    /// Frames from the window for the line (held while a command or a STOP is out).
+    held: VecDeque<Vec<u8>>,
+    to_window: VecDeque<ToWindow>,
+    /// Droppable line bytes in `to_window`.
+    window_bytes: usize,
+    /// Line bytes the window did not get because it did not read them in time.
+    dropped_for_window: u64,
+    /// Bytes dropped since the window last got some (0: it keeps up).
+    dropping: u64,
     log: VecDeque<String>,
-    /// A window frame is on the line and its reply may still come until then.
-    window_outstanding: Option<Instant>,
-    /// The window's last frame on the line was a 238H for all axes.
-    window_stop_out: bool,
-    /// The guardian's own 238H is on the line, answered by then at the latest.
-    own_stop: Option<Instant>,
     /// How many times the owed STOP went out.
     stop_tries: u8,
-    /// A STOP the guardian must send as soon as the line is free, and why.
-    stop_owed: Option<String>,
-    /// A motion command went out and no 238H for all axes was answered since.
-    motion_may_run: bool,
+    /// The guardian's STOP is owed or on the line: the window's motion is not sent.
+    stopping: bool,
     last_heard: Instant,
     /// This silence already cost a STOP (one per silence).
     silence_stopped: bool,
@@ -51,20 +70,18 @@ pub struct GuardianCore {
 impl GuardianCore {
     pub fn new(now: Instant, station: Station, lease: Duration, timing: Timing) -> Self {
         Self {
-            station,
             lease,
-            timing,
+            safety: Safety::new(station, timing),
             window_partial: Vec::new(),
-            line_partial: Vec::new(),
-            to_line: VecDeque::new(),
+            decoder: StreamDecoder::new(),
+            held: VecDeque::new(),
             to_window: VecDeque::new(),
+            window_bytes: 0,
+            dropped_for_window: 0,
+            dropping: 0,
             log: VecDeque::new(),
-            window_outstanding: None,
-            window_stop_out: false,
-            own_stop: None,
             stop_tries: 0,
-            stop_owed: None,
-            motion_may_run: false,
+            stopping: false,
             last_heard: now,
             silence_stopped: false,
             window_closed: false,
@@ -85,63 +102,57 @@ impl GuardianCore {
         self.window_partial.extend_from_slice(bytes);
         while let Some(end) = frame_end(&self.window_partial) {
             let frame: Vec<u8> = self.window_partial.drain(..end).collect();
-            self.to_line.push_back(frame);
+            self.window_frame(frame);
         }
         // Bytes that never end a frame are still the window's to send (the line judges).
         if self.window_partial.len() > MAX_FRAME_LEN {
             let rest = std::mem::take(&mut self.window_partial);
-            self.to_line.push_back(rest);
+            self.window_frame(rest);
         }
     }
 
-    /// The window's end of the pipe closed: its process exited, crashed or was killed.
-    pub fn handle_window_closed(&mut self, _now: Instant) {
+    /// The window's end of the pipe closed (exit, crash or kill; see [`WindowGone`]).
+    pub fn handle_window_closed(&mut self, now: Instant) {
+        self.handle_window_gone(now, WindowGone::Ended);
+    }
+
+    /// The window's end of the pipe closed, and how: a STOP is owed at once if motion may
+    /// run (sent as soon as the transaction on the line has ended).
+    pub fn handle_window_gone(&mut self, _now: Instant, gone: WindowGone) {
         if self.window_closed {
             return;
         }
         self.window_closed = true;
-        self.to_line.clear();
-        if self.motion_may_run {
-            self.owe_stop("the window closed (exit, crash or kill) while motion may run");
+        self.held.clear();
+        if self.safety.motion_may_run() {
+            self.owe_stop(&format!("{} while motion may run", gone.describe()));
         } else {
-            self.say("the window closed with no motion running");
+            self.say(&format!("{}, with no motion running", gone.describe()));
         }
     }
 
     /// Bytes from the line.
     pub fn handle_line_bytes(&mut self, bytes: &[u8]) {
-        if self.own_stop.is_none() && !self.window_closed {
-            self.to_window
-                .push_back(FromGuardian::Bytes(bytes.to_vec()));
-        }
-        self.line_partial.extend_from_slice(bytes);
-        while let Some(end) = frame_end(&self.line_partial) {
-            let frame: Vec<u8> = self.line_partial.drain(..end).collect();
-            self.reply_seen(&frame);
-        }
-        if self.line_partial.len() > MAX_FRAME_LEN {
-            self.line_partial.clear();
+        self.decoder.push(bytes);
+        while let Some(item) = self.decoder.pull() {
+            match item {
+                Ok(frame) => self.line_frame(&frame),
+                // Noise, a damaged or cut frame: it answers nothing.
+                Err(e) => self.relay(e.raw(), true),
+            }
         }
     }
 
     /// Deadlines: a reply that did not come, the guardian's STOP unanswered, the window's
     /// silence while motion may run.
     pub fn handle_timeout(&mut self, now: Instant) {
-        if self.window_outstanding.is_some_and(|d| now >= d) {
-            self.window_outstanding = None;
-            self.window_stop_out = false;
-        }
-        if self.own_stop.is_some_and(|d| now >= d) {
-            self.own_stop = None;
-            if self.stop_tries < STOP_TRIES {
-                self.say("no reply to the guardian's 238H: sending it again");
-                self.stop_owed = Some("238H sent again after no reply".into());
-            } else {
-                self.say("no reply to the guardian's 238H: motion may still run");
-                self.to_window.push_back(FromGuardian::Stopped(
-                    "the guardian's 238H STOP got no reply".into(),
-                ));
-            }
+        if let Some(done) = self.safety.timed_out(now)
+            && done.tag == Sender::Guardian
+        {
+            self.own_stop_failed(
+                "no reply to the guardian's 238H",
+                "238H sent again after no reply",
+            );
         }
         if let Some(silent_until) = self.silence_deadline()
             && now >= silent_until
@@ -156,23 +167,48 @@ impl GuardianCore {
 
     /// The next bytes to write to the line.
     pub fn poll_transmit(&mut self, now: Instant) -> Option<Vec<u8>> {
-        if self.own_stop.is_some() {
-            return None;
+        if !self.safety.is_free() {
+            return None; // its reply first: one outstanding command
         }
-        if self.stop_owed.is_some() {
-            if self.window_outstanding.is_some() {
-                return None; // its reply first: one outstanding command
+        if self.safety.stop_owed().is_some() && !self.safety.motion_may_run() {
+            // The window's own 238H for all axes was answered meanwhile.
+            if let Some(why) = self.safety.forgive_stop() {
+                self.say(&format!(
+                    "no 238H needed after all ({why}): the window's own 238H was answered"
+                ));
             }
-            return Some(self.send_own_stop(now));
+            self.stopping = false;
         }
-        let frame = self.to_line.pop_front()?;
-        self.forwarded(now, &frame);
+        // Bytes before the guardian's 238H cannot be its answer.
+        if self.safety.stop_owed().is_some() {
+            let before = self.decoder.take_pending();
+            self.relay(&before, true);
+        }
+        if let Some((frame, why)) = self.safety.take_owed_stop(now, Sender::Guardian) {
+            self.stop_tries += 1;
+            self.push_to_window(FromGuardian::Stopped(why));
+            return Some(frame);
+        }
+        let frame = self.held.pop_front()?;
+        self.safety.sent_bytes(now, &frame, Sender::Window);
         Some(frame)
     }
 
     /// The next message for the window.
     pub fn poll_to_window(&mut self) -> Option<FromGuardian> {
-        self.to_window.pop_front()
+        self.poll_for_window().map(|m| m.message)
+    }
+
+    /// The next message for the window, and whether it may be dropped if the window does
+    /// not read it (line bytes no command of the window waits for).
+    pub fn poll_for_window(&mut self) -> Option<ToWindow> {
+        let next = self.to_window.pop_front()?;
+        if next.droppable
+            && let FromGuardian::Bytes(b) = &next.message
+        {
+            self.window_bytes -= b.len().min(self.window_bytes);
+        }
+        Some(next)
     }
 
     /// The next line for the guardian's log (stderr).
@@ -182,25 +218,44 @@ impl GuardianCore {
 
     /// When [`GuardianCore::handle_timeout`] wants to run next.
     pub fn poll_timeout(&self) -> Option<Instant> {
-        [
-            self.window_outstanding,
-            self.own_stop,
-            self.silence_deadline(),
-        ]
-        .into_iter()
-        .flatten()
-        .min()
+        [self.safety.deadline(), self.silence_deadline()]
+            .into_iter()
+            .flatten()
+            .min()
     }
 
     /// The window is gone and no STOP is owed or waiting for its reply: the guardian may
     /// close the line and exit.
     pub fn is_done(&self) -> bool {
-        self.window_closed && self.stop_owed.is_none() && self.own_stop.is_none()
+        self.window_closed && self.safety.stop_owed().is_none() && !self.own_stop_out()
     }
 
     /// Whether a motion command went out with no 238H for all axes answered since.
     pub fn motion_may_run(&self) -> bool {
-        self.motion_may_run
+        self.safety.motion_may_run()
+    }
+
+    /// Line bytes the window did not get because it did not read them in time.
+    pub fn dropped_for_window(&self) -> u64 {
+        self.dropped_for_window
+    }
+
+    /// Every byte the core holds (its buffers and queues): bounded whatever the line sends.
+    pub fn buffered(&self) -> usize {
+        let messages: usize = self
+            .to_window
+            .iter()
+            .map(|m| match &m.message {
+                FromGuardian::Bytes(b) => b.len(),
+                FromGuardian::Stopped(s) | FromGuardian::Failed(s) => s.len(),
+                FromGuardian::Opened { line, .. } => line.len(),
+            })
+            .sum();
+        self.window_partial.len()
+            + self.decoder.pending()
+            + self.held.iter().map(Vec::len).sum::<usize>()
+            + messages
+            + self.log.iter().map(String::len).sum::<usize>()
     }
 
     fn heard(&mut self, now: Instant) {
@@ -209,86 +264,146 @@ impl GuardianCore {
     }
 
     fn silence_deadline(&self) -> Option<Instant> {
-        (self.motion_may_run && !self.silence_stopped && !self.window_closed)
+        (self.safety.motion_may_run() && !self.silence_stopped && !self.window_closed)
             .then(|| self.last_heard + self.lease)
     }
 
+    fn own_stop_out(&self) -> bool {
+        self.safety
+            .in_flight()
+            .is_some_and(|f| f.tag == Sender::Guardian)
+    }
+
     fn say(&mut self, text: &str) {
-        self.log.push_back(text.to_owned());
+        if self.log.len() < LOG_MAX {
+            self.log.push_back(text.to_owned());
+        }
+    }
+
+    fn push_to_window(&mut self, message: FromGuardian) {
+        self.to_window.push_back(ToWindow {
+            message,
+            droppable: false,
+        });
     }
 
     fn owe_stop(&mut self, why: &str) {
         self.say(&format!("{why}: sending 238H"));
-        self.stop_owed = Some(why.to_owned());
+        self.safety.owe_stop(why);
         self.stop_tries = 0;
-    }
-
-    fn send_own_stop(&mut self, now: Instant) -> Vec<u8> {
-        self.stop_tries += 1;
-        let command = Command::Stop(stop_all());
-        let frame = command
-            .to_bytes(self.station, ScMode::Computed)
-            .unwrap_or_default();
-        let wait = self
-            .timing
-            .reply_timeout(frame.len(), command.max_reply_len());
-        self.own_stop = Some(now + wait);
-        if let Some(why) = self.stop_owed.take() {
-            self.to_window.push_back(FromGuardian::Stopped(why));
-        }
-        self.line_partial.clear();
-        frame
-    }
-
-    /// A window frame went to the line: note what it may start or stop.
-    fn forwarded(&mut self, now: Instant, frame: &[u8]) {
-        let command = Frame::parse(frame)
-            .ok()
-            .filter(|f| f.header() == Header::Command)
-            .map(|f| Command::decode(&f));
-        let reply_len = match &command {
-            Some(Ok(c)) => c.max_reply_len(),
-            _ => MAX_FRAME_LEN,
-        };
-        self.window_outstanding = Some(now + self.timing.reply_timeout(frame.len(), reply_len));
-        self.window_stop_out = false;
-        match command {
-            Some(Ok(Command::Stop(s))) => self.window_stop_out = s.axes == AxisPattern::ALL,
-            Some(Ok(c)) if c.is_motion() => self.motion_may_run = true,
-            Some(Ok(_)) => {}
-            // [inferred] A command the codec cannot read may still move the arm on the
-            // controller: assume it does.
-            Some(Err(_)) | None => self.motion_may_run = true,
+        self.stopping = true;
+        let before = self.held.len();
+        self.held.retain(|f| classify(f).kind != Kind::Motion);
+        let refused = before - self.held.len();
+        if refused > 0 {
+            self.say(&format!(
+                "{refused} motion frame(s) of the window held back: not sent (STOP came first)"
+            ));
         }
     }
 
-    /// A whole frame came from the line: it ends the transaction on the line.
-    fn reply_seen(&mut self, frame: &[u8]) {
-        let stop_answered = Frame::parse(frame).is_ok_and(|f| {
-            f.header() == Header::Reply && f.id() == Some(Command::Stop(stop_all()).id())
-        });
-        if self.own_stop.take().is_some() {
-            if stop_answered {
-                self.motion_may_run = false;
-                self.say("238H answered: the controller stopped");
-            } else {
-                let why = format!("the guardian's 238H was answered {}", frame.escape_ascii());
-                self.say(&why);
-                self.to_window.push_back(FromGuardian::Stopped(why));
-            }
+    /// A frame from the window for the line: held until the line is free. Motion that
+    /// reaches the guardian while its STOP is owed or out is not sent (STOP came first;
+    /// the window's link times it out and re-reads the status).
+    fn window_frame(&mut self, frame: Vec<u8>) {
+        if self.stopping && classify(&frame).kind == Kind::Motion {
+            self.say(&format!(
+                "the window's {} came while the guardian's 238H was owed: not sent (STOP came first)",
+                frame.trim_ascii_end().escape_ascii()
+            ));
             return;
         }
-        if self.window_outstanding.take().is_some() && self.window_stop_out && stop_answered {
-            self.motion_may_run = false;
+        if self.held.len() >= HELD_MAX {
+            self.say(&format!(
+                "the window sent more than {HELD_MAX} frames ahead: {} not sent",
+                frame.trim_ascii_end().escape_ascii()
+            ));
+            return;
         }
-        self.window_stop_out = false;
+        self.held.push_back(frame);
     }
-}
 
-fn stop_all() -> Stop {
-    Stop {
-        axes: AxisPattern::ALL,
-        cancel_held_outputs: false,
+    /// A whole frame from the line: the answer of the command on the line, or not.
+    fn line_frame(&mut self, frame: &Frame<'_>) {
+        match self.safety.frame(frame) {
+            Ok((done, answer)) => match done.tag {
+                Sender::Guardian => self.own_stop_answered(answer),
+                // The window's link waits for it: never dropped.
+                Sender::Window => self.relay(frame.raw(), false),
+            },
+            // A late reply, an echo, another station: the window's link reports it.
+            Err(_) => self.relay(frame.raw(), true),
+        }
+    }
+
+    fn own_stop_answered(&mut self, answer: Answer) {
+        match answer {
+            Answer::Reply => {
+                self.stopping = false;
+                self.say("238H answered: the controller stopped");
+            }
+            Answer::Error(code) => {
+                let code = code.map_or_else(|| "unreadable".to_owned(), |c| c.to_string());
+                self.own_stop_failed(
+                    &format!("the controller refused the guardian's 238H (error {code})"),
+                    "238H sent again after a refusal",
+                );
+            }
+        }
+    }
+
+    /// The guardian's STOP failed: sent once more, or given up on (the window hears it).
+    fn own_stop_failed(&mut self, what: &str, again: &str) {
+        if self.stop_tries < STOP_TRIES {
+            self.say(&format!("{what}: sending it again"));
+            self.safety.owe_stop(again);
+        } else {
+            self.say(&format!("{what}: motion may still run"));
+            self.stopping = false;
+            self.push_to_window(FromGuardian::Stopped(format!(
+                "{what}: motion may still run"
+            )));
+        }
+    }
+
+    /// Line bytes for the window. Bytes no command of the window waits for are dropped
+    /// and counted when the window does not read them; none go to a closed window, nor
+    /// while the guardian's own STOP is out (the window's held frames are not on the line).
+    fn relay(&mut self, bytes: &[u8], droppable: bool) {
+        if bytes.is_empty() || self.window_closed || self.own_stop_out() {
+            return;
+        }
+        if !droppable {
+            self.push_to_window(FromGuardian::Bytes(bytes.to_vec()));
+            return;
+        }
+        if self.window_bytes + bytes.len() > WINDOW_BYTES_MAX {
+            if self.dropping == 0 {
+                self.say("the window does not read the line's bytes: dropping them");
+            }
+            self.dropping += bytes.len() as u64;
+            self.dropped_for_window += bytes.len() as u64;
+            return;
+        }
+        if self.dropping > 0 {
+            let dropped = std::mem::take(&mut self.dropping);
+            self.say(&format!(
+                "the window reads again: {dropped} line bytes were dropped for it"
+            ));
+        }
+        self.window_bytes += bytes.len();
+        if let Some(last) = self.to_window.back_mut()
+            && last.droppable
+            && let FromGuardian::Bytes(b) = &mut last.message
+            && b.len() + bytes.len() <= CHUNK
+        {
+            b.extend_from_slice(bytes);
+            return;
+        }
+        self.to_window.push_back(ToWindow {
+            message: FromGuardian::Bytes(bytes.to_vec()),
+            droppable: true,
+        });
     }
 }
 

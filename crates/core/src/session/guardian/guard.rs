@@ -7,6 +7,38 @@ use std::time::Instant;
 use super::core::GuardianCore;
 use super::wire::FromGuardian;
 
+/// How the window let go of its pipe.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum WindowGone {
+    /// It said it lets go of the line (its link closed it: a reconnect, a disconnect, a
+    /// stalled link dropped, an orderly exit), then closed the pipe: its process may run on.
+    LetGo,
+    /// The pipe closed or failed without a word: the window's process ended (a crash, a
+    /// kill, an exit that skipped closing its links).
+    Ended,
+}
+
+impl WindowGone {
+    /// What happened, for the log.
+    pub fn describe(self) -> &'static str {
+        match self {
+            WindowGone::LetGo => "the window let go of the line (its link closed it)",
+            WindowGone::Ended => {
+                "the window's pipe closed without a word: its process ended (crash, kill or exit)"
+            }
+        }
+    }
+}
+
+/// A message for the window and whether it may be dropped when the window does not read
+/// (line bytes nobody waits for) or must be kept (an answer the window's link waits for,
+/// the guardian's own news).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ToWindow {
+    pub message: FromGuardian,
+    pub droppable: bool,
+}
+
 pub trait Guard {
     /// The window's process is alive.
     fn handle_heartbeat(&mut self, now: Instant);
@@ -14,12 +46,24 @@ pub trait Guard {
     fn handle_window_bytes(&mut self, now: Instant, bytes: &[u8]);
     /// The window's pipe closed: its process is gone.
     fn handle_window_closed(&mut self, now: Instant);
+    /// The window's pipe closed, and how; a STOP is owed at once if motion may run.
+    fn handle_window_gone(&mut self, now: Instant, _gone: WindowGone) {
+        self.handle_window_closed(now);
+    }
     /// Bytes the line delivered.
     fn handle_line_bytes(&mut self, bytes: &[u8]);
     fn handle_timeout(&mut self, now: Instant);
     /// The next bytes for the line.
     fn poll_transmit(&mut self, now: Instant) -> Option<Vec<u8>>;
     fn poll_to_window(&mut self) -> Option<FromGuardian>;
+    /// The next message for the window, marked droppable or not (by default line bytes
+    /// may be dropped, the guardian's own messages not).
+    fn poll_for_window(&mut self) -> Option<ToWindow> {
+        self.poll_to_window().map(|message| ToWindow {
+            droppable: matches!(message, FromGuardian::Bytes(_)),
+            message,
+        })
+    }
     fn poll_log(&mut self) -> Option<String>;
     fn poll_timeout(&self) -> Option<Instant>;
     /// The window is gone and nothing more is owed: the guardian may exit.
@@ -34,7 +78,10 @@ impl Guard for GuardianCore {
         GuardianCore::handle_window_bytes(self, now, bytes);
     }
     fn handle_window_closed(&mut self, now: Instant) {
-        GuardianCore::handle_window_closed(self, now);
+        GuardianCore::handle_window_gone(self, now, WindowGone::Ended);
+    }
+    fn handle_window_gone(&mut self, now: Instant, gone: WindowGone) {
+        GuardianCore::handle_window_gone(self, now, gone);
     }
     fn handle_line_bytes(&mut self, bytes: &[u8]) {
         GuardianCore::handle_line_bytes(self, bytes);
@@ -46,7 +93,10 @@ impl Guard for GuardianCore {
         GuardianCore::poll_transmit(self, now)
     }
     fn poll_to_window(&mut self) -> Option<FromGuardian> {
-        GuardianCore::poll_to_window(self)
+        GuardianCore::poll_for_window(self).map(|m| m.message)
+    }
+    fn poll_for_window(&mut self) -> Option<ToWindow> {
+        GuardianCore::poll_for_window(self)
     }
     fn poll_log(&mut self) -> Option<String> {
         GuardianCore::poll_log(self)
