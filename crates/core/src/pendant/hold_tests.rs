@@ -367,6 +367,59 @@ fn a_jog_ended_by_a_stop_before_it_went_out_keeps_the_stops_latch() {
     );
 }
 
+/// A 2A1H in the work system at the ready joints, every axis in use or none.
+fn poll_in_use(p: &mut Pendant, now: Instant, in_use: bool) {
+    let joints = Joints::new(30.0, 60.0, 50.0, 0.0);
+    let tip = p.kinematics().forward(&joints).to_array();
+    let mut s = scara_status(PositionSystem::Work, tip, true, true);
+    let old = s.axes;
+    s.axes = crate::protocol::PerAxis::from_fn(crate::protocol::AxisPattern::SCARA_1, |axis| {
+        let mut a = old.get(axis).unwrap_or_default();
+        a.status = a.status.with_in_use(in_use);
+        a
+    });
+    let polls = controller::poll_commands();
+    p.handle_event(now, poll_reply(polls[0], Reply::ScaraStatus(s)));
+}
+
+#[test]
+fn a_held_jog_the_controller_ended_reads_stopped_not_jogging() {
+    let mut now = Instant::now();
+    let mut p = continuous(now);
+    hold_for(&mut p, &mut now, KEY, 2);
+    // A poll answered before the 236H's reply says nothing of the jog.
+    poll_in_use(&mut p, now, false);
+    assert_eq!(p.motion_phase(now), MotionPhase::Jogging);
+    let jog = jog::continuous_jog(&p.jog_sent(), JogAxis::X, Direction::Positive);
+    now += FRAME;
+    p.handle_event(
+        now,
+        LinkEvent::Reply {
+            id: RequestId(5),
+            origin: Origin::User,
+            command: jog,
+            reply: Reply::Ack(jog.id()),
+            round_trip: Duration::from_millis(2),
+        },
+    );
+    now += FRAME;
+    poll_in_use(&mut p, now, true);
+    p.tick(now);
+    assert_eq!(p.motion_phase(now), MotionPhase::Jogging);
+    // At the edge of reach the controller stops the jog: no axis in use.
+    now += FRAME;
+    poll_in_use(&mut p, now, false);
+    p.tick(now);
+    assert_eq!(p.motion_phase(now), MotionPhase::Stopped);
+    p.tick(now);
+    let said = p
+        .messages
+        .iter()
+        .filter(|m| m.text.contains("stopped by the controller"))
+        .count();
+    assert_eq!(said, 1, "said once: {:?}", p.messages);
+}
+
 #[test]
 fn a_stop_in_the_same_frame_as_a_press_wins() {
     let now = Instant::now();

@@ -510,6 +510,11 @@ impl Pendant {
                         self.jog.command_position = Some(f.plan.end);
                     }
                 }
+                Command::Jog(j) if j.is_continuous() => {
+                    if self.jog.hold.jog().is_some() {
+                        self.jog.jog_accepted = Some(now);
+                    }
+                }
                 Command::Jog(j) if j.distance.0 != 0 => {
                     if let Some(f) = self
                         .jog
@@ -709,7 +714,23 @@ impl Pendant {
             return;
         }
         if let Err(why) = self.motion_ready(now) {
-            self.stop_by(StopCause::NotReady(why), now);
+            return self.stop_by(StopCause::NotReady(why), now);
+        }
+        if self.held_jog_ended() && !std::mem::replace(&mut self.jog.jog_end_said, true) {
+            let label = self
+                .jog
+                .hold
+                .jog()
+                .map(|j| j.target.label())
+                .unwrap_or_default();
+            self.jog_says(
+                Level::Warning,
+                format!(
+                    "{label} stopped by the controller (a limit or the edge of reach): \
+                     release it"
+                ),
+                now,
+            );
         }
     }
 }

@@ -31,6 +31,12 @@ pub struct JogState {
     pub(super) followed: Option<Followed>,
     /// End of the last accepted move (joints): the "command position".
     pub(super) command_position: Option<Joints>,
+    /// When the held continuous jog's 236H was accepted: a poll answered after it that
+    /// finds no axis in use means the controller ended the jog itself (a limit, the edge
+    /// of reach) while the operator still holds it.
+    pub(super) jog_accepted: Option<Instant>,
+    /// The operator was told the controller ended the held jog.
+    pub(super) jog_end_said: bool,
     /// A step that flips the arm, waiting for a second press until then.
     pub(super) confirm: Option<(JogAxis, crate::protocol::Direction, Instant)>,
     /// The target filled in from the arm view ("step here"), moved to only on "Go".
@@ -45,6 +51,8 @@ impl Default for JogState {
             speed_cap_mm_s: speed_cap::REDUCED_SPEED_MM_S,
             followed: None,
             command_position: None,
+            jog_accepted: None,
+            jog_end_said: false,
             confirm: None,
             step_target: None,
         }
@@ -288,6 +296,8 @@ impl Pendant {
         let command = jog::continuous_jog(&self.jog_sent(), target.axis, target.direction);
         self.requests.push(Request::Submit(command));
         self.jog.hold.started(input, target, now);
+        self.jog.jog_accepted = None;
+        self.jog.jog_end_said = false;
         self.jog.followed = None;
         self.jog.command_position = None;
         self.jog_says(Level::Info, format!("jogging {}", target.label()), now);
@@ -378,7 +388,11 @@ impl Pendant {
     /// The motion phase of the move being followed.
     pub fn motion_phase(&self, now: Instant) -> MotionPhase {
         if self.jog.hold.jog().is_some() {
-            return MotionPhase::Jogging;
+            return if self.held_jog_ended() {
+                MotionPhase::Stopped
+            } else {
+                MotionPhase::Jogging
+            };
         }
         let Some(f) = &self.jog.followed else {
             return MotionPhase::Idle;
@@ -405,6 +419,19 @@ impl Pendant {
             crate::robot::Phase::Decel => MotionPhase::Decelerating,
             crate::robot::Phase::Complete => MotionPhase::Done,
         }
+    }
+
+    /// Whether the controller ended the held jog by itself: a poll answered after its
+    /// 236H was accepted (so sent after it: one command outstanding) finds no axis in use.
+    /// [inferred] the controller clears "in use" when a jog stops at a limit or the edge
+    /// of reach, as the simulator does.
+    pub fn held_jog_ended(&self) -> bool {
+        let Some(accepted) = self.jog.jog_accepted else {
+            return false;
+        };
+        self.controller.work.as_ref().is_some_and(|w| {
+            w.at > accepted && w.value.axes.iter().all(|(_, a)| !a.status.in_use())
+        })
     }
 
     /// The polled joints within the model's positioning band of the command position.
