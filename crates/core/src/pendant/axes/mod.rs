@@ -3,6 +3,9 @@
 //! hold-to-run on an axis with the arm's hold machine and STOP latch. Sans-IO: link
 //! events and the time come in, calls for the RMC link go out.
 
+#[cfg(test)]
+mod lamp_tests;
+pub mod lamps;
 pub mod settings;
 #[cfg(test)]
 mod tests;
@@ -24,6 +27,9 @@ pub use settings::{RmcJogSettings, RmcSettings};
 
 /// Commands kept in the axis panel's log.
 const KEEP_LOG: usize = 200;
+
+/// What the pendant says of a command whose ACK never came: it may have arrived.
+pub const UNACKNOWLEDGED: &str = "sent, not acknowledged: check the axis before sending again";
 
 /// One of an axis's jog buttons: the axis and a direction.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -94,6 +100,10 @@ pub struct AxisView {
     /// The target generator's phases seen (trusted statuses, each change once) since the
     /// last move was acknowledged: the lamps' history of that move.
     pub phases: Vec<TgPhase>,
+    /// The command last written to the axis (the link's own too), as it went on the line.
+    pub sent: Option<Command>,
+    /// The last command the RMC took (its ACK seen): what the lamps' words follow.
+    pub taken: Option<Command>,
 }
 
 impl AxisView {
@@ -175,8 +185,18 @@ impl RmcAxes {
     }
 
     /// The id of a call sent: the link numbers its requests in the order they came.
+    /// (The link's `Sent` event records what really went out under that id, so a held
+    /// jog needs no entry here.)
     pub fn sent(&mut self, id: RequestId, axis: AxisId, command: Command) {
-        self.pending.push((id, axis, command));
+        self.record(id, axis, command);
+    }
+
+    /// Keeps what request `id` is (replacing what was kept for it).
+    fn record(&mut self, id: RequestId, axis: AxisId, command: Command) {
+        match self.pending.iter_mut().find(|(p, ..)| *p == id) {
+            Some(entry) => *entry = (id, axis, command),
+            None => self.pending.push((id, axis, command)),
+        }
     }
 
     /// Applies one intent; what the operator should read comes back.
@@ -252,6 +272,11 @@ impl RmcAxes {
             HoldAction::Release => {
                 if let Some(j) = before {
                     self.calls.push(AxisCall::Release(j.target.axis));
+                    self.says(
+                        Level::Info,
+                        format!("{} released: Stop (6) sent", j.target.label()),
+                        now,
+                    );
                 }
                 None
             }
@@ -346,7 +371,9 @@ impl RmcAxes {
                 };
                 self.calls.push(AxisCall::Hold(target.axis, hold));
                 self.hold.started(input, target, now);
-                Some(self.says(Level::Info, format!("jogging {}", target.label()), now))
+                // Said in Messages; beside the buttons it shows while the jog runs
+                // (`jog_line`), never after.
+                Some((Level::Info, format!("jogging {}", target.label())))
             }
         }
     }
@@ -515,9 +542,15 @@ impl RmcAxes {
                     Some(axis),
                     format!("sent {command}, REQ {}{who}", u8::from(req)),
                 );
+                // What went out under a request's id is what it is (a held jog's first
+                // move, not the request that asked for it).
+                if let Some(id) = id {
+                    self.record(id, axis, command);
+                }
                 if let Some(v) = self.axes.get_mut(axis.index()) {
                     v.awaiting = true;
                     v.following = None;
+                    v.sent = Some(command);
                 }
                 None
             }
@@ -526,6 +559,7 @@ impl RmcAxes {
                 let name = command.map_or("the link's command", |c| c.name());
                 self.log(now, Some(axis), format!("ACK = REQ: {name} received"));
                 if let Some(v) = self.axes.get_mut(axis.index()) {
+                    v.taken = v.sent.take().or(command);
                     v.following = command.filter(Command::moves);
                     if v.following.is_some() {
                         v.phases.clear();
@@ -533,23 +567,32 @@ impl RmcAxes {
                 }
                 None
             }
-            RmcEvent::NotSent { id, reason } => {
-                let what = self.command_of(Some(id), true);
-                self.stop_jog_of(what.map(|(a, _)| a), StopCause::Refused);
-                let name = what.map_or("command", |(_, c)| c.name());
-                Some(self.says(Level::Warning, format!("{name} not sent: {reason}"), now))
+            RmcEvent::NotSent {
+                id,
+                axis,
+                what,
+                reason,
+            } => {
+                self.command_of(Some(id), true);
+                self.stop_jog_of(Some(axis), StopCause::Refused);
+                Some(self.says(Level::Warning, format!("{what} not sent: {reason}"), now))
             }
-            RmcEvent::Unconfirmed { id, axis } => {
+            RmcEvent::Unconfirmed { id, axis, answered } => {
                 let name = self
                     .command_of(id, true)
                     .map_or("a command", |(_, c)| c.name());
+                if let Some(v) = self.axes.get_mut(axis.index()) {
+                    v.sent = None;
+                }
                 self.stop_jog_of(Some(axis), StopCause::Refused);
+                let how = if answered {
+                    "the RMC answered the write, and ACK never came to equal REQ"
+                } else {
+                    "no reply to the write, and ACK did not change"
+                };
                 Some(self.says(
                     Level::Error,
-                    format!(
-                        "{axis}: no reply to {name}, and ACK did not change: it did not arrive \
-                         and is not sent again"
-                    ),
+                    format!("{axis}: {name} {UNACKNOWLEDGED} ({how}; it is not sent again)"),
                     now,
                 ))
             }

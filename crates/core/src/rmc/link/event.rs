@@ -108,11 +108,22 @@ pub enum RmcEvent {
         axis: AxisId,
         at: Instant,
     },
-    /// A request that never reached the controller, and why.
-    NotSent { id: RequestId, reason: String },
-    /// A write timed out and ACK did not match afterwards: the command may not have
-    /// arrived; it is not sent again.
-    Unconfirmed { id: Option<RequestId>, axis: AxisId },
+    /// A request that never reached the controller, and why: its axis and what it was
+    /// (a command's name, or [`super::HELD_JOG`] for a hold).
+    NotSent {
+        id: RequestId,
+        axis: AxisId,
+        what: &'static str,
+        reason: String,
+    },
+    /// A command written whose ACK never came to equal its REQ: the RMC may or may not
+    /// have taken it; it is not sent again. `answered`: the write itself had its reply
+    /// (it reached the controller); else no reply came in time.
+    Unconfirmed {
+        id: Option<RequestId>,
+        axis: AxisId,
+        answered: bool,
+    },
     /// The controller answered a request with an exception.
     Exception {
         id: Option<RequestId>,

@@ -19,6 +19,7 @@ use std::time::{Duration, Instant};
 
 use self::axis::AxisLink;
 pub use self::event::{HoldJog, RmcEvent, RmcRequest, SafetyStop};
+pub use self::requests::HELD_JOG;
 use crate::line::LineSettings;
 use crate::link::RequestId;
 use crate::link::core::{Input, LineChange, LinkCore, Transmit};
@@ -167,9 +168,17 @@ impl RmcCore {
             .is_none_or(|at| now.saturating_duration_since(at) >= self.config.lease)
     }
 
-    fn not_sent(&mut self, id: RequestId, reason: impl Into<String>) {
+    fn not_sent(
+        &mut self,
+        id: RequestId,
+        axis: AxisId,
+        what: &'static str,
+        reason: impl Into<String>,
+    ) {
         self.events.push_back(RmcEvent::NotSent {
             id,
+            axis,
+            what,
             reason: reason.into(),
         });
     }
@@ -179,7 +188,8 @@ impl RmcCore {
         let queue = std::mem::take(&mut self.queue);
         for (id, axis, command) in queue {
             if command.moves() {
-                self.not_sent(id, format!("{why}: {} to {axis} not sent", command.name()));
+                let text = format!("{why}: {} to {axis} not sent", command.name());
+                self.not_sent(id, axis, command.name(), text);
             } else {
                 self.queue.push_back((id, axis, command));
             }

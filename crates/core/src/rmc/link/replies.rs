@@ -99,8 +99,11 @@ impl RmcCore {
                 if a.chain.take().is_some() {
                     a.stop_owed = true;
                 }
-                self.events
-                    .push_back(RmcEvent::Unconfirmed { id: w.id, axis });
+                self.events.push_back(RmcEvent::Unconfirmed {
+                    id: w.id,
+                    axis,
+                    answered: !w.timed_out,
+                });
             } else {
                 trusted = false;
             }

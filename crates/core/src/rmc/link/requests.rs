@@ -9,6 +9,9 @@ use crate::link::RequestId;
 use crate::rmc::{AxisId, Command, MoveRelative};
 use crate::robot::RelativeTo;
 
+/// What a refused [`RmcRequest::Hold`] is called in its [`super::RmcEvent::NotSent`].
+pub const HELD_JOG: &str = "Held jog";
+
 impl RmcCore {
     pub(super) fn handle_app(&mut self, now: Instant, request: RmcRequest) {
         match request {
@@ -66,7 +69,7 @@ impl RmcCore {
 
     pub(super) fn submit(&mut self, id: RequestId, axis: AxisId, command: Command) {
         if let Err(e) = command.check() {
-            return self.not_sent(id, e.to_string());
+            return self.not_sent(id, axis, command.name(), e.to_string());
         }
         let refusal = if command.moves() {
             self.motion_refusal(axis)
@@ -81,7 +84,7 @@ impl RmcCore {
             None
         };
         match refusal {
-            Some(why) => self.not_sent(id, why),
+            Some(why) => self.not_sent(id, axis, command.name(), why),
             None => self.queue.push_back((id, axis, command)),
         }
     }
@@ -95,10 +98,10 @@ impl RmcCore {
             relative_to: RelativeTo::Target,
         });
         if let Err(e) = probe.check() {
-            return self.not_sent(id, e.to_string());
+            return self.not_sent(id, axis, HELD_JOG, e.to_string());
         }
         if let Some(why) = self.motion_refusal(axis) {
-            return self.not_sent(id, why);
+            return self.not_sent(id, axis, HELD_JOG, why);
         }
         // The request itself renews the lease (as submitting a jog does on Format B).
         self.lease_renewed = Some(now);

@@ -112,7 +112,9 @@ fn a_lost_write_is_reported_and_never_sent_again() {
     b.faults.push(Fault::LoseNextWrite);
     let id = b.send(axis(0), move_by(10.0, RelativeTo::Command));
     assert!(b.run_until(2 * SECOND, |b| {
-        b.saw(|e| matches!(e, RmcEvent::Unconfirmed { id: Some(i), .. } if *i == id))
+        b.saw(
+            |e| matches!(e, RmcEvent::Unconfirmed { id: Some(i), answered: false, .. } if *i == id),
+        )
     }));
     b.run_for(SECOND, None);
     let moves = b.moves_to(axis(0));
@@ -318,7 +320,7 @@ fn motion_to_a_disabled_axis_is_refused_before_sending() {
     b.run_until(SECOND, |b| b.core.last_status(axis(1)).is_some());
     let id = b.send(axis(1), move_by(1.0, RelativeTo::Command));
     assert!(b.saw(|e| matches!(
-        e, RmcEvent::NotSent { id: i, reason } if *i == id && reason.contains("not enabled")
+        e, RmcEvent::NotSent { id: i, reason, .. } if *i == id && reason.contains("not enabled")
     )));
     assert!(b.commands_to(axis(1)).iter().all(|(c, _)| !c.moves()));
 }
@@ -328,8 +330,11 @@ fn an_ack_that_never_comes_is_reported_and_the_link_goes_on() {
     let mut b = Bench::enabled();
     b.faults.push(Fault::AckNever);
     let id = b.send(axis(0), move_by(1.0, RelativeTo::Command));
-    let unconfirmed =
-        |b: &Bench| b.saw(|e| matches!(e, RmcEvent::Unconfirmed { id: Some(i), .. } if *i == id));
+    let unconfirmed = |b: &Bench| {
+        b.saw(
+            |e| matches!(e, RmcEvent::Unconfirmed { id: Some(i), answered: true, .. } if *i == id),
+        )
+    };
     assert!(b.run_until(2 * SECOND, unconfirmed));
     let waited = b
         .events
