@@ -279,11 +279,14 @@ impl Transport for GuardianLine {
 }
 
 impl Drop for GuardianLine {
-    /// Closes the pipe and waits for the guardian to exit (it STOPs first if motion may
-    /// run), so the port is free when this returns; one that hangs is killed.
+    /// Says the window lets go of the line (its process runs on: the guardian's log says
+    /// so), closes the pipe and waits for the guardian to exit (it STOPs first if motion
+    /// may run), so the port is free when this returns; one that hangs is killed.
     fn drop(&mut self) {
         self.beating.store(false, Ordering::Relaxed);
-        self.stdin.lock().unwrap_or_else(|p| p.into_inner()).take();
+        if let Some(mut pipe) = self.stdin.lock().unwrap_or_else(|p| p.into_inner()).take() {
+            let _ = wire::send(&mut pipe, &ToGuardian::LetGo);
+        }
         let deadline = Instant::now() + EXIT_TIMEOUT;
         while Instant::now() < deadline {
             match self.child.try_wait() {

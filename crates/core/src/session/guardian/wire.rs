@@ -20,6 +20,9 @@ pub enum ToGuardian {
     Bytes(Vec<u8>),
     /// The window's process is alive (sent every [`super::HEARTBEAT`]).
     Heartbeat,
+    /// The window's link lets go of the line (the pipe closes next); its process may run
+    /// on. A pipe that closes without it means the window's process ended.
+    LetGo,
 }
 
 /// The line the guardian opens, and how long it lets the window fall silent while motion
