@@ -193,7 +193,7 @@ impl Scheduler {
         self.user.retain(|p| {
             let end = ended(p);
             if end {
-                taken.push(p.clone());
+                taken.push(*p);
             }
             !end
         });

@@ -510,10 +510,8 @@ impl Pendant {
                         self.jog.command_position = Some(f.plan.end);
                     }
                 }
-                Command::Jog(j) if j.is_continuous() => {
-                    if self.jog.hold.jog().is_some() {
-                        self.jog.jog_accepted = Some(now);
-                    }
+                Command::Jog(j) if j.is_continuous() && self.jog.hold.jog().is_some() => {
+                    self.jog.jog_accepted = Some(now);
                 }
                 Command::Jog(j) if j.distance.0 != 0 => {
                     if let Some(f) = self
