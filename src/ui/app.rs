@@ -28,6 +28,7 @@ use crate::pendant::{
 use crate::protocol::CoordKind;
 use crate::robot::RobotModel;
 use crate::session::SimHandle;
+use crate::session::closing::Closing;
 use crate::session::rmc::RmcSession;
 use crate::session::{LineOwner, Session, load_model};
 
@@ -38,6 +39,8 @@ const LAYOUT_KEY: &str = "layout";
 /// Most time spent applying link events in one frame (about 5 us each: one frame takes
 /// in what 25 s of idle polling of both links brings).
 const EVENT_BUDGET: Duration = Duration::from_millis(16);
+/// How often the window looks whether a closing line has closed.
+const CLOSE_CHECK: Duration = Duration::from_millis(20);
 /// The simulator's thread answers the front panel within a tick (20 ms); the window looks
 /// again after this.
 const PANEL_ANSWER: Duration = Duration::from_millis(60);
@@ -86,6 +89,13 @@ impl StartOptions {
     }
 }
 
+/// The two devices' connections.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Device {
+    Xsel,
+    Rmc,
+}
+
 /// The shares of the window's width the left column (the jog pad) keeps within.
 const LEFT_SHARE: std::ops::Range<f32> = 0.27..0.36;
 
@@ -97,6 +107,10 @@ pub struct PendantApp {
     rmc: Option<RmcSession>,
     /// The links' events, taken in oldest first.
     inbox: Inbox,
+    /// Sessions closing on threads of their own (the window draws, STOP reaches them).
+    closing: Vec<(Device, Closing)>,
+    /// A line asked for while its old one still closes: opened once it has.
+    open_when_closed: Vec<Device>,
     line_owner: LineOwner,
     connection: ConnectionPanel,
     jog: JogPanel,
@@ -202,6 +216,8 @@ impl PendantApp {
             session: None,
             rmc: None,
             inbox: Inbox::default(),
+            closing: Vec::new(),
+            open_when_closed: Vec::new(),
             line_owner: options.line_owner.clone(),
             connection: ConnectionPanel::default(),
             jog: JogPanel::default(),
@@ -282,6 +298,11 @@ impl PendantApp {
         self.link_wakes.load(std::sync::atomic::Ordering::Relaxed)
     }
 
+    /// How many old connections are still closing (on threads of their own).
+    pub fn lines_closing(&self) -> usize {
+        self.closing.len()
+    }
+
     /// The RMC151's session (tests reach its built-in simulator).
     pub fn rmc(&self) -> Option<&RmcSession> {
         self.rmc.as_ref()
@@ -308,24 +329,73 @@ impl PendantApp {
                 r.link.stop_all();
             }
         }
-        // Both links close at once, each sending its STOPs; the window waits for both.
-        std::thread::scope(|scope| {
-            let rmc = self.rmc.take();
-            scope.spawn(move || drop(rmc));
-            self.session = None;
-        });
+        // Both links close at once, each sending its STOPs; the window waits for both
+        // and for any close already under way.
+        self.open_when_closed.clear();
+        self.close_session();
+        self.close_rmc();
+        for (_, closing) in self.closing.drain(..) {
+            drop(closing.finish());
+        }
     }
 
-    /// Closes the X-SEL's line (its link sends the STOPs owed first).
+    /// Closes the X-SEL's line on a thread of its own (its link sends the STOPs owed
+    /// first); the window goes on drawing.
     fn close_session(&mut self) {
-        self.session = None;
+        if let Some(session) = self.session.take() {
+            self.closing
+                .push((Device::Xsel, session.close_in_background()));
+        }
         self.inbox.forget_xsel();
     }
 
-    /// Closes the RMC151's connection (its link stops what may move first).
+    /// Closes the RMC151's connection on a thread of its own (its link stops what may
+    /// move first).
     fn close_rmc(&mut self) {
-        self.rmc = None;
+        if let Some(rmc) = self.rmc.take() {
+            let closing = Closing::start("the RMC151's connection", rmc, None, |rmc| {
+                drop(rmc);
+                None
+            });
+            self.closing.push((Device::Rmc, closing));
+        }
         self.inbox.forget_rmc();
+    }
+
+    /// Opens `device`'s line once its old one has closed (once, however often asked).
+    fn open_later(&mut self, device: Device) {
+        if !self.open_when_closed.contains(&device) {
+            self.open_when_closed.push(device);
+        }
+    }
+
+    /// Whether `device`'s old connection is still closing.
+    fn still_closing(&self, device: Device) -> bool {
+        self.closing.iter().any(|(d, _)| *d == device)
+    }
+
+    /// Takes in the closes that ended (a problem goes to Messages) and opens the lines
+    /// that waited for them; true while any close runs.
+    fn closes_done(&mut self, ctx: &egui::Context, now: Instant) -> bool {
+        let mut i = 0;
+        while i < self.closing.len() {
+            if self.closing[i].1.is_done() {
+                let (_, closing) = self.closing.remove(i);
+                if let Some(problem) = closing.finish() {
+                    self.pendant
+                        .say(crate::pendant::Level::Warning, problem, now);
+                }
+            } else {
+                i += 1;
+            }
+        }
+        for device in std::mem::take(&mut self.open_when_closed) {
+            match device {
+                Device::Xsel => self.open_session(ctx, now),
+                Device::Rmc => self.open_rmc(ctx, now),
+            }
+        }
+        !self.closing.is_empty()
     }
 
     /// Takes in the links' events, both lines' oldest first, for at most
@@ -359,19 +429,21 @@ impl PendantApp {
     }
 
     fn run_requests(&mut self, ctx: &egui::Context, now: Instant) {
-        let requests = self.pendant.take_requests();
-        // STOP first, whatever else was asked this frame.
-        if requests.contains(&Request::Stop) {
-            if let Some(s) = &self.session {
-                s.stop_all();
-            }
-            if let Some(r) = &self.rmc {
-                r.link.stop_all();
-            }
-        }
-        for request in requests {
+        // In the model's order: a STOP already ended what was asked before it (and the
+        // link's STOP channel overtakes the rest), so nothing here reorders.
+        for request in self.pendant.take_requests() {
             match request {
-                Request::Stop => {}
+                Request::Stop => {
+                    if let Some(s) = &self.session {
+                        s.stop_all();
+                    }
+                    if let Some(r) = &self.rmc {
+                        r.link.stop_all();
+                    }
+                    for (_, closing) in &self.closing {
+                        closing.stop_all();
+                    }
+                }
                 Request::Submit(command) => {
                     if let Some(s) = &self.session {
                         s.submit(command);
@@ -403,7 +475,10 @@ impl PendantApp {
                     ),
                 },
                 Request::Connect => self.open_session(ctx, now),
-                Request::Disconnect => self.close_session(),
+                Request::Disconnect => {
+                    self.open_when_closed.retain(|d| *d != Device::Xsel);
+                    self.close_session();
+                }
                 Request::Axes(call) => self.axes_call(ctx, call, now),
             }
         }
@@ -414,6 +489,7 @@ impl PendantApp {
             return self.open_rmc(ctx, now);
         }
         if let AxisCall::Disconnect = call {
+            self.open_when_closed.retain(|d| *d != Device::Rmc);
             return self.close_rmc();
         }
         let Some(rmc) = &self.rmc else {
@@ -444,6 +520,10 @@ impl PendantApp {
     /// Opens the RMC151's connection in the settings (closing the current one).
     fn open_rmc(&mut self, ctx: &egui::Context, now: Instant) {
         self.close_rmc();
+        if self.still_closing(Device::Rmc) {
+            // The old connection closes first (its STOP); this one opens after it.
+            return self.open_later(Device::Rmc);
+        }
         let repaint_ctx = ctx.clone();
         let wakes = self.link_wakes.clone();
         let last = std::sync::Mutex::new(RmcWake::new(
@@ -479,8 +559,12 @@ impl PendantApp {
     }
 
     fn open_session(&mut self, ctx: &egui::Context, now: Instant) {
-        // The old link shuts down first (stopping any motion), then the new one opens.
+        // The old link shuts down first (stopping any motion), then the new one opens:
+        // the same port cannot be opened twice.
         self.close_session();
+        if self.still_closing(Device::Xsel) {
+            return self.open_later(Device::Xsel);
+        }
         let settings = self.pendant.settings.connection.clone();
         let model = match load_model(&settings.robot) {
             Ok(m) => m,
@@ -535,6 +619,10 @@ impl eframe::App for PendantApp {
         }
         self.pendant.tick(now);
         self.run_requests(ctx, now);
+        if self.closes_done(ctx, now) {
+            // A close takes up to a reply time-out or two: look again soon.
+            ctx.request_repaint_after(CLOSE_CHECK);
+        }
         if self.pendant.held_jog().is_some() || self.pendant.axes.hold.jog().is_some() {
             // While a continuous jog is held the window runs at least this often.
             ctx.request_repaint_after(crate::pendant::RENEW_EVERY);

@@ -11,11 +11,13 @@ mod axes;
 mod coords;
 mod frame_log;
 mod frame_log_replay;
+mod jog_panel;
 // Image snapshots render with wgpu: `cargo test --features wgpu` (CI runs them).
 #[cfg(feature = "wgpu")]
 mod frame_log_snapshot;
 mod main_window;
 mod plots;
+mod sessions;
 mod simulator;
 mod sizes;
 #[cfg(feature = "wgpu")]

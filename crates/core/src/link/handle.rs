@@ -130,6 +130,15 @@ impl LinkHandle {
         )
     }
 
+    /// A sender of STOPs for all axes that works while the handle itself is busy
+    /// closing on another thread (the window's STOP button during a disconnect).
+    pub fn stopper(&self) -> StopSender {
+        StopSender {
+            stops: self.driver.stops.clone(),
+            ids: self.ids.clone(),
+        }
+    }
+
     fn control(&self, control: Control) {
         let _ = self.driver.control.send(Input::App(control));
     }
@@ -172,6 +181,30 @@ impl LinkHandle {
         self.driver
             .close()
             .map_or_else(ShutdownReport::thread_failed, |core| core.shutdown_report())
+    }
+}
+
+/// STOPs for all axes into a link, from anywhere (see [`LinkHandle::stopper`]); a link
+/// that has closed takes them no more, and they are then dropped.
+#[derive(Clone)]
+pub struct StopSender {
+    stops: crossbeam_channel::Sender<Input<Control>>,
+    ids: Arc<AtomicU64>,
+}
+
+impl StopSender {
+    /// 238H for all axes, ahead of anything queued (a closing link still sends it).
+    pub fn stop_all(&self) {
+        let pending = Pending::new(
+            RequestId::next(&self.ids),
+            Command::Stop(Stop {
+                axes: AxisPattern::ALL,
+                cancel_held_outputs: false,
+            }),
+            Origin::User,
+            Priority::Stop,
+        );
+        let _ = self.stops.send(Input::App(Control::Submit(pending)));
     }
 }
 

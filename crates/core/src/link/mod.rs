@@ -23,7 +23,7 @@ pub mod transport;
 pub use driver::Connector;
 pub use event::LinkEvent;
 pub use format_b::{ShutdownReport, StopOutcome};
-pub use handle::{EVENT_BACKLOG, LinkConfig, LinkHandle, Repaint, spawn};
+pub use handle::{EVENT_BACKLOG, LinkConfig, LinkHandle, Repaint, StopSender, spawn};
 pub use lease::{JOG_LEASE, RENEW_EVERY};
 pub use poll_answers::PollAnswers;
 pub use reason::{BadInput, IoFailure, LineDownReason, NotSentReason};

@@ -3,6 +3,7 @@
 //! the window both go through here, so a line is prepared one way only. A serial port or
 //! TCP bridge may be owned by a guardian process (`guardian/`) that outlives the window.
 
+pub mod closing;
 pub mod guardian;
 pub mod rmc;
 
@@ -289,6 +290,24 @@ impl Session {
             sim: connection.sim,
             panel: connection.panel,
         })
+    }
+
+    /// Closes on a thread of its own (see [`closing`]): the link ends its transaction,
+    /// sends the STOPs it owes and closes the line while the caller goes on; STOP still
+    /// reaches it meanwhile.
+    pub fn close_in_background(self) -> closing::Closing {
+        let stopper = self.link.stopper();
+        closing::Closing::start(
+            "the X-SEL's line",
+            self,
+            Some(Box::new(move || stopper.stop_all())),
+            |session| {
+                let Session { link, sim, .. } = session;
+                let report = link.shutdown();
+                drop(sim);
+                (!report.is_clean()).then(|| report.to_string())
+            },
+        )
     }
 
     /// Sends a command at the user's priority (238H at the head of the queue).
