@@ -4,11 +4,12 @@
 
 use egui::{Button, ComboBox, DragValue, Pos2, RichText, Ui};
 
-use super::widgets::{AMBER, GREEN, GREY, RED, lamp, level_color, reserved_line};
+use super::widgets::{AMBER, GREEN, GREY, RED, level_color, reserved_line};
+use crate::pendant::axes::lamps::{Lamp, LampKind, Lit};
 use crate::pendant::axes::{AxisIntent, AxisJog, AxisView};
 use crate::pendant::{Intent, JogInput, JogMode, LineState, Pendant};
 use crate::protocol::Direction;
-use crate::rmc::{AxisId, TgPhase};
+use crate::rmc::AxisId;
 use crate::robot::RelativeTo;
 
 /// What the axis buttons saw this frame (as the arm's pad reports its own).
@@ -26,21 +27,22 @@ const STEP_LADDER: [f32; 4] = [0.1, 1.0, 10.0, 100.0];
 /// Size of a − / + button: the same in every state, so nothing moves under the pointer.
 const JOG_BUTTON: [f32; 2] = [46.0, 30.0];
 
+/// Width of the Relative to choice, whichever is chosen.
+const RELATIVE_TO_WIDTH: f32 = 90.0;
+
 /// Draws the panel; intents go to `intents`, the buttons' pointer state to `pad`.
 pub fn show(ui: &mut Ui, pendant: &Pendant, intents: &mut Vec<Intent>, pad: &mut AxesPadOutput) {
     let rmc = &pendant.axes;
     connection(ui, pendant, intents);
     ui.separator();
     jog_choices(ui, pendant, intents);
-    let feedback = rmc
-        .feedback
-        .as_ref()
-        .map(|m| (level_color(m.level), m.text.as_str()));
-    let latch = rmc.hold.latch_text();
-    match latch.as_deref() {
-        Some(text) => reserved_line(ui, Some((RED, text)), None),
-        None => reserved_line(ui, feedback, None),
-    }
+    // The latch, the running jog or the last word: one line whatever it says.
+    let line = rmc.jog_line();
+    let line = line.as_ref().map(|(l, t)| (level_color(*l), t.as_str()));
+    reserved_line(ui, line, line.map(|(_, t)| t));
+    // While the line is not up every lamp below is stale: said here, room always kept.
+    let stale = rmc.stale_text();
+    reserved_line(ui, stale.as_deref().map(|t| (GREY, t)), stale.as_deref());
     ui.separator();
     let mut row = Row {
         pendant,
@@ -71,38 +73,13 @@ pub fn show(ui: &mut Ui, pendant: &Pendant, intents: &mut Vec<Intent>, pad: &mut
 
 fn connection(ui: &mut Ui, pendant: &Pendant, intents: &mut Vec<Intent>) {
     let rmc = &pendant.axes;
-    ui.horizontal_wrapped(|ui| {
+    // Buttons first, the state's words on a line of their own and the controller's lamps
+    // always drawn: a state that changes moves nothing below it.
+    ui.horizontal(|ui| {
         ui.label(RichText::new("RMC151").strong());
-        let (color, text) = match &rmc.line {
-            LineState::Closed => (GREY, "not connected".to_string()),
-            LineState::Opening => (AMBER, "connecting...".to_string()),
-            LineState::Up { line, .. } => (GREEN, format!("connected: {line}")),
-            LineState::Down { reason, .. } => (RED, format!("down: {reason}")),
-        };
-        ui.label(RichText::new(text).color(color)).on_hover_text(
-            "Address, unit ID, axes, units and soft limits: the left column's \
-             \"Delta RMC151 (Modbus/TCP)\" section",
-        );
-        if let Some(id) = rmc.module {
-            let name = match id {
-                17 => "RMC151E",
-                16 => "RMC150E",
-                _ => "unknown module",
-            };
-            ui.label(format!("CPU Module ID {id} ({name})"));
-        }
-        if let Some(c) = rmc.controller {
-            lamp(
-                ui,
-                c.run_mode(),
-                GREEN,
-                if c.run_mode() { "RUN" } else { "PROGRAM" },
-            );
-            lamp(ui, c.enabled(), GREEN, "Controller enabled");
-        }
         let up = !matches!(rmc.line, LineState::Closed);
         if ui
-            .button(if up { "Reconnect" } else { "Connect" })
+            .add(Button::new(if up { "Reconnect" } else { "Connect" }).min_size([84.0, 0.0].into()))
             .clicked()
         {
             intents.push(Intent::Axes(AxisIntent::Connect));
@@ -111,26 +88,101 @@ fn connection(ui: &mut Ui, pendant: &Pendant, intents: &mut Vec<Intent>) {
             intents.push(Intent::Axes(AxisIntent::Disconnect));
         }
     });
+    let (color, text) = match &rmc.line {
+        LineState::Closed => (GREY, "not connected".to_string()),
+        LineState::Opening => (AMBER, "connecting...".to_string()),
+        LineState::Up { line, .. } => (GREEN, format!("connected: {line}")),
+        LineState::Down { reason, .. } => (RED, format!("down: {reason}")),
+    };
+    let hover = format!(
+        "{text}\n\nAddress, unit ID, axes, units and soft limits: the left column's \
+         \"Delta RMC151 (Modbus/TCP)\" section"
+    );
+    reserved_line(ui, Some((color, &text)), Some(&hover));
+    ui.horizontal(|ui| {
+        for l in rmc.controller_lamps() {
+            model_lamp(ui, &l);
+        }
+        if let Some(id) = rmc.module {
+            let name = match id {
+                17 => "RMC151E",
+                16 => "RMC150E",
+                _ => "unknown module",
+            };
+            ui.label(format!("CPU Module ID {id} ({name})"));
+        }
+    });
+}
+
+/// A lamp as the model derives it: its kind's colour when lit, dim when not, grey and
+/// said so when stale.
+fn model_lamp(ui: &mut Ui, l: &Lamp) {
+    let color = match l.kind {
+        LampKind::Good => GREEN,
+        LampKind::Bad => RED,
+        LampKind::Phase => AMBER,
+    };
+    let (fill, hover) = match l.lit {
+        Lit::On => (color, l.hover.clone()),
+        Lit::Off => (GREY.gamma_multiply(0.4), l.hover.clone()),
+        Lit::Stale { was_on } => (
+            GREY.gamma_multiply(0.4),
+            format!(
+                "{}\n\nstale: read {} before the line went down",
+                l.hover,
+                if was_on { "lit" } else { "dark" }
+            ),
+        ),
+    };
+    ui.horizontal(|ui| {
+        let (rect, _) = ui.allocate_exact_size(egui::vec2(12.0, 12.0), egui::Sense::hover());
+        if matches!(l.lit, Lit::Stale { .. }) {
+            ui.painter()
+                .circle_stroke(rect.center(), 5.0, egui::Stroke::new(1.0, GREY));
+        } else {
+            ui.painter().circle_filled(rect.center(), 5.5, fill);
+        }
+        let text = match l.lit {
+            Lit::Stale { .. } => RichText::new(l.name).color(GREY),
+            _ => RichText::new(l.name),
+        };
+        ui.label(text);
+    })
+    .response
+    .on_hover_text(hover);
 }
 
 fn jog_choices(ui: &mut Ui, pendant: &Pendant, intents: &mut Vec<Intent>) {
     let units = pendant.settings.rmc.units.clone();
     let mut jog = pendant.settings.rmc.jog;
-    ui.horizontal_wrapped(|ui| {
+    // Rows of their own, none wrapping: a choice whose words change width (Relative
+    // to, a typed step) moves nothing below it.
+    ui.horizontal(|ui| {
         ui.selectable_value(&mut jog.mode, JogMode::Step, "Step")
             .on_hover_text("one Move Relative (21) per press");
         ui.selectable_value(&mut jog.mode, JogMode::Continuous, "Hold")
             .on_hover_text("moves while held: short Move Relative moves relative to the Target, renewed while the button is down; Stop (6) on release");
-        // A held jog always moves relative to the Target, by its own distances: the step's
-        // choices are disabled, not removed, so nothing moves under the pointer.
-        ui.add_enabled_ui(jog.mode == JogMode::Step, |ui| {
+    });
+    // A held jog always moves relative to the Target, by its own distances: the step's
+    // choices are disabled, not removed, so nothing moves under the pointer.
+    ui.add_enabled_ui(jog.mode == JogMode::Step, |ui| {
+        ui.horizontal(|ui| {
             ui.label("Step");
             for d in STEP_LADDER {
                 ui.selectable_value(&mut jog.step, d, format!("{d}"));
             }
-            ui.add(DragValue::new(&mut jog.step).speed(0.1).range(0.001..=10_000.0).max_decimals(3).suffix(format!(" {units}")));
+            ui.add(
+                DragValue::new(&mut jog.step)
+                    .speed(0.1)
+                    .range(0.001..=10_000.0)
+                    .max_decimals(3)
+                    .suffix(format!(" {units}")),
+            );
+        });
+        ui.horizontal(|ui| {
             ui.label("Relative to");
             ComboBox::from_id_salt("rmc-relative-to")
+                .width(RELATIVE_TO_WIDTH)
                 .selected_text(jog.relative_to.name())
                 .show_ui(ui, |ui| {
                     for r in RelativeTo::ALL {
@@ -139,13 +191,15 @@ fn jog_choices(ui: &mut Ui, pendant: &Pendant, intents: &mut Vec<Intent>) {
                 });
         });
     });
-    ui.horizontal_wrapped(|ui| {
+    ui.horizontal(|ui| {
         ui.label("Speed");
         ui.add(
             DragValue::new(&mut jog.speed)
                 .range(0.001..=100_000.0)
                 .suffix(format!(" {units}/s")),
         );
+    });
+    ui.horizontal(|ui| {
         ui.label("Accel");
         ui.add(
             DragValue::new(&mut jog.accel)
@@ -175,7 +229,8 @@ fn jog_choices(ui: &mut Ui, pendant: &Pendant, intents: &mut Vec<Intent>) {
     } else {
         "hold: moves relative to the target while held, Stop (6) on release"
     };
-    ui.label(RichText::new(meaning).size(11.0).color(GREY));
+    // One line whatever it says (the whole of it on hover).
+    reserved_line(ui, Some((GREY, meaning)), Some(meaning));
     if jog != pendant.settings.rmc.jog {
         intents.push(Intent::Axes(AxisIntent::Settings(jog)));
     }
@@ -238,38 +293,13 @@ fn axis_row(
         }
     });
     let status = view.status;
-    let bits = status.map(|s| s.bits);
-    let phase = view.phase();
-    ui.horizontal(|ui| {
-        lamp(ui, bits.is_some_and(|b| b.enabled()), GREEN, "Enabled");
-        lamp(
-            ui,
-            bits.is_some_and(|b| b.in_position()),
-            GREEN,
-            "In Position",
-        );
-        lamp(ui, bits.is_some_and(|b| b.tg_done()), GREEN, "TG Done");
-        lamp(ui, bits.is_some_and(|b| b.halted()), RED, "Halted");
-    });
-    ui.horizontal(|ui| {
-        lamp(
-            ui,
-            bits.is_some_and(|b| b.bit(crate::rmc::StatusBits::STOPPED)),
-            GREEN,
-            "Stopped",
-        );
-        for (p, name) in [
-            (TgPhase::Accelerating, "Accel"),
-            (TgPhase::ConstantVelocity, "Constant"),
-            (TgPhase::Decelerating, "Decel"),
-        ] {
-            lamp(ui, status.is_some() && phase == p, AMBER, name);
-        }
-        let ack = view.latest.is_some_and(|s| s.bits.ack());
-        ui.scope(|ui| lamp(ui, ack, GREEN, "ACK"))
-            .response
-            .on_hover_text("Command Acknowledge (Status Bits bit 31) on this connection");
-    });
+    for row in pendant.axes.axis_lamps(axis) {
+        ui.horizontal(|ui| {
+            for l in &row {
+                model_lamp(ui, l);
+            }
+        });
+    }
     let errors = status.map(|s| s.errors.names()).unwrap_or_default();
     let last_error = status.map_or(0.0, |s| s.last_error);
     let line = if !errors.is_empty() {

@@ -276,3 +276,69 @@ fn no_rmc_on_the_command_line_leaves_it_off_this_run_and_the_saved_choice_as_it_
         "the saved choice (on) is kept for the next run"
     );
 }
+
+/// Where the axes' − / + buttons are now.
+fn jog_button_rects(h: &Harness<'_, PendantApp>) -> Vec<egui::Rect> {
+    ["Axis 1-", "Axis 1+", "Axis 2-", "Axis 2+"]
+        .iter()
+        .map(|l| h.get_by_label(l).rect())
+        .collect()
+}
+
+#[test]
+fn the_axis_buttons_stay_put_whatever_the_jog_choices_and_the_words_say() {
+    for (width, height) in [(1280.0, 800.0), (1024.0, 700.0)] {
+        let mut h = Harness::builder()
+            .with_size([width, height])
+            .build_eframe(|cc| PendantApp::new(cc, StartOptions::fresh_simulator()));
+        step_until(&mut h, "the RMC's first status", |a| {
+            view(a).status.is_some()
+        });
+        show_tab(&mut h, "RMC axes");
+        h.get_all_by_label("Enable").next().unwrap().click();
+        h.step();
+        step_until(&mut h, "axis 1 enabled", |a| view(a).enabled());
+        let set = |h: &mut Harness<'_, PendantApp>, jog: RmcJogSettings| {
+            h.state_mut()
+                .pendant_mut()
+                .apply(Intent::Axes(AxisIntent::Settings(jog)), Instant::now());
+            h.step();
+            h.step();
+        };
+        set(&mut h, slow_step(1.0, JogMode::Step));
+        let at = jog_button_rects(&h);
+        let mut choices = Vec::new();
+        for relative_to in [RelativeTo::Actual, RelativeTo::Target, RelativeTo::Command] {
+            for mode in [JogMode::Continuous, JogMode::Step] {
+                for step in [0.1, 1234.567] {
+                    choices.push(RmcJogSettings {
+                        relative_to,
+                        ..slow_step(step, mode)
+                    });
+                }
+            }
+        }
+        for jog in choices {
+            set(&mut h, jog);
+            assert_eq!(
+                jog_button_rects(&h),
+                at,
+                "{width}x{height}: the buttons moved with {jog:?}"
+            );
+        }
+        // Words beside the buttons (a refusal) and the lamps of a line that went down.
+        set(&mut h, slow_step(1.0, JogMode::Step));
+        click(&mut h, "Axis 1+");
+        assert!(h.state().pendant().axes.feedback.is_some());
+        assert_eq!(jog_button_rects(&h), at, "{width}x{height}: after a word");
+        h.state()
+            .rmc()
+            .and_then(|r| r.sim.as_ref())
+            .unwrap()
+            .unplug(true);
+        step_until(&mut h, "the line down", |a| {
+            a.pendant().axes.stale_text().is_some()
+        });
+        assert_eq!(jog_button_rects(&h), at, "{width}x{height}: line down");
+    }
+}
