@@ -10,6 +10,7 @@ mod faults;
 mod guardian;
 mod probe;
 mod rmc_guardian;
+mod rmc_hold;
 mod shutdown;
 mod soak;
 mod with_sim;
