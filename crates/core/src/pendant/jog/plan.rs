@@ -133,7 +133,50 @@ impl Default for JogSettings {
     }
 }
 
+/// Which speed field of [`JogSettings`] a jog carries, and in which unit: the one
+/// place every jog planner and the panel's "sends" lines take it from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SpeedSource {
+    /// `ptp_speed_pct`, %: PTP steps (2D5H), joint steps and joint jogs (236H in the
+    /// each-axis system).
+    Percent,
+    /// `cp_speed_mm_s`, mm/s: CP steps (2D5H) and Cartesian continuous jogs (236H in the
+    /// base, work or tool frame).
+    MmPerSec,
+}
+
+impl SpeedSource {
+    /// The field a jog of a joint (`joint`) or a Cartesian axis carries in `settings`'
+    /// mode. A 236H has no PTP or CP: its speed is in % in the each-axis system and in
+    /// mm/s in the Cartesian ones (PROTOCOL.md 3.10 and section 5, erratum 12), so a
+    /// continuous Cartesian jog carries the mm/s speed whatever the Motion choice.
+    pub fn of(settings: &JogSettings, joint: bool) -> SpeedSource {
+        match (joint, settings.mode, settings.interpolation) {
+            (true, ..) => SpeedSource::Percent,
+            (false, JogMode::Continuous, _) => SpeedSource::MmPerSec,
+            (false, JogMode::Step, Interpolation::Ptp) => SpeedSource::Percent,
+            (false, JogMode::Step, Interpolation::Cp) => SpeedSource::MmPerSec,
+        }
+    }
+
+    /// "%" or "mm/s".
+    pub fn unit(self) -> &'static str {
+        match self {
+            SpeedSource::Percent => "%",
+            SpeedSource::MmPerSec => "mm/s",
+        }
+    }
+}
+
 impl JogSettings {
+    /// The speed field `source` names (0 = the controller's parameter value).
+    pub fn speed(&self, source: SpeedSource) -> u16 {
+        match source {
+            SpeedSource::Percent => self.ptp_speed_pct,
+            SpeedSource::MmPerSec => self.cp_speed_mm_s,
+        }
+    }
+
     /// The next rung of the step ladder up (`larger`) or down.
     pub fn step_ladder(&mut self, larger: bool) {
         let next = if larger {
@@ -357,7 +400,7 @@ fn check_move(
             let motion = ScaraMotion::Ptp {
                 acc: Percent(settings.ptp_accel_pct),
                 dec: Percent(settings.ptp_decel_pct),
-                speed: Percent(settings.ptp_speed_pct),
+                speed: Percent(settings.speed(SpeedSource::Percent)),
                 arm: policy,
             };
             (motion, Move::Ptp(m), None, flips)
@@ -380,7 +423,7 @@ fn check_move(
             let motion = ScaraMotion::Cp {
                 acc: CentiG(settings.cp_accel_cg),
                 dec: CentiG(settings.cp_decel_cg),
-                speed: MmPerSec(settings.cp_speed_mm_s),
+                speed: MmPerSec(settings.speed(SpeedSource::MmPerSec)),
             };
             let line = Some(m.tip_line());
             (motion, Move::Cp(Box::new(m)), line, false)
@@ -473,7 +516,7 @@ fn plan_joint_step(
         motion: JogMotion::Joint {
             acc: Percent(settings.ptp_accel_pct),
             dec: Percent(settings.ptp_decel_pct),
-            speed: Percent(settings.ptp_speed_pct),
+            speed: Percent(settings.speed(SpeedSource::Percent)),
         },
     });
     Ok(PlannedStep {
@@ -487,20 +530,26 @@ fn plan_joint_step(
 }
 
 /// The 236H of a continuous jog ([`Jog::until_stopped`]): Cartesian axes in the chosen
-/// frame at the CP rates, joints at the % rates.
+/// frame at the mm/s rates, joints at the % rates, whatever the Motion (PTP/CP) choice,
+/// which a 236H does not have ([`SpeedSource::of`]).
 pub fn continuous_jog(settings: &JogSettings, axis: JogAxis, dir: Direction) -> Command {
+    let settings = &JogSettings {
+        mode: JogMode::Continuous,
+        ..settings.clone()
+    };
+    let speed = settings.speed(SpeedSource::of(settings, axis.is_joint()));
     let motion = if axis.is_joint() {
         JogMotion::Joint {
             acc: Percent(settings.ptp_accel_pct),
             dec: Percent(settings.ptp_decel_pct),
-            speed: Percent(settings.ptp_speed_pct),
+            speed: Percent(speed),
         }
     } else {
         JogMotion::Cartesian {
             frame: settings.frame.into(),
             acc: CentiG(settings.cp_accel_cg),
             dec: CentiG(settings.cp_decel_cg),
-            speed: MmPerSec(settings.cp_speed_mm_s),
+            speed: MmPerSec(speed),
         }
     };
     Command::Jog(Jog::until_stopped(
