@@ -1,6 +1,7 @@
-//! The keyboard map: arrows, PgUp/PgDn and , . jog by the physical direction; + and -
-//! walk the step ladder; Esc is STOP; F1 the help; Ctrl+Q closes the window. The keys only report what is down:
-//! the pendant's hold-to-run machine decides what a press does.
+//! The keyboard map: arrows, PgUp/PgDn and , . jog by the physical direction (never with
+//! Shift, Ctrl or Alt held); + and - walk the step ladder; Esc is STOP; F1 the help;
+//! Ctrl+Q closes the window. The keys only report what is down: the pendant's
+//! hold-to-run machine decides what a press does.
 
 use std::time::{Duration, Instant};
 
@@ -53,10 +54,11 @@ impl Keys {
     ) -> KeyOutput {
         let mut out = KeyOutput::default();
         let typing = ctx.egui_wants_keyboard_input();
-        let (events, down): (Vec<Event>, Vec<bool>) = ctx.input(|i| {
+        let (events, down, modified): (Vec<Event>, Vec<bool>, bool) = ctx.input(|i| {
             (
                 i.events.clone(),
                 MAP.iter().map(|(k, ..)| i.key_down(*k)).collect(),
+                jog_refused_with(i.modifiers),
             )
         });
         let mut jog = pendant.settings.jog.clone();
@@ -82,7 +84,8 @@ impl Keys {
                             .focus_gained
                             .is_none_or(|at| now.saturating_duration_since(at) > FOCUS_GRACE);
                         if let Some(i) = MAP.iter().position(|(k, ..)| k == key) {
-                            self.armed[i] = fresh;
+                            // Shift+PgDn, Ctrl+Left...: another command, never a jog.
+                            self.armed[i] = fresh && !jog_refused_with(*modifiers);
                         }
                     }
                 },
@@ -93,7 +96,9 @@ impl Keys {
             intents.push(Intent::JogSettings(jog));
         }
         for (i, ((_, physical, _), is_down)) in MAP.iter().zip(down).enumerate() {
-            if !is_down {
+            // A modifier pressed while a jog key is held ends that key's jog, and the key
+            // jogs again only when pressed anew.
+            if !is_down || modified {
                 self.armed[i] = false;
             }
             let press = match (is_down, self.armed[i] && !typing) {
@@ -106,6 +111,12 @@ impl Keys {
         }
         out
     }
+}
+
+/// Whether these modifiers make a jog key something else than a jog: Shift, Ctrl, Alt
+/// (Option) or Cmd held.
+fn jog_refused_with(m: egui::Modifiers) -> bool {
+    m.shift || m.ctrl || m.alt || m.command || m.mac_cmd
 }
 
 /// The help overlay listing the map, at the bottom right (never over STOP).
@@ -144,5 +155,6 @@ pub fn help(ctx: &Context, pendant: &Pendant, open: &mut bool) {
                 });
             ui.label("Continuous mode: the jog runs while the key is held and stops on release.");
             ui.label("After STOP, release every jog key before the next jog.");
+            ui.label("A jog key with Shift, Ctrl or Alt held does not jog.");
         });
 }

@@ -139,9 +139,13 @@ fn button(
     let widget = Button::new(RichText::new(text).size(size))
         .wrap_mode(egui::TextWrapMode::Extend)
         .selected(held);
-    let resp = ui
-        .put(rect, |ui: &mut Ui| ui.add_enabled(enabled, widget))
-        .on_disabled_hover_text(why);
+    let resp = ui.put(rect, |ui: &mut Ui| ui.add_enabled(enabled, widget));
+    // No empty tooltip: a reason, or none.
+    let resp = if why.is_empty() {
+        resp
+    } else {
+        resp.on_disabled_hover_text(why)
+    };
     if resp.hovered() || resp.contains_pointer() {
         out.hovered = Some(target);
     }

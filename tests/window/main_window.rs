@@ -13,13 +13,13 @@ use xsel_pendant::ui::{PendantApp, StartOptions};
 
 use crate::kittest_common::{DEADLINE, alarm_code, click, replace_text, show_tab, step_until};
 
-fn app<'a>() -> Harness<'a, PendantApp> {
+pub(crate) fn app<'a>() -> Harness<'a, PendantApp> {
     Harness::builder()
         .with_size([1280.0, 800.0])
         .build_eframe(|cc| PendantApp::new(cc, StartOptions::fresh_simulator()))
 }
 
-fn sim_in_frames(app: &PendantApp, id: &str) -> Vec<String> {
+pub(crate) fn sim_in_frames(app: &PendantApp, id: &str) -> Vec<String> {
     app.sim()
         .map(|s| s.traffic())
         .unwrap_or_default()
@@ -49,7 +49,7 @@ fn all_axes(app: &PendantApp, f: impl Fn(&xsel_pendant::protocol::AxisState) -> 
 }
 
 /// Connects, switches the servo on and homes, as an operator would.
-fn ready(h: &mut Harness<'_, PendantApp>) {
+pub(crate) fn ready(h: &mut Harness<'_, PendantApp>) {
     step_until(h, "the controller to accept commands", |a| {
         a.pendant().controller_ready(Instant::now()).is_ok()
     });
@@ -193,7 +193,7 @@ fn ids_in(traffic: &[xsel_pendant::sim::runner::TrafficEntry]) -> Vec<String> {
         .collect()
 }
 
-fn sim_busy(app: &PendantApp) -> bool {
+pub(crate) fn sim_busy(app: &PendantApp) -> bool {
     app.sim()
         .is_some_and(|s| s.with(|c| c.snapshot().in_use) != 0)
 }
@@ -329,7 +329,7 @@ fn after_a_jog_the_arm_view_shows_the_new_pose() {
 }
 
 /// The frames of message `id` the simulator has received.
-fn count_in(app: &PendantApp, id: &str) -> usize {
+pub(crate) fn count_in(app: &PendantApp, id: &str) -> usize {
     sim_in_frames(app, id).len()
 }
 
@@ -344,7 +344,7 @@ fn hold_for(h: &mut Harness<'_, PendantApp>, d: Duration, each: impl Fn(&Pendant
     }
 }
 
-fn button_rect(h: &Harness<'_, PendantApp>, label: &str) -> egui::Rect {
+pub(crate) fn button_rect(h: &Harness<'_, PendantApp>, label: &str) -> egui::Rect {
     h.get_by_role_and_label(egui::accesskit::Role::Button, label)
         .rect()
 }
@@ -401,8 +401,12 @@ fn esc_with_a_jog_key_held_stops_until_the_key_is_released_and_pressed_again() {
     assert_eq!(
         h.query_all_by_label_contains("release the jog keys")
             .count(),
-        2,
-        "the pad and the safety band show the latch"
+        3,
+        "the jog lamp, the pad and the safety band show the latch"
+    );
+    assert!(
+        h.query_by_label("Ready to jog").is_none(),
+        "'Ready to jog' while latched"
     );
     // The key still held: nothing moves again.
     hold_for(&mut h, Duration::from_secs(1), |a| {
@@ -425,7 +429,7 @@ fn esc_with_a_jog_key_held_stops_until_the_key_is_released_and_pressed_again() {
 }
 
 /// Every pad button's label.
-const PAD: [&str; 16] = [
+pub(crate) const PAD: [&str; 16] = [
     "X+",
     "X-",
     "Y+",
@@ -444,7 +448,7 @@ const PAD: [&str; 16] = [
     "J4+",
 ];
 
-fn pad_rects(h: &Harness<'_, PendantApp>) -> Vec<egui::Rect> {
+pub(crate) fn pad_rects(h: &Harness<'_, PendantApp>) -> Vec<egui::Rect> {
     PAD.iter().map(|l| button_rect(h, l)).collect()
 }
 
