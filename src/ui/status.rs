@@ -1,11 +1,13 @@
 //! The status panel: per-axis servo, home, in use, completed and error; the arm system,
-//! work and tool numbers; in-position and motion-phase lamps; Servo ON/OFF and Home.
+//! work and tool numbers; in-position and motion-phase lamps; Servo ON/OFF and Home. Every
+//! lamp from a status that is old or from a line that is down is grey, marked stale.
 
 use std::time::Instant;
 
-use egui::{Button, RichText, Ui};
+use egui::{Button, Color32, RichText, Ui};
 
-use super::widgets::{AMBER, GREEN, RED, lamp, reason};
+use super::widgets::{AMBER, GREEN, GREY, RED, reason};
+use crate::pendant::controller::STALE_AFTER;
 use crate::pendant::{Intent, MotionPhase, Pendant};
 use crate::protocol::HomeState;
 
@@ -13,6 +15,52 @@ const AXIS_NAMES: [&str; 4] = ["1 (J1 / X)", "2 (J2 / Y)", "3 (Z)", "4 (R)"];
 const SHORT_AXIS_NAMES: [&str; 4] = ["1 J1", "2 J2", "3 Z", "4 R"];
 /// Below this width the axis grid is drawn narrow.
 const WIDE_GRID: f32 = 360.0;
+
+/// Whether lamps drawn from a status read at `at` no longer show the controller: the
+/// line is down, or the read is older than [`STALE_AFTER`] (polls failing).
+pub(super) fn is_stale(pendant: &Pendant, at: Option<Instant>, now: Instant) -> bool {
+    at.is_some_and(|t| !pendant.line.is_up() || now.saturating_duration_since(t) > STALE_AFTER)
+}
+
+/// The words for a stale status: how old, or that the line is down.
+pub(super) fn stale_text(pendant: &Pendant, at: Option<Instant>, now: Instant) -> String {
+    match at {
+        _ if !pendant.line.is_up() => "stale: the line is down".to_owned(),
+        Some(t) => format!(
+            "stale: read {:.1} s ago",
+            now.saturating_duration_since(t).as_secs_f64()
+        ),
+        None => "stale".to_owned(),
+    }
+}
+
+/// A lamp from a status: in its colour while the status is fresh, grey (and its words
+/// weak) when `stale`, so an old green is never taken for the controller's state; its
+/// accessible name then says so ("Drive source lamp: stale").
+pub(super) fn status_lamp(ui: &mut Ui, on: bool, color: Color32, label: &str, stale: bool) {
+    ui.horizontal(|ui| {
+        let (rect, dot) = ui.allocate_exact_size(egui::vec2(12.0, 12.0), egui::Sense::hover());
+        let fill = match (stale, on) {
+            (false, true) => color,
+            (true, true) => GREY,
+            (_, false) => GREY.gamma_multiply(0.4),
+        };
+        ui.painter().circle_filled(rect.center(), 5.5, fill);
+        if stale && on {
+            ui.painter().circle_stroke(
+                rect.center(),
+                5.5,
+                egui::Stroke::new(1.0, ui.visuals().weak_text_color()),
+            );
+        }
+        if stale {
+            let name = format!("{label} lamp: stale");
+            dot.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Label, true, &name));
+        }
+        let text = RichText::new(label);
+        ui.label(if stale { text.weak() } else { text });
+    });
+}
 
 pub fn show(ui: &mut Ui, pendant: &Pendant, now: Instant, intents: &mut Vec<Intent>) {
     let ready = pendant.controller_ready(now);
@@ -25,11 +73,32 @@ pub fn show(ui: &mut Ui, pendant: &Pendant, now: Instant, intents: &mut Vec<Inte
     if let Err(why) = &ready {
         reason(ui, why);
     }
+    // Every lamp and word below is from a poll: grey with "stale" once it is old.
+    let c = &pendant.controller;
+    let at = [
+        c.system.map(|s| s.at),
+        c.work.map(|s| s.at),
+        c.joints.map(|s| s.at),
+    ]
+    .into_iter()
+    .flatten()
+    .min();
+    let stale = is_stale(pendant, at, now);
+    if stale {
+        ui.label(RichText::new(stale_text(pendant, at, now)).color(AMBER))
+            .on_hover_text("The lamps show the last status read; the controller may differ now.");
+    }
     if let Some(s) = pendant.controller.system.map(|s| s.value) {
         ui.horizontal_wrapped(|ui| {
-            lamp(ui, !s.status3.drive_cut_off(), GREEN, "Drive source");
-            lamp(ui, s.status1.manual_switch(), AMBER, "MANUAL switch");
-            lamp(ui, s.status2.program_running(), AMBER, "Program running");
+            status_lamp(ui, !s.status3.drive_cut_off(), GREEN, "Drive source", stale);
+            status_lamp(ui, s.status1.manual_switch(), AMBER, "MANUAL switch", stale);
+            status_lamp(
+                ui,
+                s.status2.program_running(),
+                AMBER,
+                "Program running",
+                stale,
+            );
         });
     }
     if let Some(w) = pendant.controller.work.map(|s| s.value) {
@@ -38,7 +107,7 @@ pub fn show(ui: &mut Ui, pendant: &Pendant, now: Instant, intents: &mut Vec<Inte
             w.common.arm, w.work, w.tool
         ));
     }
-    axis_grid(ui, pendant);
+    axis_grid(ui, pendant, stale);
     let phase = pendant.motion_phase(now);
     let inpos = pendant.in_position().unwrap_or(false);
     let lamps = |ui: &mut Ui, set: &[(MotionPhase, &str)]| {
@@ -49,13 +118,13 @@ pub fn show(ui: &mut Ui, pendant: &Pendant, now: Instant, intents: &mut Vec<Inte
                 } else {
                     GREEN
                 };
-                lamp(ui, phase == p, color, label);
+                status_lamp(ui, phase == p, color, label, stale);
             }
         });
     };
     ui.vertical(|ui| {
         ui.horizontal(|ui| {
-            lamp(ui, inpos, GREEN, "In position");
+            status_lamp(ui, inpos, GREEN, "In position", stale);
             lamps(
                 ui,
                 &[
@@ -81,7 +150,7 @@ pub fn show(ui: &mut Ui, pendant: &Pendant, now: Instant, intents: &mut Vec<Inte
     );
 }
 
-fn axis_grid(ui: &mut Ui, pendant: &Pendant) {
+fn axis_grid(ui: &mut Ui, pendant: &Pendant, stale: bool) {
     let Some(axes) = pendant.controller.axes() else {
         ui.label("no axis status yet");
         return;
@@ -101,41 +170,50 @@ fn axis_grid(ui: &mut Ui, pendant: &Pendant) {
         .show(ui, |ui| {
             let completed = if narrow { "Done" } else { "Completed" };
             for h in ["Axis", "Servo", "Home", "In use", completed, "Error"] {
-                ui.label(RichText::new(h).strong())
-                    .on_hover_text(if h == "Done" {
-                        "Completed normally"
-                    } else {
-                        ""
-                    });
+                let header = ui.label(RichText::new(h).strong());
+                // No empty tooltips: only the short header has one.
+                if h == "Done" {
+                    header.on_hover_text("Completed normally");
+                }
             }
             ui.end_row();
             for (i, (_, a)) in axes.iter().enumerate() {
                 let st = a.status;
                 ui.label(names.get(i).copied().unwrap_or("?"));
-                yes_no(ui, st.servo_on(), "on", "off");
-                let home = match st.home_state() {
-                    HomeState::Done => RichText::new("homed").color(GREEN),
-                    HomeState::Homing => RichText::new("homing").color(AMBER),
-                    _ => RichText::new("not homed").color(AMBER),
+                yes_no(ui, st.servo_on(), "on", "off", stale);
+                let (home, color) = match st.home_state() {
+                    HomeState::Done => ("homed", GREEN),
+                    HomeState::Homing => ("homing", AMBER),
+                    _ => ("not homed", AMBER),
                 };
-                ui.label(home);
+                ui.label(colored(home, color, stale));
                 ui.label(if st.in_use() { "in use" } else { "-" });
                 ui.label(if st.completed_normally() { "yes" } else { "-" });
                 if a.error.0 == 0 {
                     ui.label("-");
                 } else {
-                    ui.label(RichText::new(a.error.to_string()).color(RED));
+                    ui.label(colored(&a.error.to_string(), RED, stale));
                 }
                 ui.end_row();
             }
         });
 }
 
-fn yes_no(ui: &mut Ui, v: bool, yes: &str, no: &str) {
+fn yes_no(ui: &mut Ui, v: bool, yes: &str, no: &str, stale: bool) {
     if v {
-        ui.label(RichText::new(yes).color(GREEN));
+        ui.label(colored(yes, GREEN, stale));
     } else {
         ui.label(no);
+    }
+}
+
+/// A word in its colour, or weak grey from a stale status.
+fn colored(text: &str, color: Color32, stale: bool) -> RichText {
+    let text = RichText::new(text);
+    if stale {
+        text.weak()
+    } else {
+        text.color(color)
     }
 }
 

@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use egui::{Button, Color32, RichText, Ui, vec2};
 
-use super::widgets::{AMBER, GREEN, RED, lamp};
+use super::widgets::{AMBER, GREEN, RED};
 use crate::pendant::{Intent, LineState, Pendant, StopCause};
 use crate::protocol::SystemMode;
 
@@ -65,7 +65,13 @@ pub fn show(ui: &mut Ui, pendant: &Pendant, now: Instant, intents: &mut Vec<Inte
 
 fn system_lamps(ui: &mut Ui, pendant: &Pendant, now: Instant, intents: &mut Vec<Intent>) {
     let system = pendant.controller.system.map(|s| s.value);
-    let stale = pendant.controller.is_stale(now);
+    // Lamps from a 215H that is old, or from a line that is down, are grey: "stale".
+    let at = pendant.controller.system.map(|s| s.at);
+    let stale = super::status::is_stale(pendant, at, now)
+        || (at.is_some() && pendant.controller.is_stale(now));
+    let lamp = |ui: &mut Ui, on: bool, color: Color32, label: &str| {
+        super::status::status_lamp(ui, on, color, label, stale);
+    };
     ui.vertical(|ui| {
         ui.horizontal(|ui| {
             let mode = system.map_or("-", |s| s.mode.name().unwrap_or("unknown"));
@@ -84,8 +90,9 @@ fn system_lamps(ui: &mut Ui, pendant: &Pendant, now: Instant, intents: &mut Vec<
                 .on_hover_text(
                     "215H's ready bit: the controller's own state, not whether a jog may go",
                 );
-            if stale && pendant.line.is_up() {
-                ui.label(RichText::new("status stale").color(AMBER));
+            if stale {
+                ui.label(RichText::new("status stale").color(AMBER))
+                    .on_hover_text(super::status::stale_text(pendant, at, now));
             }
         });
         ui.horizontal(|ui| {
@@ -125,7 +132,7 @@ fn rmc_lamp(ui: &mut Ui, pendant: &Pendant) {
         LineState::Up { line, .. } => (GREEN, format!("RMC151 connected: {line}")),
         LineState::Down { reason, .. } => (RED, format!("RMC151 line down: {reason}")),
     };
-    ui.scope(|ui| lamp(ui, true, color, "RMC"))
+    ui.scope(|ui| super::widgets::lamp(ui, true, color, "RMC"))
         .response
         .on_hover_text(hover);
 }
