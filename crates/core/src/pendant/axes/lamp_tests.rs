@@ -253,3 +253,26 @@ fn a_held_jog_is_recorded_as_the_move_that_went_out() {
     assert!(r.hold.jog().is_none(), "the refused hold ended");
     assert!(said.starts_with("Held jog not sent"), "{said}");
 }
+
+#[test]
+fn a_jog_stopped_by_focus_loss_is_said() {
+    let now = Instant::now();
+    let (mut r, mut s) = ready(now);
+    s.jog.mode = JogMode::Continuous;
+    r.apply(
+        AxisIntent::Jog(JogInput::Pointer, Press::On(plus0())),
+        &mut s,
+        now,
+    );
+    r.take_calls();
+    let said = r.focus_lost_at(now).unwrap().1;
+    assert!(said.contains("lost focus"), "{said}");
+    assert_eq!(r.take_calls(), vec![AxisCall::Release(axis0())]);
+    r.apply(AxisIntent::Jog(JogInput::Pointer, Press::Up), &mut s, now);
+    let line = r.jog_line().unwrap().1;
+    assert!(
+        line.contains("lost focus"),
+        "said after release too: {line}"
+    );
+    assert_eq!(r.focus_lost_at(now), None, "nothing runs: nothing to say");
+}

@@ -434,6 +434,23 @@ impl RmcAxes {
         }
     }
 
+    /// As [`RmcAxes::focus_lost`], and the stop is said (beside the buttons once they
+    /// are released, and back for Messages): a STOP the operator did not give is never
+    /// silent.
+    pub fn focus_lost_at(&mut self, now: Instant) -> Option<(Level, String)> {
+        let j = self.hold.focus_lost()?;
+        self.calls.push(AxisCall::Release(j.target.axis));
+        Some(self.says(
+            Level::Warning,
+            format!(
+                "{}: Stop (6) sent: {}",
+                j.target.label(),
+                StopCause::FocusLost.name()
+            ),
+            now,
+        ))
+    }
+
     fn command_of(&mut self, id: Option<RequestId>, remove: bool) -> Option<(AxisId, Command)> {
         let id = id?;
         let at = self.pending.iter().position(|(p, ..)| *p == id)?;
