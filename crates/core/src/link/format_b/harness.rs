@@ -223,6 +223,13 @@ impl Bench {
         )
     }
 
+    /// Numbers a submission at `priority` as the handle does (a STOP at
+    /// [`Priority::Stop`]) without handing it over: a test can then deliver a frame's
+    /// requests in the order a driver takes them (its STOPs first) or as they were made.
+    pub(crate) fn number_at(&mut self, command: Command, priority: Priority) -> Pending {
+        Pending::new(RequestId::next(&self.ids), command, Origin::User, priority)
+    }
+
     pub(crate) fn deliver(&mut self, pending: Pending) {
         self.core
             .handle_request(self.now, Input::App(Control::Submit(pending)));
