@@ -233,7 +233,10 @@ impl Window {
     fn start(relay: SocketAddr, run: u64) -> Window {
         let mut child = Process::new(std::env::current_exe().expect("this program"))
             .env(WINDOW_ADDR, relay.to_string())
-            .env(WINDOW_DIRECTION, if run % 2 == 0 { "+" } else { "-" })
+            .env(
+                WINDOW_DIRECTION,
+                if run.is_multiple_of(2) { "+" } else { "-" },
+            )
             .stdout(Stdio::piped())
             .spawn()
             .expect("the window process");
