@@ -6,7 +6,6 @@
 mod closing;
 pub mod safety;
 mod transaction;
-pub mod safety;
 
 #[cfg(test)]
 pub(crate) mod harness;
