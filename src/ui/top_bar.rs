@@ -1,13 +1,16 @@
 //! The top bar: line state, controller version, mode, E-stop, ready, alarm with reset,
 //! the theme switch, and the big STOP that is always visible and always enabled.
 
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use egui::{Button, Color32, RichText, Ui, vec2};
 
 use super::widgets::{AMBER, GREEN, RED};
 use crate::pendant::{Intent, LineState, Pendant, StopCause};
 use crate::protocol::SystemMode;
+
+/// How often a window showing stale lamps draws again.
+const STALE_REDRAW: Duration = Duration::from_millis(250);
 
 /// Draws the bar; STOP pushes [`Intent::Stop`], which the app runs before anything else.
 pub fn show(ui: &mut Ui, pendant: &Pendant, now: Instant, intents: &mut Vec<Intent>) {
@@ -69,6 +72,11 @@ fn system_lamps(ui: &mut Ui, pendant: &Pendant, now: Instant, intents: &mut Vec<
     let at = pendant.controller.system.map(|s| s.at);
     let stale = super::status::is_stale(pendant, at, now)
         || (at.is_some() && pendant.controller.is_stale(now));
+    if stale {
+        // Nothing may wake the window when the answers come back unchanged: look again
+        // soon, so the lamps turn back from grey once the status is fresh.
+        ui.ctx().request_repaint_after(STALE_REDRAW);
+    }
     let lamp = |ui: &mut Ui, on: bool, color: Color32, label: &str| {
         super::status::status_lamp(ui, on, color, label, stale);
     };

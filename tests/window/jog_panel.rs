@@ -240,4 +240,29 @@ fn lamps_from_a_stale_status_are_grey_and_say_stale() {
     }
     assert!(h.query_by_label("status stale").is_some());
     assert!(h.query_by_label_contains("stale: read").is_some());
+    // The window looks again soon, though no event may wake it when the polls answer
+    // again as before: the lamps come back once the status is fresh.
+    assert!(
+        repaint_delay(&h) <= Duration::from_millis(250),
+        "a stale window waits {:?} to draw again",
+        repaint_delay(&h)
+    );
+}
+
+/// How long the window asked to wait before its next frame.
+fn repaint_delay(h: &Harness<'_, PendantApp>) -> Duration {
+    h.output()
+        .viewport_output
+        .get(&egui::ViewportId::ROOT)
+        .map_or(Duration::MAX, |v| v.repaint_delay)
+}
+
+#[test]
+fn a_fresh_status_adds_no_frames_to_an_idle_window() {
+    let h = scripted(Instant::now);
+    assert!(
+        repaint_delay(&h) > Duration::from_secs(1),
+        "an idle window with fresh lamps draws again after {:?}",
+        repaint_delay(&h)
+    );
 }
