@@ -513,7 +513,7 @@ impl LinkCore for FormatB {
 
 /// A STOP of all axes: it ends the motion queued before it.
 fn ends_motion(command: &crate::protocol::Command) -> bool {
-    matches!(command, crate::protocol::Command::Stop(s) if s.axes == crate::protocol::AxisPattern::ALL)
+    safety::is_stop_all(command)
 }
 
 /// Motion a STOP of all axes ends while it still waits: moves, jogs and homing.

@@ -5,12 +5,13 @@
 use std::time::Instant;
 
 use super::FormatB;
+use super::safety::{self, Kind, Verdict, is_stop_all, judge};
 use crate::link::driver::later;
 use crate::link::event::{LinkEvent, garbage_event};
 use crate::link::reason::{BadInput, LineDownReason, NotSentReason};
 use crate::link::request::{Origin, Pending, Priority};
 use crate::protocol::peek::reply_id;
-use crate::protocol::{AxisPattern, Command, ErrorCode, Frame, Header, Reply, Stop};
+use crate::protocol::{Command, ErrorCode, Frame, Reply};
 
 /// Proving queries tried for one motion command before it is refused.
 const MAX_PROOFS: u8 = 6;
@@ -43,10 +44,7 @@ pub(super) struct Outstanding {
 
 /// A STOP of every axis, the link's own.
 fn stop_all() -> Command {
-    Command::Stop(Stop {
-        axes: AxisPattern::ALL,
-        cancel_held_outputs: false,
-    })
+    Command::Stop(safety::stop_all())
 }
 
 impl FormatB {
@@ -74,7 +72,7 @@ impl FormatB {
             // for them) may change what the polls read: they keep the polls fast.
             self.sched.activity(now);
         }
-        if pending.command.is_motion() {
+        if Kind::of(&pending.command) == Kind::Motion {
             self.motion_may_run = true;
         }
         self.jog_took_lease = pending.command.is_continuous_jog() && self.lease.hold(now);
@@ -175,26 +173,27 @@ impl FormatB {
             error: why,
             at,
         };
-        if frame.station() != self.config.station {
-            self.emit(unexpected(BadInput::WrongStation {
-                got: frame.station(),
-                expected: self.config.station,
-            }));
-            return None;
-        }
-        if frame.header() == Header::Command {
-            self.emit(unexpected(BadInput::Echo));
-            return None;
-        }
-        if frame.header() == Header::Reply && frame.id() != Some(expected) {
-            if let Some(late) = frame.id() {
-                self.sync.late_reply_arrived(late);
+        // Which frame answers the command on the line: the rule the guardian keeps too.
+        match judge(frame, self.config.station, Some(expected)) {
+            Verdict::Answers(_) => {}
+            Verdict::WrongStation(got) => {
+                self.emit(unexpected(BadInput::WrongStation {
+                    got,
+                    expected: self.config.station,
+                }));
+                return None;
             }
-            self.emit(unexpected(BadInput::OtherReply {
-                got: frame.id(),
-                expected,
-            }));
-            return None;
+            Verdict::Echo => {
+                self.emit(unexpected(BadInput::Echo));
+                return None;
+            }
+            Verdict::OtherReply(got) => {
+                if let Some(late) = got {
+                    self.sync.late_reply_arrived(late);
+                }
+                self.emit(unexpected(BadInput::OtherReply { got, expected }));
+                return None;
+            }
         }
         let round_trip = at.saturating_duration_since(sent_at);
         let reply = Reply::decode(frame);
@@ -239,7 +238,7 @@ impl FormatB {
                 match pending.command {
                     Command::Jog(_) => self.jog_may_run = true,
                     // Only a STOP of every axis ends what the link may have started.
-                    Command::Stop(stop) if stop.axes == AxisPattern::ALL => {
+                    ref stop if is_stop_all(stop) => {
                         self.jog_may_run = false;
                         self.motion_may_run = false;
                         self.lease.release();
