@@ -658,12 +658,19 @@ fn a_save_that_fails_is_said_in_red_retried_and_its_recovery_said() {
 /// The record number drawn in the frozen No. column level with `cell` (`work 7 X mm`).
 fn number_beside(h: &Harness<'_, PendantApp>, cell: egui::Rect) -> Option<String> {
     let no = h.get_by_label("No.").rect();
+    // Only labels inside the pane: the left column's numbers (station, baud) may stand
+    // level with a row too.
+    let pane = h
+        .state()
+        .pane_rect(xsel_pendant::ui::Tab::Coords)
+        .expect("the coordinate tables are shown");
     h.query_all(egui_kittest::kittest::by()).find_map(|n| {
         let node = n.accesskit_node();
         // Pixels are points here (1 px/pt).
         let b = node.bounding_box()?;
         let level = ((b.y0 + b.y1) / 2.0 - f64::from(cell.center().y)).abs() < 3.0;
-        let in_column = ((b.x0 + b.x1) / 2.0) < f64::from(no.right()) + 1.0;
+        let centre = (b.x0 + b.x1) / 2.0;
+        let in_column = centre > f64::from(pane.left()) && centre < f64::from(no.right()) + 1.0;
         // A label's text is its value in AccessKit.
         (level && in_column)
             .then(|| node.value().or_else(|| node.label()))
