@@ -276,3 +276,35 @@ fn a_jog_stopped_by_focus_loss_is_said() {
     );
     assert_eq!(r.focus_lost_at(now), None, "nothing runs: nothing to say");
 }
+
+#[test]
+fn a_tap_in_hold_mode_sends_nothing() {
+    let now = Instant::now();
+    let (mut r, mut s) = ready(now);
+    s.jog.mode = JogMode::Continuous;
+    // Pressed and released within one frame: the window reports both before it
+    // forwards the frame's calls.
+    r.apply(
+        AxisIntent::Jog(JogInput::Pointer, Press::On(plus0())),
+        &mut s,
+        now,
+    );
+    r.apply(AxisIntent::Jog(JogInput::Pointer, Press::Up), &mut s, now);
+    assert_eq!(
+        r.take_calls(),
+        vec![],
+        "no hold, and no release to overtake it"
+    );
+    assert!(r.hold.jog().is_none());
+    let line = r.jog_line().unwrap().1;
+    assert!(line.contains("nothing sent"), "{line}");
+    // A hold that went out in an earlier frame is released with Stop (6).
+    r.apply(
+        AxisIntent::Jog(JogInput::Pointer, Press::On(plus0())),
+        &mut s,
+        now,
+    );
+    assert!(matches!(r.take_calls()[..], [AxisCall::Hold(..)]));
+    r.apply(AxisIntent::Jog(JogInput::Pointer, Press::Up), &mut s, now);
+    assert_eq!(r.take_calls(), vec![AxisCall::Release(axis0())]);
+}

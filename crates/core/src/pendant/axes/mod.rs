@@ -270,14 +270,29 @@ impl RmcAxes {
                 None
             }
             HoldAction::Release => {
-                if let Some(j) = before {
-                    self.calls.push(AxisCall::Release(j.target.axis));
-                    self.says(
-                        Level::Info,
-                        format!("{} released: Stop (6) sent", j.target.label()),
-                        now,
-                    );
-                }
+                let j = before?;
+                let axis = j.target.axis;
+                // Pressed and released within one frame: the hold has not gone out, and
+                // never will (a Release would overtake it on the link's STOP channel
+                // and find no jog to stop).
+                let queued = self
+                    .calls
+                    .iter()
+                    .position(|c| matches!(c, AxisCall::Hold(a, _) if *a == axis));
+                let text = match queued {
+                    Some(at) => {
+                        self.calls.remove(at);
+                        format!(
+                            "{} released before it started: nothing sent",
+                            j.target.label()
+                        )
+                    }
+                    None => {
+                        self.calls.push(AxisCall::Release(axis));
+                        format!("{} released: Stop (6) sent", j.target.label())
+                    }
+                };
+                self.says(Level::Info, text, now);
                 None
             }
             HoldAction::Latched(target) => Some(self.says(
