@@ -5,13 +5,10 @@
 //! line must be free for the next client. A relay between guardian and simulator can add
 //! junk CR LF lines to what the simulator sends (a noisy bridge).
 
-use std::io::{BufRead, BufReader, Read, Write};
-use std::net::{SocketAddr, TcpListener, TcpStream};
+use std::io::{BufRead, BufReader, Write};
 use std::path::PathBuf;
 use std::process::{Child, Command as Process, Stdio};
 use std::sync::Arc;
-use std::sync::Mutex;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 use xsel_pendant::pendant::controller::poll_commands;
 
@@ -222,96 +219,108 @@ fn a_stopped_window_process_has_the_arm_stopped_while_it_is_stopped() {
     window.signal("-CONT");
 }
 
-/// A TCP relay from one client to `upstream` that adds junk CR LF lines to what the
-/// client receives once `junk` is set, at about `bytes_per_sec`. Lines from upstream go
-/// to the client whole (junk never cuts a frame).
-struct JunkRelay {
-    addr: SocketAddr,
-    junk: Arc<AtomicBool>,
-    stop: Arc<AtomicBool>,
-}
+/// A noisy bridge: junk lines on top of the simulator's replies.
+#[cfg(unix)]
+mod noisy_line {
+    use std::io::{Read, Write};
+    use std::net::{SocketAddr, TcpListener, TcpStream};
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::{Arc, Mutex};
+    use std::time::Duration;
 
-impl JunkRelay {
-    fn start(upstream: SocketAddr, bytes_per_sec: usize) -> JunkRelay {
-        let listener = TcpListener::bind("127.0.0.1:0").expect("a relay port");
-        let addr = listener.local_addr().expect("its address");
-        let junk = Arc::new(AtomicBool::new(false));
-        let stop = Arc::new(AtomicBool::new(false));
-        let (junk_on, stopping) = (junk.clone(), stop.clone());
-        std::thread::spawn(move || {
-            let Ok((client, _)) = listener.accept() else {
-                return;
-            };
-            let Ok(server) = TcpStream::connect(upstream) else {
-                return;
-            };
-            let _ = client.set_nodelay(true);
-            let _ = server.set_nodelay(true);
-            let to_client = Arc::new(Mutex::new(client.try_clone().expect("a clone")));
-            let (mut from_client, mut to_server) = (client, server.try_clone().expect("a clone"));
+    use super::{Window, assert_stopped, simulator};
+
+    /// A TCP relay from one client to `upstream` that adds junk CR LF lines to what the
+    /// client receives once `junk` is set, at about `bytes_per_sec`. Lines from upstream go
+    /// to the client whole (junk never cuts a frame).
+    struct JunkRelay {
+        addr: SocketAddr,
+        junk: Arc<AtomicBool>,
+        stop: Arc<AtomicBool>,
+    }
+
+    impl JunkRelay {
+        fn start(upstream: SocketAddr, bytes_per_sec: usize) -> JunkRelay {
+            let listener = TcpListener::bind("127.0.0.1:0").expect("a relay port");
+            let addr = listener.local_addr().expect("its address");
+            let junk = Arc::new(AtomicBool::new(false));
+            let stop = Arc::new(AtomicBool::new(false));
+            let (junk_on, stopping) = (junk.clone(), stop.clone());
             std::thread::spawn(move || {
-                let mut buf = [0u8; 4096];
-                while let Ok(n) = from_client.read(&mut buf) {
-                    if n == 0 || to_server.write_all(&buf[..n]).is_err() {
-                        return;
+                let Ok((client, _)) = listener.accept() else {
+                    return;
+                };
+                let Ok(server) = TcpStream::connect(upstream) else {
+                    return;
+                };
+                let _ = client.set_nodelay(true);
+                let _ = server.set_nodelay(true);
+                let to_client = Arc::new(Mutex::new(client.try_clone().expect("a clone")));
+                let (mut from_client, mut to_server) =
+                    (client, server.try_clone().expect("a clone"));
+                std::thread::spawn(move || {
+                    let mut buf = [0u8; 4096];
+                    while let Ok(n) = from_client.read(&mut buf) {
+                        if n == 0 || to_server.write_all(&buf[..n]).is_err() {
+                            return;
+                        }
                     }
-                }
-            });
-            let replies = to_client.clone();
-            std::thread::spawn(move || {
-                let (mut from_server, mut line) = (server, Vec::new());
-                let mut buf = [0u8; 4096];
-                while let Ok(n) = from_server.read(&mut buf) {
-                    if n == 0 {
-                        return;
+                });
+                let replies = to_client.clone();
+                std::thread::spawn(move || {
+                    let (mut from_server, mut line) = (server, Vec::new());
+                    let mut buf = [0u8; 4096];
+                    while let Ok(n) = from_server.read(&mut buf) {
+                        if n == 0 {
+                            return;
+                        }
+                        line.extend_from_slice(&buf[..n]);
+                        if let Some(end) = line.iter().rposition(|&b| b == b'\n') {
+                            let whole: Vec<u8> = line.drain(..=end).collect();
+                            let mut c = replies.lock().unwrap_or_else(|p| p.into_inner());
+                            if c.write_all(&whole).is_err() {
+                                return;
+                            }
+                        }
                     }
-                    line.extend_from_slice(&buf[..n]);
-                    if let Some(end) = line.iter().rposition(|&b| b == b'\n') {
-                        let whole: Vec<u8> = line.drain(..=end).collect();
-                        let mut c = replies.lock().unwrap_or_else(|p| p.into_inner());
-                        if c.write_all(&whole).is_err() {
+                });
+                // Junk in 10 ms slices; a client that does not read holds the writer back.
+                let slice: Vec<u8> =
+                    b"JJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJ\r\n"
+                        .repeat((bytes_per_sec / 100 / 62).max(1));
+                while !stopping.load(Ordering::Relaxed) {
+                    std::thread::sleep(Duration::from_millis(10));
+                    if junk_on.load(Ordering::Relaxed) {
+                        let mut c = to_client.lock().unwrap_or_else(|p| p.into_inner());
+                        if c.write_all(&slice).is_err() {
                             return;
                         }
                     }
                 }
             });
-            // Junk in 10 ms slices; a client that does not read holds the writer back.
-            let slice: Vec<u8> =
-                b"JJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJ\r\n"
-                    .repeat((bytes_per_sec / 100 / 62).max(1));
-            while !stopping.load(Ordering::Relaxed) {
-                std::thread::sleep(Duration::from_millis(10));
-                if junk_on.load(Ordering::Relaxed) {
-                    let mut c = to_client.lock().unwrap_or_else(|p| p.into_inner());
-                    if c.write_all(&slice).is_err() {
-                        return;
-                    }
-                }
-            }
-        });
-        JunkRelay { addr, junk, stop }
+            JunkRelay { addr, junk, stop }
+        }
     }
-}
 
-impl Drop for JunkRelay {
-    fn drop(&mut self) {
-        self.stop.store(true, Ordering::Relaxed);
+    impl Drop for JunkRelay {
+        fn drop(&mut self) {
+            self.stop.store(true, Ordering::Relaxed);
+        }
     }
-}
 
-/// The window is stopped (kill -STOP) mid-jog while the line also carries 400 KB/s of
-/// junk lines: the guardian still stops the arm while the window stays stopped (it used
-/// to block writing the junk to the window's full pipe and send nothing until SIGCONT).
-#[cfg(unix)]
-#[test]
-fn a_stopped_window_on_a_noisy_line_has_the_arm_stopped_while_it_is_stopped() {
-    let sim = simulator();
-    let relay = JunkRelay::start(sim.addr, 400_000);
-    let window = Window::start_at(&relay.addr.to_string(), &sim, "kill");
-    relay.junk.store(true, Ordering::Relaxed);
-    window.signal("-STOP");
-    assert_stopped(&sim);
-    window.signal("-CONT");
+    /// The window is stopped (kill -STOP) mid-jog while the line also carries 400 KB/s of
+    /// junk lines: the guardian still stops the arm while the window stays stopped (it used
+    /// to block writing the junk to the window's full pipe and send nothing until SIGCONT).
+    #[test]
+    fn a_stopped_window_on_a_noisy_line_has_the_arm_stopped_while_it_is_stopped() {
+        let sim = simulator();
+        let relay = JunkRelay::start(sim.addr, 400_000);
+        let window = Window::start_at(&relay.addr.to_string(), &sim, "kill");
+        relay.junk.store(true, Ordering::Relaxed);
+        window.signal("-STOP");
+        assert_stopped(&sim);
+        window.signal("-CONT");
+    }
 }
 
 #[test]
