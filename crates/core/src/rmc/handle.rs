@@ -71,17 +71,21 @@ impl RmcHandle {
         self.driver.lease.renew();
     }
 
-    /// The held jog's input let go: Stop (6) for that axis, ahead of other requests.
+    /// The held jog's input let go: Stop (6) for that axis, ahead of other requests; and
+    /// again in order, so a Hold it overtook on its way ends too.
     pub fn release(&self, axis: AxisId) {
         let _ = self
             .driver
             .stops
             .send(Input::App(RmcRequest::Release { axis }));
+        self.request(RmcRequest::StopsInOrder { axis: Some(axis) });
     }
 
-    /// STOP: Stop (6) to every enabled axis, ahead of everything.
+    /// STOP: Stop (6) to every enabled axis, ahead of everything; and again in order, so
+    /// a Hold or a move it overtook on its way is not sent.
     pub fn stop_all(&self) {
         let _ = self.driver.stops.send(Input::App(RmcRequest::StopAll));
+        self.request(RmcRequest::StopsInOrder { axis: None });
     }
 
     pub fn reconnect(&self) {

@@ -41,6 +41,11 @@ pub enum RmcRequest {
     /// STOP: Stop (Closed Loop) (6) for every enabled axis, ahead of everything; queued
     /// motion is dropped.
     StopAll,
+    /// Sent behind a [`RmcRequest::Release`] (`axis`) or [`RmcRequest::StopAll`] (`None`)
+    /// on the ordinary channel, after the same on the STOP channel, which may have
+    /// overtaken a Hold or a move sent before it: what it overtook ends here (a jog not
+    /// yet written and queued motion are not sent; one written gets its Stop (6)).
+    StopsInOrder { axis: Option<AxisId> },
     /// Close and reopen the connection.
     Reconnect,
     /// Time between two status rounds (every shown axis, then the controller).

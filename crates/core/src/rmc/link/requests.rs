@@ -33,6 +33,7 @@ impl RmcCore {
                     }
                 }
             }
+            RmcRequest::StopsInOrder { axis } => self.stops_in_order(axis),
             RmcRequest::Reconnect => {
                 if matches!(self.line, Line::Up) {
                     self.lose_line(now, "closed to reconnect on request".into());
@@ -86,6 +87,37 @@ impl RmcCore {
         match refusal {
             Some(why) => self.not_sent(id, axis, command.name(), why),
             None => self.queue.push_back((id, axis, command)),
+        }
+    }
+
+    /// A Release (of `axis`) or STOP (`None`) again, in order: a jog it overtook on its
+    /// way ends (not sent if none of its moves went out, else Stop (6) owed); queued
+    /// motion is dropped after a STOP. An axis with no jog is left alone (its Stop (6)
+    /// was owed by the first copy).
+    fn stops_in_order(&mut self, axis: Option<AxisId>) {
+        if axis.is_none() {
+            self.drop_queued_motion("STOP came first");
+        }
+        let why = match axis {
+            Some(_) => "released before it went out",
+            None => "STOP came first",
+        };
+        let mut refused = Vec::new();
+        for a in &mut self.axes {
+            if axis.is_some_and(|x| x != a.id) {
+                continue;
+            }
+            let Some(chain) = a.chain.take() else {
+                continue;
+            };
+            if chain.started || a.may_move {
+                a.stop_owed = true;
+            } else {
+                refused.push((chain.id, a.id));
+            }
+        }
+        for (id, axis) in refused {
+            self.not_sent(id, axis, HELD_JOG, why);
         }
     }
 

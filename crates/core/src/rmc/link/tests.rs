@@ -426,3 +426,77 @@ fn still_axes_are_polled_slowly_and_a_command_brings_the_fast_rounds_back() {
         .unwrap();
     assert!(acked <= Duration::from_millis(45), "ACK after {acked:?}");
 }
+
+/// What the driver hands the core in one go when a Release or STOP (on the STOP channel)
+/// overtook requests sent before it: the STOP first, then the others, then the STOP's
+/// copy in order (`RmcHandle::release`, `stop_all`).
+fn overtaken(b: &mut Bench, stop: RmcRequest, before: Vec<RmcRequest>, again: RmcRequest) {
+    use crate::link::core::Input;
+    for r in std::iter::once(stop).chain(before).chain([again]) {
+        b.core.handle_request(b.now, Input::App(r));
+    }
+    b.pump();
+}
+
+#[test]
+fn a_release_that_overtook_its_hold_still_ends_it_and_nothing_moves() {
+    let mut b = Bench::enabled();
+    let id = b.next_id();
+    let hold = RmcRequest::Hold {
+        id,
+        axis: axis(0),
+        jog: hold(),
+    };
+    overtaken(
+        &mut b,
+        RmcRequest::Release { axis: axis(0) },
+        vec![hold],
+        RmcRequest::StopsInOrder {
+            axis: Some(axis(0)),
+        },
+    );
+    // Nobody renews: the pendant released it.
+    b.run_for(SECOND, None);
+    assert_eq!(b.moves_to(axis(0)), 0, "{:?}", b.commands_to(axis(0)));
+    assert!(b.saw(|e| matches!(e, RmcEvent::NotSent { id: i, .. } if *i == id)));
+    assert!(
+        !b.saw(|e| matches!(e, RmcEvent::SafetyStop { .. })),
+        "no jog ran for its lease to lapse"
+    );
+}
+
+#[test]
+fn a_stop_that_overtook_a_hold_and_a_move_sends_neither() {
+    let mut b = Bench::enabled();
+    let (jog, step) = (b.next_id(), b.next_id());
+    let before = vec![
+        RmcRequest::Hold {
+            id: jog,
+            axis: axis(0),
+            jog: hold(),
+        },
+        RmcRequest::Send {
+            id: step,
+            axis: axis(0),
+            command: move_by(5.0, RelativeTo::Command),
+        },
+    ];
+    overtaken(
+        &mut b,
+        RmcRequest::StopAll,
+        before,
+        RmcRequest::StopsInOrder { axis: None },
+    );
+    b.run_for(SECOND, None);
+    assert_eq!(b.moves_to(axis(0)), 0, "{:?}", b.commands_to(axis(0)));
+    for id in [jog, step] {
+        assert!(b.saw(|e| matches!(e, RmcEvent::NotSent { id: i, .. } if *i == id)));
+    }
+    // The copy adds no second Stop (6) to an axis with nothing running.
+    let stops = b
+        .commands_to(axis(0))
+        .iter()
+        .filter(|(c, _)| matches!(c, Command::Stop { .. }))
+        .count();
+    assert!(stops <= 1, "{stops} Stop (6) writes");
+}
