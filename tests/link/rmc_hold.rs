@@ -123,3 +123,55 @@ fn the_first_hold_over_tcp_with_the_guardian_runs_until_release() {
         "the axis ran {moved}, at least {least} expected"
     );
 }
+
+/// A hold let go at once (a press and a release a moment apart, the release on the STOP
+/// channel): however the link thread takes the two in, the release ends the hold; no jog
+/// is left running for the link to stop when its lease lapses.
+#[test]
+fn a_hold_released_at_once_never_runs_until_its_lease_lapses() {
+    let listener = TcpListener::bind("127.0.0.1:0").unwrap();
+    let server = RmcServer::start(listener, RmcConfig::default()).unwrap();
+    let settings = RmcSettings {
+        address: server.local_addr().to_string(),
+        ..RmcSettings::default()
+    };
+    let session =
+        RmcSession::open(&settings, Arc::new(|_| {}), &LineOwner::InProcess).expect("a session");
+    let axis = AxisId::new(0).unwrap();
+    let deadline = Instant::now() + Duration::from_secs(30);
+    let wait = |what: &str, done: &dyn Fn(&RmcEvent) -> bool| loop {
+        assert!(Instant::now() < deadline, "never saw {what}");
+        if let Ok(e) = session.events.recv_timeout(Duration::from_millis(100))
+            && done(&e)
+        {
+            return;
+        }
+    };
+    session.link.send(axis, Command::Enable(true));
+    wait(
+        "the axis enabled",
+        &|e| matches!(e, RmcEvent::Status { status, trusted: true, .. } if status.bits.enabled()),
+    );
+    let jog = xsel_pendant::rmc::HoldJog {
+        direction: 1.0,
+        speed: 10.0,
+        accel: 100.0,
+        decel: 100.0,
+    };
+    let mut lapsed = 0;
+    // Before the release was sent again in order, about one in ten was left running.
+    for _ in 0..16 {
+        session.link.hold(axis, jog);
+        session.link.release(axis);
+        // Longer than a lease: a jog left running would be stopped for it by now.
+        let until = Instant::now() + xsel_pendant::link::JOG_LEASE * 2;
+        while Instant::now() < until {
+            if let Ok(RmcEvent::SafetyStop { .. }) =
+                session.events.recv_timeout(Duration::from_millis(20))
+            {
+                lapsed += 1;
+            }
+        }
+    }
+    assert_eq!(lapsed, 0, "holds left running until their lease lapsed");
+}
