@@ -496,20 +496,13 @@ impl PendantApp {
             return;
         };
         match call {
+            // The model records what the link says went out under each id (its Sent
+            // events), never what was asked for.
             AxisCall::Send(axis, command) => {
-                let id = rmc.link.send(axis, command);
-                self.pendant.axes.sent(id, axis, command);
+                rmc.link.send(axis, command);
             }
             AxisCall::Hold(axis, jog) => {
-                let id = rmc.link.hold(axis, jog);
-                let command = crate::rmc::Command::MoveRelative(crate::rmc::MoveRelative {
-                    distance: jog.direction,
-                    speed: jog.speed,
-                    accel: jog.accel,
-                    decel: jog.decel,
-                    relative_to: crate::robot::RelativeTo::Target,
-                });
-                self.pendant.axes.sent(id, axis, command);
+                rmc.link.hold(axis, jog);
             }
             AxisCall::Release(axis) => rmc.link.release(axis),
             AxisCall::RenewLease => rmc.link.renew_lease(),

@@ -442,16 +442,9 @@ impl RmcAxes {
         ))
     }
 
-    /// The window lost the keyboard and pointer: a held axis jog stops.
-    pub fn focus_lost(&mut self) {
-        if let Some(j) = self.hold.focus_lost() {
-            self.calls.push(AxisCall::Release(j.target.axis));
-        }
-    }
-
-    /// As [`RmcAxes::focus_lost`], and the stop is said (beside the buttons once they
-    /// are released, and back for Messages): a STOP the operator did not give is never
-    /// silent.
+    /// The window lost focus: it will see no release, so a held jog stops (its Release
+    /// goes out), and the stop is said (beside the buttons once they are released, and
+    /// back for Messages): a STOP the operator did not give is never silent.
     pub fn focus_lost_at(&mut self, now: Instant) -> Option<(Level, String)> {
         let j = self.hold.focus_lost()?;
         self.calls.push(AxisCall::Release(j.target.axis));

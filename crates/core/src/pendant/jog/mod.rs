@@ -305,7 +305,9 @@ impl Pendant {
 
     /// The window lost focus: it cannot see a key or button come up, so the jog stops.
     pub(super) fn focus_lost(&mut self, now: Instant) {
-        self.axes.focus_lost();
+        if let Some((level, text)) = self.axes.focus_lost_at(now) {
+            self.say(level, text, now);
+        }
         if self.jog.hold.focus_lost().is_some() {
             self.requests.push(Request::Stop);
             self.jog_says(
