@@ -336,6 +336,13 @@ fn a_tap_inside_one_frame_sends_no_jog_only_its_stop() {
         );
         assert_eq!(p.take_requests(), vec![Request::Stop], "{input:?}");
         assert!(p.held_jog().is_none());
+        // No "jogging X+" for a jog that never went out.
+        assert!(!p.messages.iter().any(|m| m.text.starts_with("jogging")));
+        assert!(
+            p.messages
+                .iter()
+                .any(|m| m.text == "X+ pressed and released in one frame: no jog sent, only STOP")
+        );
         assert!(p.stop_latch().is_none(), "a tap latches nothing");
         // The next press starts a jog as usual.
         let held = hold_for(&mut p, &mut now.clone(), input, 3);

@@ -249,6 +249,7 @@ impl Pendant {
 
     /// One jog input's state this frame (the hold-to-run machine decides what it means).
     pub(super) fn jog_input(&mut self, input: JogInput, press: Press, now: Instant) {
+        let held = self.jog.hold.jog();
         match self.jog.hold.report(input, press) {
             HoldAction::None => {}
             HoldAction::Press(target) => match self.settings.jog.mode {
@@ -257,6 +258,7 @@ impl Pendant {
             },
             HoldAction::Renew => self.requests.push(Request::RenewJogLease),
             HoldAction::Release => {
+                let label = held.map(|j| j.target.label()).unwrap_or_default();
                 // A press and its release in one frame (a tap, a slow frame): the start
                 // has not gone out, and never will. The STOP still goes (harmless).
                 let before = self.requests.len();
@@ -264,13 +266,24 @@ impl Pendant {
                     .retain(|r| !matches!(r, Request::Submit(c) if c.is_continuous_jog()));
                 self.requests.push(Request::Stop);
                 if self.requests.len() <= before {
+                    // Its "jogging" was never true: the tap's own words replace it.
+                    let jogging = format!("jogging {label}");
+                    if self
+                        .messages
+                        .back()
+                        .is_some_and(|m| m.at == now && m.text == jogging)
+                    {
+                        self.messages.pop_back();
+                    }
                     self.jog_says(
                         Level::Info,
-                        "jog released in the frame it was pressed: nothing sent but STOP",
+                        format!(
+                            "{label} pressed and released in one frame: no jog sent, only STOP"
+                        ),
                         now,
                     );
                 } else {
-                    self.jog_says(Level::Info, "jog released: STOP sent", now);
+                    self.jog_says(Level::Info, format!("{label} released: STOP sent"), now);
                 }
             }
             HoldAction::Latched(target) => self.jog_says(
