@@ -361,7 +361,7 @@ struct World {
     asked: Vec<Asked>,
     /// Per frame: continuous 236H submitted, RMC motion calls made.
     started: Vec<(usize, usize)>,
-    /// RMC motion asked for: (frame, axis, speed asked, speed the panel showed).
+    /// RMC motion asked for, with the speed the axis panel showed.
     rmc_asked: Vec<RmcAsked>,
     outs: Vec<Out>,
     tables_due: Vec<CoordKind>,
