@@ -39,10 +39,11 @@ fn enabled(jog: RmcJogSettings) -> Harness<'static, PendantApp> {
     enabled_at(jog, 900.0)
 }
 
-/// As [`enabled`], in a window `height` tall.
-fn enabled_at(jog: RmcJogSettings, height: f32) -> Harness<'static, PendantApp> {
+/// A window `width` x `height` on the built-in simulators, the RMC axes tab shown and
+/// axis 1 enabled.
+fn enabled_window(width: f32, height: f32) -> Harness<'static, PendantApp> {
     let mut h = Harness::builder()
-        .with_size([1280.0, height])
+        .with_size([width, height])
         .build_eframe(|cc| PendantApp::new(cc, StartOptions::fresh_simulator()));
     step_until(&mut h, "the RMC's first status", |a| {
         view(a).status.is_some()
@@ -51,6 +52,12 @@ fn enabled_at(jog: RmcJogSettings, height: f32) -> Harness<'static, PendantApp> 
     h.get_all_by_label("Enable").next().unwrap().click();
     h.step();
     step_until(&mut h, "axis 1 enabled", |a| view(a).enabled());
+    h
+}
+
+/// As [`enabled`], in a window `height` tall.
+fn enabled_at(jog: RmcJogSettings, height: f32) -> Harness<'static, PendantApp> {
+    let mut h = enabled_window(1280.0, height);
     h.state_mut()
         .pendant_mut()
         .apply(Intent::Axes(AxisIntent::Settings(jog)), Instant::now());
@@ -288,16 +295,7 @@ fn jog_button_rects(h: &Harness<'_, PendantApp>) -> Vec<egui::Rect> {
 #[test]
 fn the_axis_buttons_stay_put_whatever_the_jog_choices_and_the_words_say() {
     for (width, height) in [(1280.0, 800.0), (1024.0, 700.0)] {
-        let mut h = Harness::builder()
-            .with_size([width, height])
-            .build_eframe(|cc| PendantApp::new(cc, StartOptions::fresh_simulator()));
-        step_until(&mut h, "the RMC's first status", |a| {
-            view(a).status.is_some()
-        });
-        show_tab(&mut h, "RMC axes");
-        h.get_all_by_label("Enable").next().unwrap().click();
-        h.step();
-        step_until(&mut h, "axis 1 enabled", |a| view(a).enabled());
+        let mut h = enabled_window(width, height);
         let set = |h: &mut Harness<'_, PendantApp>, jog: RmcJogSettings| {
             h.state_mut()
                 .pendant_mut()

@@ -240,20 +240,25 @@ fn a_press_while_not_ready_says_not_sent_once_per_press() {
     }
 }
 
-#[test]
-fn a_not_sent_jog_from_the_link_ends_the_hold_and_is_not_resent() {
-    let mut now = Instant::now();
-    let mut p = continuous(now);
-    hold_for(&mut p, &mut now, KEY, 2);
+/// The link answers the X+ jog's 236H: not sent, for `reason`.
+fn jog_not_sent(p: &mut Pendant, now: Instant, reason: NotSentReason) {
     let jog = jog::continuous_jog(&p.jog_sent(), JogAxis::X, Direction::Positive);
     p.handle_event(
         now,
         LinkEvent::NotSent {
             id: RequestId(3),
             command: jog,
-            reason: NotSentReason::LineDown,
+            reason,
         },
     );
+}
+
+#[test]
+fn a_not_sent_jog_from_the_link_ends_the_hold_and_is_not_resent() {
+    let mut now = Instant::now();
+    let mut p = continuous(now);
+    hold_for(&mut p, &mut now, KEY, 2);
+    jog_not_sent(&mut p, now, NotSentReason::LineDown);
     assert!(p.held_jog().is_none());
     assert_eq!(hold_for(&mut p, &mut now, KEY, 60).jogs, 0);
 }
@@ -357,15 +362,7 @@ fn a_jog_ended_by_a_stop_before_it_went_out_keeps_the_stops_latch() {
     hold_for(&mut p, &mut now, KEY, 2);
     p.apply(Intent::Stop(StopCause::Esc), now);
     p.take_requests();
-    let jog = jog::continuous_jog(&p.jog_sent(), JogAxis::X, Direction::Positive);
-    p.handle_event(
-        now,
-        LinkEvent::NotSent {
-            id: RequestId(3),
-            command: jog,
-            reason: NotSentReason::StopCameFirst,
-        },
-    );
+    jog_not_sent(&mut p, now, NotSentReason::StopCameFirst);
     assert_eq!(p.jog.hold.latch(), Some(StopCause::Esc));
     assert!(
         p.messages

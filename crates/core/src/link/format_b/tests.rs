@@ -432,20 +432,7 @@ fn after_the_line_is_lost_mid_jog_the_first_frame_on_the_new_line_is_a_stop() {
 
 #[test]
 fn stop_is_the_next_frame_after_the_reply_of_the_poll_in_flight_and_keeps_the_gap() {
-    let mut config = LinkConfig::default();
-    config.timing.line.baud = 9_600;
-    config.polling.interval = Some(Duration::ZERO);
-    let mut bench = Bench::new(
-        ready_setup(Duration::from_millis(150)),
-        FaultSpec::none(),
-        config,
-    );
-    bench
-        .run_until(
-            LONG,
-            |e| matches!(e, LinkEvent::FrameSent { bytes, .. } if bytes.starts_with(b"!992A1")),
-        )
-        .expect("a poll went out");
+    let mut bench = poll_in_flight();
     let from = bench.events.len();
     let stop = bench.stop_all();
     let sent = bench

@@ -58,6 +58,18 @@ fn ready(now: Instant) -> (RmcAxes, RmcSettings) {
     (r, RmcSettings::default())
 }
 
+/// Ready, in hold-to-run, with the pointer pressed on Axis 1+ this frame.
+fn pressed_in_hold(now: Instant) -> (RmcAxes, RmcSettings) {
+    let (mut r, mut s) = ready(now);
+    s.jog.mode = JogMode::Continuous;
+    r.apply(
+        AxisIntent::Jog(JogInput::Pointer, Press::On(plus0())),
+        &mut s,
+        now,
+    );
+    (r, s)
+}
+
 /// `command` went out under `id` and the RMC took it.
 fn taken(r: &mut RmcAxes, id: Option<RequestId>, command: Command, now: Instant) {
     r.handle_event(
@@ -212,13 +224,7 @@ fn a_write_answered_and_never_acknowledged_says_check_the_axis() {
 #[test]
 fn a_held_jog_is_recorded_as_the_move_that_went_out() {
     let now = Instant::now();
-    let (mut r, mut s) = ready(now);
-    s.jog.mode = JogMode::Continuous;
-    r.apply(
-        AxisIntent::Jog(JogInput::Pointer, Press::On(plus0())),
-        &mut s,
-        now,
-    );
+    let (mut r, mut s) = pressed_in_hold(now);
     assert!(matches!(r.take_calls()[..], [AxisCall::Hold(..)]));
     // The link's first move of the chain, under the hold's id.
     let chunk = Command::MoveRelative(MoveRelative {
@@ -257,13 +263,7 @@ fn a_held_jog_is_recorded_as_the_move_that_went_out() {
 #[test]
 fn a_jog_stopped_by_focus_loss_is_said() {
     let now = Instant::now();
-    let (mut r, mut s) = ready(now);
-    s.jog.mode = JogMode::Continuous;
-    r.apply(
-        AxisIntent::Jog(JogInput::Pointer, Press::On(plus0())),
-        &mut s,
-        now,
-    );
+    let (mut r, mut s) = pressed_in_hold(now);
     r.take_calls();
     let said = r.focus_lost_at(now).unwrap().1;
     assert!(said.contains("lost focus"), "{said}");
@@ -280,15 +280,9 @@ fn a_jog_stopped_by_focus_loss_is_said() {
 #[test]
 fn a_tap_in_hold_mode_sends_nothing() {
     let now = Instant::now();
-    let (mut r, mut s) = ready(now);
-    s.jog.mode = JogMode::Continuous;
     // Pressed and released within one frame: the window reports both before it
     // forwards the frame's calls.
-    r.apply(
-        AxisIntent::Jog(JogInput::Pointer, Press::On(plus0())),
-        &mut s,
-        now,
-    );
+    let (mut r, mut s) = pressed_in_hold(now);
     r.apply(AxisIntent::Jog(JogInput::Pointer, Press::Up), &mut s, now);
     assert_eq!(
         r.take_calls(),
