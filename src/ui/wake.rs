@@ -169,11 +169,11 @@ mod tests {
     use crate::pendant::RequestId;
     use crate::protocol::{AxisPattern, Command, Reply};
 
-    fn answer(origin: Origin, command: Command, reply: Reply) -> LinkEvent {
+    fn answer(origin: Origin, command: &Command, reply: Reply) -> LinkEvent {
         LinkEvent::Reply {
             id: RequestId(1),
             origin,
-            command,
+            command: command.clone(),
             reply,
             round_trip: Duration::from_millis(3),
         }
@@ -189,31 +189,31 @@ mod tests {
         let a = Reply::Ack(status.id());
         let b = Reply::Ack(axes.id());
         assert_eq!(
-            f.on_event(&answer(Origin::Poll, status, a.clone())),
+            f.on_event(&answer(Origin::Poll, &status, a.clone())),
             Wake::Soon
         );
         assert_eq!(
-            f.on_event(&answer(Origin::Poll, axes, a.clone())),
+            f.on_event(&answer(Origin::Poll, &axes, a.clone())),
             Wake::Soon
         );
         assert_eq!(
-            f.on_event(&answer(Origin::Poll, status, a.clone())),
+            f.on_event(&answer(Origin::Poll, &status, a.clone())),
             Wake::Later
         );
         assert_eq!(
-            f.on_event(&answer(Origin::Poll, axes, a.clone())),
+            f.on_event(&answer(Origin::Poll, &axes, a.clone())),
             Wake::Later
         );
         assert_eq!(
-            f.on_event(&answer(Origin::Poll, status, b.clone())),
+            f.on_event(&answer(Origin::Poll, &status, b.clone())),
             Wake::Soon
         );
         assert_eq!(
-            f.on_event(&answer(Origin::Poll, status, b.clone())),
+            f.on_event(&answer(Origin::Poll, &status, b.clone())),
             Wake::Later
         );
         // What the user asked for is always drawn.
-        assert_eq!(f.on_event(&answer(Origin::User, status, b)), Wake::Soon);
+        assert_eq!(f.on_event(&answer(Origin::User, &status, b)), Wake::Soon);
     }
 
     #[test]

@@ -54,7 +54,7 @@ impl Default for LinkConfig {
         let recheck = polling
             .commands
             .first()
-            .copied()
+            .cloned()
             .unwrap_or(Command::SystemStatus);
         Self {
             station: Station::DEFAULT,
@@ -98,12 +98,13 @@ impl LinkHandle {
     /// lease (see [`LinkHandle::renew_jog_lease`]).
     pub fn submit(&self, command: Command, priority: Priority) -> RequestId {
         let id = RequestId::next(&self.ids);
+        let (stop, continuous) = (command.is_stop(), command.is_continuous_jog());
         let pending = Pending::new(id, command, Origin::User, priority);
         let input = Input::App(Control::Submit(pending));
-        if command.is_stop() {
+        if stop {
             let _ = self.driver.stops.send(input);
         } else {
-            if command.is_continuous_jog() {
+            if continuous {
                 self.driver.lease.renew();
             }
             let _ = self.driver.control.send(input);

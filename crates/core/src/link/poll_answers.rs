@@ -19,7 +19,7 @@ impl PollAnswers {
                 true
             }
             None => {
-                self.last.push((*command, reply.clone()));
+                self.last.push((command.clone(), reply.clone()));
                 true
             }
         }

@@ -59,7 +59,7 @@ pub enum Origin {
 }
 
 /// A request waiting for, or on, the line.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Pending {
     pub id: RequestId,
     pub command: Command,

@@ -193,7 +193,7 @@ impl Scheduler {
         self.user.retain(|p| {
             let end = ended(p);
             if end {
-                taken.push(*p);
+                taken.push(p.clone());
             }
             !end
         });
@@ -240,7 +240,7 @@ impl Scheduler {
         new_id: &mut impl FnMut() -> RequestId,
     ) -> Option<Pending> {
         let interval = self.polling.interval?;
-        let command = *self.polling.commands.get(self.cycle_pos)?;
+        let command = self.polling.commands.get(self.cycle_pos)?.clone();
         if self.cycle_pos == 0 {
             self.cycle_started = Some(now);
         }

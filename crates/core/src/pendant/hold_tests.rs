@@ -35,7 +35,10 @@ fn continuous(now: Instant) -> Pendant {
 /// The controller keeps answering its polls: a fresh status at `now`, `system` as given.
 fn poll(p: &mut Pendant, now: Instant, system: SystemStatus) {
     let polls = controller::poll_commands();
-    p.handle_event(now, poll_reply(polls[1], Reply::SystemStatus(system)));
+    p.handle_event(
+        now,
+        poll_reply(polls[1].clone(), Reply::SystemStatus(system)),
+    );
     let joints = Joints::new(30.0, 60.0, 50.0, 0.0);
     let tip = p.kinematics().forward(&joints).to_array();
     for (i, sys, values) in [
@@ -43,7 +46,7 @@ fn poll(p: &mut Pendant, now: Instant, system: SystemStatus) {
         (2, PositionSystem::Joint, joints.to_array()),
     ] {
         let s = scara_status(sys, values, true, true);
-        p.handle_event(now, poll_reply(polls[i], Reply::ScaraStatus(s)));
+        p.handle_event(now, poll_reply(polls[i].clone(), Reply::ScaraStatus(s)));
     }
 }
 
@@ -277,7 +280,7 @@ fn the_link_lease_stop_is_said_in_messages_and_latches() {
         LinkEvent::Reply {
             id: RequestId(11),
             origin: Origin::LeaseLapsed,
-            command: stop,
+            command: stop.clone(),
             reply: Reply::Ack(stop.id()),
             round_trip: Duration::from_millis(2),
         },
@@ -383,7 +386,7 @@ fn poll_in_use(p: &mut Pendant, now: Instant, in_use: bool) {
         a
     });
     let polls = controller::poll_commands();
-    p.handle_event(now, poll_reply(polls[0], Reply::ScaraStatus(s)));
+    p.handle_event(now, poll_reply(polls[0].clone(), Reply::ScaraStatus(s)));
 }
 
 #[test]
@@ -401,7 +404,7 @@ fn a_held_jog_the_controller_ended_reads_stopped_not_jogging() {
         LinkEvent::Reply {
             id: RequestId(5),
             origin: Origin::User,
-            command: jog,
+            command: jog.clone(),
             reply: Reply::Ack(jog.id()),
             round_trip: Duration::from_millis(2),
         },
@@ -482,7 +485,7 @@ fn servo_and_e_stop_changes_reach_messages() {
     );
     let polls = controller::poll_commands();
     let off = scara_status(PositionSystem::Work, [0.0; 4], false, true);
-    p.handle_event(now, poll_reply(polls[0], Reply::ScaraStatus(off)));
+    p.handle_event(now, poll_reply(polls[0].clone(), Reply::ScaraStatus(off)));
     assert!(p.messages.back().is_some_and(|m| m.text == "servo off"));
 }
 

@@ -699,7 +699,7 @@ impl World {
                         let (cartesian, joints, _) = self.frame_speeds;
                         self.asked.push(Asked {
                             frame: k,
-                            command,
+                            command: command.clone(),
                             shown: if joint { joints } else { cartesian },
                             used: false,
                         });
@@ -940,7 +940,7 @@ fn run(setup: &Setup, script: &[Step]) -> Result<World, TestCaseError> {
 
 /// Properties 1 to 4 on the X-SEL line.
 fn check_xsel(w: &mut World) -> Result<(), TestCaseError> {
-    let written: Vec<Option<Command>> = w.xsel_sent.iter().map(|(_, c)| *c).collect();
+    let written: Vec<Option<Command>> = w.xsel_sent.iter().map(|(_, c)| c.clone()).collect();
     let starts: Vec<usize> = w.starts.iter().map(|s| s.0).collect();
     let ids: Vec<String> = written
         .iter()

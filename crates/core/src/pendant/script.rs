@@ -82,7 +82,7 @@ pub fn ready_controller(kin: &Scara, joints: Joints) -> Vec<LinkEvent> {
                 ..VersionInfo::default()
             }),
         ),
-        poll_reply(polls[1], Reply::SystemStatus(ready_system())),
+        poll_reply(polls[1].clone(), Reply::SystemStatus(ready_system())),
     ];
     for (i, system, values) in [
         (0, PositionSystem::Work, tip),
@@ -90,7 +90,7 @@ pub fn ready_controller(kin: &Scara, joints: Joints) -> Vec<LinkEvent> {
         (3, PositionSystem::Base, tip),
     ] {
         let s = scara_status(system, values, true, true);
-        events.push(poll_reply(polls[i], Reply::ScaraStatus(s)));
+        events.push(poll_reply(polls[i].clone(), Reply::ScaraStatus(s)));
     }
     for kind in [CoordKind::Work, CoordKind::Tool] {
         events.push(LinkEvent::TableDone {

@@ -37,8 +37,8 @@ fn accepted(command: Command) -> LinkEvent {
     LinkEvent::Reply {
         id: RequestId(9),
         origin: Origin::User,
-        command,
         reply: Reply::Ack(command.id()),
+        command,
         round_trip: Duration::from_millis(2),
     }
 }
@@ -206,19 +206,22 @@ fn motion_waits_for_servo_homing_and_auto_and_says_why() {
         mode: SystemMode::MANUAL,
         ..ready_system()
     };
-    p.handle_event(now, reply(polls[1], Reply::SystemStatus(manual)));
+    p.handle_event(now, reply(polls[1].clone(), Reply::SystemStatus(manual)));
     for (i, sys) in [(0, PositionSystem::Work), (2, PositionSystem::Joint)] {
         let s = scara(sys, [0.0; 4], false, false);
-        p.handle_event(now, reply(polls[i], Reply::ScaraStatus(s)));
+        p.handle_event(now, reply(polls[i].clone(), Reply::ScaraStatus(s)));
     }
     assert_eq!(p.motion_ready(now), Err(NotReady::Manual));
-    p.handle_event(now, reply(polls[1], Reply::SystemStatus(ready_system())));
+    p.handle_event(
+        now,
+        reply(polls[1].clone(), Reply::SystemStatus(ready_system())),
+    );
     assert_eq!(p.motion_ready(now), Err(NotReady::ServoOff));
     let estop = SystemStatus {
         status1: SystemStatus1::default().with_emergency_stop(true),
         ..ready_system()
     };
-    p.handle_event(now, reply(polls[1], Reply::SystemStatus(estop)));
+    p.handle_event(now, reply(polls[1].clone(), Reply::SystemStatus(estop)));
     assert_eq!(p.motion_ready(now), Err(NotReady::EmergencyStop));
     p.jog_step(JogAxis::X, Direction::Positive, now);
     assert!(submitted(&mut p).is_empty());
@@ -313,7 +316,7 @@ fn steps_relative_to_command_chain_without_drift() {
     let mut p = ready_at(start(), now);
     p.settings.jog.step = 1.0;
     p.jog_step(JogAxis::X, Direction::Positive, now);
-    let first = submitted(&mut p)[0];
+    let first = submitted(&mut p)[0].clone();
     p.handle_event(now, accepted(first));
     // The polls still say the start (the arm has not moved yet): the next step relative
     // to the command position still carries exactly 1 mm, added by the controller to
@@ -341,7 +344,7 @@ fn a_step_relative_to_actual_follows_the_polled_arm() {
     let mut p = ready_at(start(), now);
     p.settings.jog.step = 1.0;
     p.jog_step(JogAxis::X, Direction::Positive, now);
-    let first = submitted(&mut p)[0];
+    let first = submitted(&mut p)[0].clone();
     p.handle_event(now, accepted(first));
     // Relative to actual, with the arm still at the start: 1 mm from where it stands,
     // which is 1 mm short of where the controller's first step ends.

@@ -15,7 +15,7 @@ use super::messages::scara_status::{ScaraStatusQuery, ScaraStatusQuery2};
 use super::writer::{Writer, encode_frame};
 
 /// A command frame's meaning (PROTOCOL.md section 3).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum Command {
     /// 200H test call (echo of 0-10 characters).
     TestCall(TestData),

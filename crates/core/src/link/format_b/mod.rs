@@ -162,7 +162,7 @@ impl FormatB {
     fn not_sent(&mut self, pending: &Pending, reason: NotSentReason) {
         self.emit(LinkEvent::NotSent {
             id: pending.id,
-            command: pending.command,
+            command: pending.command.clone(),
             reason,
         });
     }

@@ -111,13 +111,14 @@ impl FormatB {
             self.refuse(&pending, NotSentReason::OutOfStep);
             return None;
         }
+        let before = pending.id;
         let mut waiting = pending;
         waiting.proofs += 1;
         self.sched.push_front(waiting);
         Some(Pending::new(
             self.new_id(),
             self.sync.proving_query(now),
-            Origin::Proof { before: pending.id },
+            Origin::Proof { before },
             Priority::User,
         ))
     }
@@ -166,7 +167,7 @@ impl FormatB {
     /// and the wait goes on.
     fn answers(&mut self, frame: &Frame<'_>, first_byte: Instant, at: Instant) -> Option<Settled> {
         let out = self.outstanding.as_ref()?;
-        let (pending, sent_at) = (out.pending, out.sent_at);
+        let (pending, sent_at) = (out.pending.clone(), out.sent_at);
         let expected = pending.command.id();
         let unexpected = |why: BadInput| LinkEvent::Garbage {
             bytes: frame.raw().to_vec(),
@@ -323,7 +324,7 @@ impl FormatB {
         let Some(out) = self.outstanding.as_ref() else {
             return;
         };
-        let (pending, reply_came_damaged) = (out.pending, out.reply_came_damaged);
+        let (pending, reply_came_damaged) = (out.pending.clone(), out.reply_came_damaged);
         self.end_transaction(now, Settled::TimedOut);
         self.health.timeout();
         self.sched.activity(now);
@@ -337,13 +338,13 @@ impl FormatB {
         let mut recheck = None;
         if retrying {
             self.health.retry();
-            self.sched.push_front(pending);
+            self.sched.push_front(pending.clone());
         } else if pending.command.is_motion() {
             let id = self.new_id();
             recheck = Some(id);
             self.sched.push_front(Pending::new(
                 id,
-                self.config.recheck,
+                self.config.recheck.clone(),
                 Origin::Recheck { after: pending.id },
                 Priority::User,
             ));
@@ -354,7 +355,7 @@ impl FormatB {
         self.emit(LinkEvent::Timeout {
             id: pending.id,
             origin: pending.origin,
-            command: pending.command,
+            command: pending.command.clone(),
             retrying,
             recheck,
             at: now,
@@ -370,7 +371,7 @@ impl FormatB {
         let Some(out) = self.outstanding.as_ref() else {
             return;
         };
-        let pending = out.pending;
+        let pending = out.pending.clone();
         if let LineDownReason::WriteFailed(failure) = reason {
             if self.jog_took_lease {
                 self.lease.release();
@@ -382,7 +383,7 @@ impl FormatB {
         self.emit(LinkEvent::Interrupted {
             id: pending.id,
             origin: pending.origin,
-            command: pending.command,
+            command: pending.command.clone(),
         });
         if matches!(pending.command, Command::Jog(_)) {
             self.jog_may_run = true;

@@ -45,7 +45,7 @@ impl Pendant {
         let result = self.raw_command(body.trim(), now);
         match &result {
             Ok(c) => {
-                self.requests.push(Request::Submit(*c));
+                self.requests.push(Request::Submit(c.clone()));
                 let station = crate::protocol::Station(self.settings.connection.station);
                 let canonical = c.to_bytes(station, ScMode::Computed).unwrap_or_default();
                 let typed = format!("!{}", body.trim());

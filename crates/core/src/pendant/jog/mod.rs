@@ -148,7 +148,7 @@ impl Pendant {
             .and_then(|arm| jog::plan_go(&self.model, &self.kin, &self.jog_sent(), &point, &arm));
         match plan {
             Ok(plan) => {
-                self.requests.push(Request::Submit(plan.command));
+                self.requests.push(Request::Submit(plan.command.clone()));
                 self.axes.queue(axis_moves);
                 self.jog_says(Level::Info, format!("go to \"{}\": sent", point.name), now);
                 self.jog.followed = Some(Followed {
@@ -228,7 +228,7 @@ impl Pendant {
                 now,
             );
         }
-        self.requests.push(Request::Submit(plan.command));
+        self.requests.push(Request::Submit(plan.command.clone()));
         self.jog_says(
             Level::Info,
             format!(

@@ -172,7 +172,7 @@ impl Pendant {
         }
         // Sent: the ghost now shows the move in progress.
         self.jog.step_target = None;
-        self.requests.push(Request::Submit(plan.command));
+        self.requests.push(Request::Submit(plan.command.clone()));
         self.jog_says(
             Level::Info,
             format!("go to target X {:.3} Y {:.3}: sent", t.pose.x, t.pose.y),
