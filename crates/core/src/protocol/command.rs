@@ -10,6 +10,9 @@ use super::ids::{Header, MessageId, Role, Station};
 use super::messages::basic::{ErrorDetailQuery, TestData, VersionQuery};
 use super::messages::coords::{CoordQuery, CoordQuery2};
 use super::messages::motion::{AxisMove, Home, Jog, Servo, SpeedChange, Stop};
+use super::messages::positions::{
+    PositionMove, PositionQuery, PositionQueryKind, PositionWrite, PositionWriteKind,
+};
 use super::messages::scara::{ScaraMove, ScaraPositionMove};
 use super::messages::scara_status::{ScaraStatusQuery, ScaraStatusQuery2};
 use super::writer::{Writer, encode_frame};
@@ -62,6 +65,12 @@ pub enum Command {
     ScaraMoveRelative(ScaraMove),
     /// 2D6H SCARA position-number move.
     ScaraMovePosition(ScaraPositionMove),
+    /// 209H / 21FH / 22DH effective position data query.
+    PositionQuery(PositionQuery),
+    /// 244H / 245H / 26DH / 290H / 291H position data write.
+    PositionWrite(PositionWrite),
+    /// 26BH move to a position number.
+    PositionMove(PositionMove),
 }
 
 impl Command {
@@ -89,12 +98,15 @@ impl Command {
             Command::ScaraMoveAbsolute(_) => MessageId::SCARA_MOVE_ABSOLUTE,
             Command::ScaraMoveRelative(_) => MessageId::SCARA_MOVE_RELATIVE,
             Command::ScaraMovePosition(_) => MessageId::SCARA_MOVE_POSITION,
+            Command::PositionQuery(q) => q.kind.id(),
+            Command::PositionWrite(w) => w.kind.id(),
+            Command::PositionMove(_) => MessageId::POSITION_MOVE,
         }
     }
 
     /// Whether this command moves or powers axes (servo and homing too): never re-send it
     /// blindly after a time-out, and send it only on a line proven in step (232H, 233H,
-    /// 234H, 235H, 236H, 262H, 2D4H, 2D5H, 2D6H).
+    /// 234H, 235H, 236H, 262H, 26BH, 2D4H, 2D5H, 2D6H).
     pub const fn is_motion(&self) -> bool {
         matches!(
             self,
@@ -107,7 +119,15 @@ impl Command {
                 | Command::ScaraMoveAbsolute(_)
                 | Command::ScaraMoveRelative(_)
                 | Command::ScaraMovePosition(_)
+                | Command::PositionMove(_)
         )
+    }
+
+    /// Whether this command writes the controller's data (positions): automatic
+    /// operation for the operator (confirm, refuse while unsafe), never re-sent blindly
+    /// after a time-out (the controller may have written it: read back instead).
+    pub const fn writes_data(&self) -> bool {
+        matches!(self, Command::PositionWrite(_))
     }
 
     /// Whether this command moves the arm or an axis: a jog or a move (not servo or
@@ -121,6 +141,7 @@ impl Command {
                 | Command::ScaraMoveAbsolute(_)
                 | Command::ScaraMoveRelative(_)
                 | Command::ScaraMovePosition(_)
+                | Command::PositionMove(_)
         )
     }
 
@@ -150,6 +171,8 @@ impl Command {
             Command::ScaraStatus(q) => 18 + 16 * n(q.axes),
             Command::ScaraStatus2(q) => 26 + 16 * n(q.axes),
             Command::CoordQuery2(q) => 17 + 8 * n(q.axes) * usize::from(q.count),
+            Command::PositionQuery(q) => q.max_reply_len(),
+            Command::PositionWrite(w) => super::PositionsWritten::frame_len(w.kind),
             _ => 10,
         };
         len.max(10)
@@ -201,6 +224,9 @@ impl Command {
             Command::CoordQuery2(q) => q.write(w),
             Command::ScaraMoveAbsolute(m) | Command::ScaraMoveRelative(m) => m.write(w),
             Command::ScaraMovePosition(m) => m.write(w),
+            Command::PositionQuery(q) => q.write(w),
+            Command::PositionWrite(p) => p.write(w),
+            Command::PositionMove(m) => m.write(w),
         }
     }
 
@@ -256,6 +282,15 @@ pub(crate) fn decode_command_data(
             Command::ScaraMoveRelative(ScaraMove::read(r, "distance")?)
         }
         MessageId::SCARA_MOVE_POSITION => Command::ScaraMovePosition(ScaraPositionMove::read(r)?),
+        MessageId::POSITION_QUERY => query(r, PositionQueryKind::Query)?,
+        MessageId::POSITION_QUERY_2 => query(r, PositionQueryKind::Query2)?,
+        MessageId::POSITION_QUERY_3 => query(r, PositionQueryKind::Query3)?,
+        MessageId::POSITION_RANGE_WRITE => write(r, PositionWriteKind::Range)?,
+        MessageId::POSITION_CHANGE_WRITE => write(r, PositionWriteKind::Change)?,
+        MessageId::POSITION_CHANGE_WRITE_2 => write(r, PositionWriteKind::Change2)?,
+        MessageId::POSITION_RANGE_WRITE_3 => write(r, PositionWriteKind::Range3)?,
+        MessageId::POSITION_CHANGE_WRITE_3 => write(r, PositionWriteKind::Change3)?,
+        MessageId::POSITION_MOVE => Command::PositionMove(PositionMove::read(r)?),
         _ => {
             return Err(MessageError {
                 message: Some(id),
@@ -266,4 +301,12 @@ pub(crate) fn decode_command_data(
     };
     r.finish()?;
     Ok(cmd)
+}
+
+fn query(r: &mut Reader<'_, '_>, kind: PositionQueryKind) -> Result<Command, MessageError> {
+    Ok(Command::PositionQuery(PositionQuery::read(r, kind)?))
+}
+
+fn write(r: &mut Reader<'_, '_>, kind: PositionWriteKind) -> Result<Command, MessageError> {
+    Ok(Command::PositionWrite(PositionWrite::read(r, kind)?))
 }

@@ -158,6 +158,24 @@ impl MessageId {
     pub const SCARA_STATUS_2: MessageId = MessageId(0x2A3);
     /// 2A4H coordinate system definition data query 2 (axis pattern).
     pub const COORD_QUERY_2: MessageId = MessageId(0x2A4);
+    /// 209H effective position data query (3-digit numbers).
+    pub const POSITION_QUERY: MessageId = MessageId(0x209);
+    /// 21FH effective position data query 2 (4-digit numbers).
+    pub const POSITION_QUERY_2: MessageId = MessageId(0x21F);
+    /// 22DH effective position data query 3 (4-digit numbers, arm systems).
+    pub const POSITION_QUERY_3: MessageId = MessageId(0x22D);
+    /// 244H position data range-specification continuous write.
+    pub const POSITION_RANGE_WRITE: MessageId = MessageId(0x244);
+    /// 245H change position data continuous write.
+    pub const POSITION_CHANGE_WRITE: MessageId = MessageId(0x245);
+    /// 26BH position-number specification movement 2.
+    pub const POSITION_MOVE: MessageId = MessageId(0x26B);
+    /// 26DH change position data continuous write 2 (4-digit numbers).
+    pub const POSITION_CHANGE_WRITE_2: MessageId = MessageId(0x26D);
+    /// 290H position data range write 3 (arm systems).
+    pub const POSITION_RANGE_WRITE_3: MessageId = MessageId(0x290);
+    /// 291H change position data continuous write 3 (arm systems).
+    pub const POSITION_CHANGE_WRITE_3: MessageId = MessageId(0x291);
     /// 2D4H SCARA absolute-coordinate move.
     pub const SCARA_MOVE_ABSOLUTE: MessageId = MessageId(0x2D4);
     /// 2D5H SCARA relative-coordinate move.
@@ -166,21 +184,30 @@ impl MessageId {
     pub const SCARA_MOVE_POSITION: MessageId = MessageId(0x2D6);
 
     /// Every message ID this library knows, ascending.
-    pub const ALL: [MessageId; 21] = [
+    pub const ALL: [MessageId; 30] = [
         Self::TEST_CALL,
         Self::VERSION,
+        Self::POSITION_QUERY,
         Self::AXIS_STATUS,
         Self::SYSTEM_STATUS,
         Self::ERROR_DETAIL,
+        Self::POSITION_QUERY_2,
+        Self::POSITION_QUERY_3,
         Self::SERVO,
         Self::HOME,
         Self::MOVE_ABSOLUTE,
         Self::MOVE_RELATIVE,
         Self::JOG,
         Self::STOP,
+        Self::POSITION_RANGE_WRITE,
+        Self::POSITION_CHANGE_WRITE,
         Self::ALARM_RESET,
         Self::SOFTWARE_RESET,
         Self::SPEED_CHANGE,
+        Self::POSITION_MOVE,
+        Self::POSITION_CHANGE_WRITE_2,
+        Self::POSITION_RANGE_WRITE_3,
+        Self::POSITION_CHANGE_WRITE_3,
         Self::COORD_QUERY,
         Self::SCARA_STATUS,
         Self::SCARA_STATUS_2,
@@ -195,18 +222,27 @@ impl MessageId {
         Some(match self.0 {
             0x200 => "test call",
             0x201 => "version code query",
+            0x209 => "effective position data query",
             0x212 => "axis status query",
             0x215 => "system status query",
             0x216 => "error detail query",
+            0x21F => "effective position data query 2",
+            0x22D => "effective position data query 3",
             0x232 => "servo ON/OFF",
             0x233 => "home return",
             0x234 => "absolute move",
             0x235 => "relative move",
             0x236 => "jog / inching",
             0x238 => "stop and cancel",
+            0x244 => "position data range write",
+            0x245 => "change position data write",
             0x252 => "alarm reset",
             0x25B => "software reset",
             0x262 => "speed change",
+            0x26B => "position-number move 2",
+            0x26D => "change position data write 2",
+            0x290 => "position data range write 3",
+            0x291 => "change position data write 3",
             0x2A0 => "coordinate system data query",
             0x2A1 => "SCARA axis status query",
             0x2A3 => "SCARA axis status query 2",
@@ -232,6 +268,7 @@ impl MessageId {
                 | 0x252
                 | 0x25B
                 | 0x262
+                | 0x26B
                 | 0x2D4
                 | 0x2D5
                 | 0x2D6

@@ -47,6 +47,10 @@ pub use messages::coords::{CoordKind, CoordQuery, CoordQuery2, CoordTable, Coord
 pub use messages::motion::{
     AxisMove, Direction, Home, Jog, JogFrame, JogMotion, Servo, SpeedChange, Stop,
 };
+pub use messages::positions::{
+    PositionData, PositionMove, PositionQuery, PositionQueryKind, PositionRecord, PositionWrite,
+    PositionWriteKind, PositionsWritten, RecordArm, RecordArms,
+};
 pub use messages::scara::{ScaraMotion, ScaraMove, ScaraPositionMove};
 pub use messages::scara_status::{
     CommonStatus, PositionSystem, ScaraStatus, ScaraStatus2, ScaraStatusQuery, ScaraStatusQuery2,

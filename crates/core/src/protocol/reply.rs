@@ -9,6 +9,9 @@ use super::frame::Frame;
 use super::ids::{ErrorCode, Header, MessageId, Role, Station};
 use super::messages::basic::{ErrorDetail, TestData, VersionInfo};
 use super::messages::coords::{CoordTable, CoordTable2};
+use super::messages::positions::{
+    PositionData, PositionQueryKind, PositionWriteKind, PositionsWritten,
+};
 use super::messages::scara_status::{ScaraStatus, ScaraStatus2};
 use super::messages::status::{AxisState, SystemStatus, read_axis_blocks, write_axis_blocks};
 use super::units::AxisUnit;
@@ -38,6 +41,10 @@ pub enum Reply {
     ScaraStatus2(ScaraStatus2),
     /// 2A4H coordinate system definitions by axis pattern.
     CoordTable2(CoordTable2),
+    /// 209H / 21FH / 22DH effective position records.
+    Positions(PositionData),
+    /// 244H / 245H / 26DH / 290H / 291H: how many positions were written.
+    PositionsWritten(PositionsWritten),
     /// `&` error reply: the command was understood but cannot be executed.
     Error(ErrorCode),
 }
@@ -56,6 +63,8 @@ impl Reply {
             Reply::ScaraStatus(_) => MessageId::SCARA_STATUS,
             Reply::ScaraStatus2(_) => MessageId::SCARA_STATUS_2,
             Reply::CoordTable2(_) => MessageId::COORD_QUERY_2,
+            Reply::Positions(p) => p.kind.id(),
+            Reply::PositionsWritten(w) => w.kind.id(),
             Reply::Error(_) => return None,
         })
     }
@@ -114,6 +123,8 @@ impl Reply {
             Reply::ScaraStatus(s) => s.write(w),
             Reply::ScaraStatus2(s) => s.write(w),
             Reply::CoordTable2(t) => t.write(w),
+            Reply::Positions(p) => p.write(w),
+            Reply::PositionsWritten(p) => p.write(w),
             Reply::Error(_) => Ok(()),
         }
     }
@@ -173,6 +184,14 @@ pub(crate) fn decode_reply_data(
         MessageId::SCARA_STATUS => Reply::ScaraStatus(ScaraStatus::read(r)?),
         MessageId::SCARA_STATUS_2 => Reply::ScaraStatus2(ScaraStatus2::read(r)?),
         MessageId::COORD_QUERY_2 => Reply::CoordTable2(CoordTable2::read(r)?),
+        MessageId::POSITION_QUERY => positions(r, PositionQueryKind::Query)?,
+        MessageId::POSITION_QUERY_2 => positions(r, PositionQueryKind::Query2)?,
+        MessageId::POSITION_QUERY_3 => positions(r, PositionQueryKind::Query3)?,
+        MessageId::POSITION_RANGE_WRITE => written(r, PositionWriteKind::Range)?,
+        MessageId::POSITION_CHANGE_WRITE => written(r, PositionWriteKind::Change)?,
+        MessageId::POSITION_CHANGE_WRITE_2 => written(r, PositionWriteKind::Change2)?,
+        MessageId::POSITION_RANGE_WRITE_3 => written(r, PositionWriteKind::Range3)?,
+        MessageId::POSITION_CHANGE_WRITE_3 => written(r, PositionWriteKind::Change3)?,
         _ => {
             return Err(MessageError {
                 message: Some(id),
@@ -183,4 +202,12 @@ pub(crate) fn decode_reply_data(
     };
     r.finish()?;
     Ok(reply)
+}
+
+fn positions(r: &mut Reader<'_, '_>, kind: PositionQueryKind) -> Result<Reply, MessageError> {
+    Ok(Reply::Positions(PositionData::read(r, kind)?))
+}
+
+fn written(r: &mut Reader<'_, '_>, kind: PositionWriteKind) -> Result<Reply, MessageError> {
+    Ok(Reply::PositionsWritten(PositionsWritten::read(r, kind)?))
 }

@@ -31,6 +31,7 @@ macro_rules! flags {
 pub mod basic;
 pub mod coords;
 pub mod motion;
+pub mod positions;
 pub mod scara;
 pub mod scara_status;
 pub mod status;
