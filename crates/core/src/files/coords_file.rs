@@ -16,45 +16,38 @@
 //! [[tool]]
 //! number = 1
 //! z = -35.0
-//! [[position]]            # a 2D6H position record, in work coordinates
-//! number = 1
+//! [[position]]            # a position record (2D6H, 26BH, 209H...), work coordinates
+//! number = 1              # 1 to 20000 (PROTOCOL.md 3.24)
 //! x = 300.0
 //! y = 50.0                # omitted coordinates: the axis is not part of the record
 //! speed = 0               # optional: 0 = parameter value (% for PTP, mm/s for CP)
+//! arm = "right"           # optional: SCARA 1's arm system, "right" or "left"
 //! ```
+//!
+//! A position with no coordinate holds no data and is not loaded (a controller's position
+//! with no axis is not "effective", PROTOCOL.md 3.25 `[inferred]`). Files written before
+//! `arm` existed load unchanged (no arm system).
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+use crate::protocol::{
+    Axis, CentiG, Milli, MmPerSec, PerAxis, PositionRecord, RecordArm, RecordArms,
+};
 use crate::robot::{CoordSystem, CoordTables, FrameKind, Micrometres, Millidegrees, RobotModel};
 
 /// The `format` value this module writes (and the only one it reads).
 pub const FORMAT: &str = "xsel-coords 1";
 
-/// One 2D6H position record: coordinates of axes 1-6 in the selected work frame (axes
-/// 5-6: mm), `None` = axis not in the record; speed/accel/decel 0 = parameter value.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct PositionRecord {
-    pub values: [Option<i32>; 6],
-    pub speed: u16,
-    pub accel: u16,
-    pub decel: u16,
-}
+/// The highest position number a file may hold: the 4-digit controllers' 20000
+/// (PROTOCOL.md 3.24, `[spec p.60, p.63, p.64]` arithmetic).
+pub const MAX_POSITION_NUMBER: u16 = 20_000;
 
-impl PositionRecord {
-    /// Axis pattern of the axes the record holds.
-    pub fn pattern(&self) -> u8 {
-        self.values
-            .iter()
-            .enumerate()
-            .filter(|(_, v)| v.is_some())
-            .fold(0, |p, (i, _)| p | (1 << i))
-    }
-}
-
-/// Position number -> record.
+/// Position number -> record (its `number` equal to the key): the simulator's position
+/// table and what the file holds. Axes 1-4 are the SCARA's X, Y, Z, R in the selected
+/// work frame, axes 5-6 the linear axes (mm).
 pub type PositionTable = BTreeMap<u16, PositionRecord>;
 
 #[derive(Debug, Default, Serialize, Deserialize)]
@@ -108,7 +101,21 @@ struct FilePosition {
     accel: u16,
     #[serde(default)]
     decel: u16,
+    /// SCARA 1's arm system; absent = no specification.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    arm: Option<FileArm>,
 }
+
+/// The arm system a file's position names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+enum FileArm {
+    Right,
+    Left,
+}
+
+/// The file's axes in axis order: x, y, z, r (SCARA 1-4), axis5, axis6.
+const FILE_AXES: [Axis; 6] = [Axis::A1, Axis::A2, Axis::A3, Axis::A4, Axis::A5, Axis::A6];
 
 /// Why a coordinate file could not be used.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -169,20 +176,45 @@ pub fn parse(text: &str, model: &RobotModel) -> Result<CoordsFile, CoordsFileErr
     let mut positions = PositionTable::new();
     for p in &doc.position {
         let what = format!("position No. {}", p.number);
-        let mut values = [None; 6];
-        for (slot, v) in values
-            .iter_mut()
+        if !(1..=MAX_POSITION_NUMBER).contains(&p.number) {
+            return Err(CoordsFileError::Entry(format!(
+                "{what}: numbers run from 1 to {MAX_POSITION_NUMBER}"
+            )));
+        }
+        let mut coords = PerAxis::new();
+        for (axis, v) in FILE_AXES
+            .into_iter()
             .zip([p.x, p.y, p.z, p.r, p.axis5, p.axis6])
         {
-            *slot = v.map(|v| wire(v, &what)).transpose()?;
+            if let Some(v) = v {
+                coords.set(axis, Milli(wire(v, &what)?));
+            }
+        }
+        let scara1 = match p.arm {
+            None => RecordArm::Unspecified,
+            Some(FileArm::Right) => RecordArm::Right,
+            Some(FileArm::Left) => RecordArm::Left,
+        };
+        if scara1 != RecordArm::Unspecified && coords.pattern().0 & 0x0F == 0 {
+            return Err(CoordsFileError::Entry(format!(
+                "{what}: an arm system needs a SCARA coordinate (x, y, z or r)"
+            )));
+        }
+        if coords.is_empty() {
+            continue;
         }
         positions.insert(
             p.number,
             PositionRecord {
-                values,
-                speed: p.speed,
-                accel: p.accel,
-                decel: p.decel,
+                number: p.number,
+                coords,
+                accel: CentiG(p.accel),
+                decel: CentiG(p.decel),
+                speed: MmPerSec(p.speed),
+                arms: RecordArms {
+                    scara1,
+                    scara2: RecordArm::Unspecified,
+                },
             },
         );
     }
@@ -201,7 +233,8 @@ pub fn load(path: impl AsRef<Path>, model: &RobotModel) -> Result<CoordsFile, Co
     parse(&text, model)
 }
 
-/// Writes tables and positions in the file format (non-zero entries only).
+/// Writes tables and positions in the file format (non-zero entries only; axes 7-8 and
+/// SCARA 2's arm system, which this single-SCARA format has no place for, are left out).
 pub fn to_toml(tables: &CoordTables, positions: &PositionTable) -> String {
     let mm = |v: i32| crate::protocol::Milli(v).units();
     let frames = |entries: &[CoordSystem]| {
@@ -226,7 +259,7 @@ pub fn to_toml(tables: &CoordTables, positions: &PositionTable) -> String {
         position: positions
             .iter()
             .map(|(&number, p)| {
-                let v = p.values.map(|v| v.map(mm));
+                let v = FILE_AXES.map(|a| p.coords.get(a).map(|v| mm(v.0)));
                 FilePosition {
                     number,
                     x: v[0],
@@ -235,9 +268,14 @@ pub fn to_toml(tables: &CoordTables, positions: &PositionTable) -> String {
                     r: v[3],
                     axis5: v[4],
                     axis6: v[5],
-                    speed: p.speed,
-                    accel: p.accel,
-                    decel: p.decel,
+                    speed: p.speed.0,
+                    accel: p.accel.0,
+                    decel: p.decel.0,
+                    arm: match p.arms.scara1 {
+                        RecordArm::Unspecified => None,
+                        RecordArm::Right => Some(FileArm::Right),
+                        RecordArm::Left => Some(FileArm::Left),
+                    },
                 }
             })
             .collect(),
@@ -293,5 +331,43 @@ mod tests {
             Err(CoordsFileError::Format(_))
         ));
         assert!(parse("[[work]]\nnumber = 1\nx = nan", &model).is_err());
+        for bad in [
+            "[[position]]\nnumber = 0\nx = 1.0",
+            "[[position]]\nnumber = 20001\nx = 1.0",
+            "[[position]]\nnumber = 3\naxis5 = 1.0\narm = \"left\"",
+        ] {
+            assert!(
+                matches!(parse(bad, &model), Err(CoordsFileError::Entry(_))),
+                "{bad}"
+            );
+        }
+        assert!(matches!(
+            parse("[[position]]\nnumber = 3\nx = 1.0\narm = \"up\"", &model),
+            Err(CoordsFileError::Syntax(_))
+        ));
+    }
+
+    #[test]
+    fn positions_keep_their_arm_system_and_old_files_load() {
+        let model = RobotModel::default_model();
+        let text = "[[position]]\nnumber = 7\nx = 300.0\ny = -150.0\nr = 45.5\nspeed = 20\narm = \"left\"\n\
+                    [[position]]\nnumber = 8\naxis6 = 12.5\naccel = 30\n\
+                    [[position]]\nnumber = 9\n";
+        let f = parse(text, &model).unwrap();
+        let p7 = f.positions[&7];
+        assert_eq!(p7.number, 7);
+        assert_eq!(p7.coords.pattern().0, 0b1011);
+        assert_eq!(p7.coords.get(Axis::A4), Some(Milli(45_500)));
+        assert_eq!(p7.speed, MmPerSec(20));
+        assert_eq!(p7.arms.scara1, RecordArm::Left);
+        let p8 = f.positions[&8];
+        assert_eq!(p8.coords.pattern().0, 0b10_0000);
+        assert_eq!((p8.accel, p8.arms), (CentiG(30), RecordArms::default()));
+        assert!(
+            !f.positions.contains_key(&9),
+            "a position with no axis holds no data"
+        );
+        let again = parse(&to_toml(&f.tables, &f.positions), &model).unwrap();
+        assert_eq!(again.positions, f.positions);
     }
 }

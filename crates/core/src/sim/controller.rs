@@ -13,7 +13,8 @@ use crate::protocol::{
 };
 use crate::robot::{ArmSystem, CoordSystem, CoordTables, Joints, Pose, RobotModel, Scara};
 
-/// Motion commands, counted as received, started and refused (233H-236H, 2D4H-2D6H).
+/// Motion commands, counted as received, started and refused (233H-236H, 26BH,
+/// 2D4H-2D6H).
 fn is_motion_id(id: MessageId) -> bool {
     matches!(
         id,
@@ -21,6 +22,7 @@ fn is_motion_id(id: MessageId) -> bool {
             | MessageId::MOVE_ABSOLUTE
             | MessageId::MOVE_RELATIVE
             | MessageId::JOG
+            | MessageId::POSITION_MOVE
             | MessageId::SCARA_MOVE_ABSOLUTE
             | MessageId::SCARA_MOVE_RELATIVE
             | MessageId::SCARA_MOVE_POSITION
@@ -33,6 +35,8 @@ pub struct SimSetup {
     pub config: SimConfig,
     pub model: RobotModel,
     pub coords: CoordTables,
+    /// The position table (209H-291H, 26BH, 2D6H); numbers above the model's maximum
+    /// (`config.position_digits`) are kept but never reached.
     pub positions: PositionTable,
 }
 
@@ -335,6 +339,8 @@ impl Controller {
             Command::CoordQuery2(q) => self.msg_coords2(q)?,
             Command::ScaraStatus(q) => self.msg_scara_status(q.axes, q.system),
             Command::ScaraStatus2(q) => self.msg_scara_status2(q.axes, q.system_1_4),
+            Command::PositionQuery(q) => self.msg_position_query(q)?,
+            Command::PositionWrite(ref w) => self.msg_position_write(w)?,
             Command::SoftwareReset => {
                 self.msg_reset()?;
                 return Ok(self.cfg.reset_replies.then_some(Reply::Ack(cmd.id())));
@@ -361,6 +367,7 @@ impl Controller {
             Command::ScaraMoveAbsolute(m) => self.msg_scara_move(m, false),
             Command::ScaraMoveRelative(m) => self.msg_scara_move(m, true),
             Command::ScaraMovePosition(m) => self.msg_scara_position(m),
+            Command::PositionMove(m) => self.msg_position_move(m),
             _ => Err(SimError::UnknownMessage),
         }
     }

@@ -40,7 +40,7 @@ pub enum SimError {
     Unreachable,
     /// Reaching the target would need the other arm system, and switching is not allowed.
     ArmSystem,
-    /// 2D6H: the position number holds no data for the selected axes.
+    /// 2D6H, 26BH: the position number holds no data for the selected axes.
     NoPosition,
     /// A joint target or the current position lies beyond a soft limit (real number C74).
     SoftLimit,

@@ -31,6 +31,7 @@ use crate::protocol::{Frame, Reply};
 pub use controller::{Controller, SimSetup, Snapshot};
 pub use errors::{CODE_TABLE, SimError};
 pub use faults::{Fault, FaultCounts, FaultSpec};
+pub use handlers::{MAX_POSITIONS_3_DIGIT, MAX_POSITIONS_4_DIGIT};
 pub use runner::{EmbeddedOptions, SimHandle, SimWatch, start_embedded};
 pub use state::{Counters, Mode, SimConfig};
 

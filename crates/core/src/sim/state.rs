@@ -114,7 +114,7 @@ pub struct Counters {
     /// error or a silence: `frames == replies + errors + silent()`.
     pub replies: u64,
     pub errors: u64,
-    /// Motion commands (233H, 234H, 235H, 236H, 2D4H, 2D5H, 2D6H) received, started
+    /// Motion commands (233H, 234H, 235H, 236H, 26BH, 2D4H, 2D5H, 2D6H) received, started
     /// (answered `#`) and refused (answered `&`).
     pub motion_received: u64,
     pub motion_started: u64,
@@ -176,6 +176,10 @@ pub struct SimConfig {
     pub linear_max_speed: f64,
     /// All axes homed and servo on at start (handy for demos; off = like a cold start).
     pub start_ready: bool,
+    /// Position numbering of the model: 4 digits (positions 1-20000, every position
+    /// message) or 3 (1-3000; 21FH, 22DH, 26DH, 290H, 291H answer A01) `[inferred:
+    /// PROTOCOL.md 3.24's arithmetic]`. Anything but 3 counts as 4.
+    pub position_digits: u8,
 }
 
 impl Default for SimConfig {
@@ -192,6 +196,7 @@ impl Default for SimConfig {
             linear_stroke_mm: 600.0,
             linear_max_speed: 800.0,
             start_ready: false,
+            position_digits: 4,
         }
     }
 }

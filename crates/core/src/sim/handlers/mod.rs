@@ -6,6 +6,7 @@
 
 mod axis;
 mod coords;
+mod positions;
 mod scara;
 mod status;
 mod system;
@@ -14,6 +15,8 @@ use super::controller::Controller;
 use super::errors::SimError;
 use super::state::Mode;
 use axis::SCARA;
+
+pub use positions::{MAX_POSITIONS_3_DIGIT, MAX_POSITIONS_4_DIGIT};
 
 impl Controller {
     /// Refusals shared by every command that acts (moves, servo, home, speed change):

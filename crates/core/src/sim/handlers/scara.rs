@@ -110,7 +110,7 @@ impl Controller {
 
     /// Runs a 2D4H/2D5H/2D6H move once decoded: `values` are wire units per axis; a PTP
     /// move has an arm policy, a CP move none.
-    fn scara_or_linear_move(
+    pub(crate) fn scara_or_linear_move(
         &mut self,
         pattern: u8,
         values: &[i32; 8],
@@ -166,20 +166,13 @@ impl Controller {
         let (pattern, number) = (m.axes.0, m.position);
         self.check_pattern(pattern)?;
         let (policy, [speed, accel, decel]) = op_type(&m.motion);
-        let record = *self.positions.get(&number).ok_or(SimError::NoPosition)?;
-        let pattern = pattern & record.pattern();
-        if pattern == 0 {
-            return Err(SimError::NoPosition);
-        }
-        let mut values = [0i32; 8];
-        for (i, v) in record.values.iter().enumerate() {
-            values[i] = v.unwrap_or(0);
-        }
+        self.check_position_number(number)?;
+        let (pattern, values, record) = self.position_target(pattern, number)?;
         let pick = |cmd: u16, rec: u16| if cmd != 0 { cmd } else { rec };
         let rates = [
-            pick(speed, record.speed),
-            pick(accel, record.accel),
-            pick(decel, record.decel),
+            pick(speed, record.speed.0),
+            pick(accel, record.accel.0),
+            pick(decel, record.decel.0),
         ];
         self.scara_or_linear_move(pattern, &values, false, policy, rates)
     }
