@@ -449,6 +449,11 @@ impl PendantApp {
                         s.submit(command);
                     }
                 }
+                Request::Background(command) => {
+                    if let Some(s) = &self.session {
+                        s.submit_background(command);
+                    }
+                }
                 Request::RenewJogLease => {
                     if let Some(s) = &self.session {
                         s.renew_jog_lease();

@@ -37,6 +37,8 @@ pub enum Intent {
     TeachGo(usize),
     /// "Record" the current pose under this name (empty: one is made up).
     TeachRecord(String),
+    /// The position table's view.
+    Positions(super::positions::PositionsIntent),
     /// The teach list after an edit (reorder, delete, rename), as a whole.
     TeachList(super::teach::TeachList),
     /// A teach file read (its points, or why not): waits for "Replace".
@@ -104,6 +106,7 @@ impl Pendant {
             Intent::TeachGo(index) => self.teach_go(index, now),
             Intent::TeachRecord(name) => self.teach_record(&name, now),
             Intent::TeachList(list) => self.teach.set(list),
+            Intent::Positions(p) => self.apply_positions(p, now),
             Intent::TeachLoaded { path, read } => self.teach_loaded(&path, read, now),
             Intent::TeachConfirmLoad => self.teach_confirm_load(now),
             Intent::TeachCancelLoad => self.teach_cancel_load(),

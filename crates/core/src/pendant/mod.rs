@@ -10,6 +10,7 @@ pub mod coords;
 pub mod frame_log;
 mod intent;
 pub mod jog;
+pub mod positions;
 pub mod samples;
 pub mod script;
 pub mod teach;
@@ -35,7 +36,7 @@ pub use jog::hold::{HeldJog, JogInput, JogTarget, Press, StopCause};
 pub use jog::{Interpolation, JogAxis, JogMode, JogSettings, PhysicalJog, PlannedStep, Refusal};
 
 /// How long a "press again to confirm" for an arm flip stays armed.
-const CONFIRM_FOR: Duration = Duration::from_secs(5);
+pub(crate) const CONFIRM_FOR: Duration = Duration::from_secs(5);
 /// The span of the link-health fault counts.
 const MINUTE: Duration = Duration::from_secs(60);
 /// Messages kept for the operator.
@@ -72,6 +73,8 @@ pub struct Settings {
 pub enum Request {
     /// A command at the user's priority.
     Submit(Command),
+    /// A command that gives way to the status polls (position table reads).
+    Background(Command),
     /// 238H for all axes, at the head of the queue.
     Stop,
     /// Keep the continuous jog alive (the link stops it when renewals stop).
@@ -133,6 +136,18 @@ struct Followed {
     stopped: Option<Instant>,
 }
 
+/// The command an event answers, for the events that answer one.
+fn event_command(event: &LinkEvent) -> Option<&Command> {
+    match event {
+        LinkEvent::Reply { command, .. }
+        | LinkEvent::ErrorReply { command, .. }
+        | LinkEvent::Timeout { command, .. }
+        | LinkEvent::Interrupted { command, .. }
+        | LinkEvent::NotSent { command, .. } => Some(command),
+        _ => None,
+    }
+}
+
 /// The pendant's model of the world.
 pub struct Pendant {
     pub settings: Settings,
@@ -159,6 +174,8 @@ pub struct Pendant {
     pub teach_feedback: Option<(Level, String)>,
     /// The RMC151's axes.
     pub axes: axes::RmcAxes,
+    /// The controller's position table: as read, the draft, the write going on.
+    pub positions: positions::Positions,
     /// Every polled position and status with its time, for the plots.
     pub samples: samples::polled::Polled,
 }
@@ -176,6 +193,7 @@ impl Pendant {
             },
             teach,
             teach_feedback: None,
+            positions: positions::Positions::new(),
             coords: coords::CoordEditor::new(model.work_table_size, model.tool_table_size),
             kin: Scara::new(&model),
             model,
@@ -324,6 +342,7 @@ impl Pendant {
     fn line_gone(&mut self, _now: Instant) {
         self.controller.line_lost();
         self.coords.line_gone();
+        self.positions.line_gone();
         if self.jog.hold.stop(StopCause::LineLost).is_some() {
             self.say(Level::Error, "the line went down during a jog", _now);
         }
@@ -337,6 +356,12 @@ impl Pendant {
     pub fn handle_event(&mut self, now: Instant, event: LinkEvent) {
         self.log_traffic(&event);
         self.link_stop(now, &event);
+        if event_command(&event).is_some_and(positions::Positions::owns) {
+            for (level, text) in self.positions.handle_event(&event) {
+                self.say(level, text, now);
+            }
+            return self.positions_out();
+        }
         match event {
             LinkEvent::Connected { line } | LinkEvent::Reconnected { line } => {
                 self.say(Level::Info, format!("connected: {line}"), now);
@@ -613,6 +638,7 @@ impl Pendant {
         self.requests.push(Request::Stop);
         self.jog.hold.stop(cause);
         self.axes.stop(cause);
+        self.positions.go_confirm = None;
         self.jog.confirm = None;
         if let Some(f) = self.jog.followed.as_mut() {
             f.stopped.get_or_insert(now);

@@ -16,6 +16,11 @@ pub const MAX_FRAME_LEN: usize = 16_337;
 pub const REPLY_BUFFER: usize = 2048;
 /// The reply buffer of the J/K/KE/KT/KET/JX/KX/KTX and TT models (PROTOCOL.md 1.7).
 pub const SMALL_REPLY_BUFFER: usize = 1024;
+/// The longest command most models receive, header to LF (PROTOCOL.md 1.7; the count
+/// from header to LF is `[inferred]`): multi-record writes are sized to it.
+pub const COMMAND_BUFFER: usize = 2051;
+/// The longest command the J/K/KE/KT/KET/JX/KX/KTX and TT models receive.
+pub const SMALL_COMMAND_BUFFER: usize = 1023;
 
 /// The shortest legal frame: 10 bytes (a command or acknowledge without data, or an error
 /// reply) (PROTOCOL.md 1.3).

@@ -36,8 +36,8 @@ pub use describe::{
 };
 pub use error::{Columns, EncodeError, MessageError, MessageErrorKind};
 pub use frame::{
-    Frame, FrameError, FrameErrorKind, MAX_FRAME_LEN, MIN_FRAME_LEN, OwnedFrame, REPLY_BUFFER,
-    SMALL_REPLY_BUFFER,
+    COMMAND_BUFFER, Frame, FrameError, FrameErrorKind, MAX_FRAME_LEN, MIN_FRAME_LEN, OwnedFrame,
+    REPLY_BUFFER, SMALL_COMMAND_BUFFER, SMALL_REPLY_BUFFER,
 };
 pub use ids::{ErrorCode, Header, MessageId, Role, Station, StationParseError};
 pub use messages::basic::{
@@ -48,8 +48,9 @@ pub use messages::motion::{
     AxisMove, Direction, Home, Jog, JogFrame, JogMotion, Servo, SpeedChange, Stop,
 };
 pub use messages::positions::{
-    PositionData, PositionMove, PositionQuery, PositionQueryKind, PositionRecord, PositionWrite,
-    PositionWriteKind, PositionsWritten, RecordArm, RecordArms,
+    MAX_POSITIONS_3_DIGIT, MAX_POSITIONS_4_DIGIT, PositionData, PositionMove, PositionQuery,
+    PositionQueryKind, PositionRecord, PositionWrite, PositionWriteKind, PositionsWritten,
+    RecordArm, RecordArms,
 };
 pub use messages::scara::{ScaraMotion, ScaraMove, ScaraPositionMove};
 pub use messages::scara_status::{

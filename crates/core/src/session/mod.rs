@@ -315,6 +315,11 @@ impl Session {
         self.link.submit(command, Priority::User);
     }
 
+    /// Sends a command that gives way to the status polls (a position table read).
+    pub fn submit_background(&self, command: Command) {
+        self.link.submit(command, Priority::Background);
+    }
+
     /// 238H for all axes, ahead of anything queued.
     pub fn stop_all(&self) {
         self.link.stop_all();

@@ -516,9 +516,12 @@ fn ends_motion(command: &crate::protocol::Command) -> bool {
     safety::is_stop_all(command)
 }
 
-/// Motion a STOP of all axes ends while it still waits: moves, jogs and homing.
+/// What a STOP of all axes ends while it still waits: moves, jogs and homing, and writes
+/// to the controller's data (automatic operation, behind STOP like motion).
 fn stopped_by(command: &crate::protocol::Command) -> bool {
-    command.moves_arm() || matches!(command, crate::protocol::Command::Home(_))
+    command.moves_arm()
+        || command.writes_data()
+        || matches!(command, crate::protocol::Command::Home(_))
 }
 
 impl CoreEvent for LinkEvent {

@@ -454,6 +454,41 @@ pub fn plan_go(
     Ok(checked.into_plan(command))
 }
 
+/// Plans a move to the controller's position record `rec` with 2D6H (the controller moves
+/// to what it holds at that number, in the selected work frame), PTP with the record's arm
+/// system (the jog panel's policy where the record names none) or CP, at the jog panel's
+/// rates (capped), after the same checks as a step. Axes the record lacks stay where they
+/// are.
+pub fn plan_position_go(
+    model: &RobotModel,
+    kin: &Scara,
+    settings: &JogSettings,
+    rec: &crate::protocol::PositionRecord,
+    now: &ArmNow,
+) -> Result<PlannedStep, Refusal> {
+    use crate::protocol::{RecordArm, ScaraPositionMove};
+    let here = tip_in_work(kin, &now.joints, &now.work, &now.tool).to_wire();
+    let axes = [Axis::A1, Axis::A2, Axis::A3, Axis::A4];
+    let mut wire = here;
+    for (i, a) in axes.into_iter().enumerate() {
+        if let Some(v) = rec.coords.get(a) {
+            wire[i] = v.0;
+        }
+    }
+    let policy = match rec.arms.scara1 {
+        RecordArm::Right => WirePolicy::Right,
+        RecordArm::Left => WirePolicy::Left,
+        RecordArm::Unspecified => settings.arm,
+    };
+    let checked = check_move(model, kin, settings, policy, &Pose::from_wire(wire), now)?;
+    let command = Command::ScaraMovePosition(ScaraPositionMove {
+        axes: AxisPattern::SCARA_1,
+        motion: checked.motion,
+        position: rec.number,
+    });
+    Ok(checked.into_plan(command))
+}
+
 /// Plans a move of the tool tip to `end_work` (selected work frame) with 2D4H: the jog
 /// panel's interpolation, arm policy and rates, after the same checks as a step.
 pub fn plan_to(

@@ -19,6 +19,13 @@ const fn max_of(d: usize) -> u32 {
     (1 << (4 * d)) - 1
 }
 
+/// Position numbers of a controller with 3-digit position messages (209H, 244H, 245H):
+/// the pages' arithmetic uses 3,000 records `[spec p.19, p.44, p.45]`.
+pub const MAX_POSITIONS_3_DIGIT: u16 = 3_000;
+/// Position numbers of a controller with 4-digit messages (21FH, 22DH, 26DH, 290H, 291H):
+/// the arithmetic uses 20,000 `[spec p.35, p.36, p.60, p.63, p.64; PROTOCOL.md 3.49 E1]`.
+pub const MAX_POSITIONS_4_DIGIT: u16 = 20_000;
+
 /// SC CR LF after the data of every frame.
 const TAIL: usize = 4;
 /// Header, station and message ID before the data of every frame.

@@ -1,0 +1,1 @@
+//! Position table files: CSV (Excel-friendly) and JSON, read whole or refused.
