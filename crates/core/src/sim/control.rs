@@ -66,8 +66,21 @@ impl Controller {
         }
     }
 
+    /// The position table, to edit from outside the protocol (tests, the console).
     pub fn positions_mut(&mut self) -> &mut PositionTable {
         &mut self.positions
+    }
+
+    /// Clears the positions numbered `from..=to`; how many held data.
+    pub fn clear_positions(&mut self, from: u16, to: u16) -> usize {
+        if from > to {
+            return 0;
+        }
+        let gone: Vec<u16> = self.positions.range(from..=to).map(|(&n, _)| n).collect();
+        for n in &gone {
+            self.positions.remove(n);
+        }
+        gone.len()
     }
 
     /// Raises an alarm: servos off, moves halted (cancelled), acting commands refused
