@@ -46,9 +46,15 @@ until 233H has homed. Relative moves turn R the way and distance they name, or a
 refused at the R joint's limits (C74), never wrapped by 360 deg. 216H reports the last
 refusal or alarm.
 
+Positions: 209H, 21FH, 22DH read the position table (a reply holds what fits the reply
+buffer, lowest numbers first); 244H, 245H, 26DH, 290H, 291H write it (checked whole:
+a refused write changes nothing; pattern 00 clears a position); 26BH and 2D6H move to
+a position. Number 0, above the model's maximum or count 0: A03; an axis the controller
+lacks: A04; no data for the axes: B0A. Written positions live until the simulator stops.
+
 Operator console: while running, type on stdin (off with --no-console):
   estop on|off, mode manual|auto, cutoff on|off, alarm CODE [AXIS], alarm clear,
-  status, help, quit. --estop, --mode, --drive-cut-off and --alarm set the start state.
+  status, positions [FROM [TO]], positions clear [FROM [TO]], help, quit. --estop, --mode, --drive-cut-off and --alarm set the start state.
 
 Replies: '#' normal, '&' + 3-hex-digit error code. The simulator's error codes
 (also in the README, section \"Simulator\"; `--codes` prints them):
@@ -76,10 +82,19 @@ struct Args {
     /// (scara-500, scara-250).
     #[arg(long, value_name = "FILE")]
     robot: Option<String>,
-    /// Coordinate-table TOML file (work/tool tables, 2D6H positions; see
+    /// Coordinate-table TOML file (work/tool tables, positions; see
     /// assets/coords/example.toml). Default: that example.
     #[arg(long, value_name = "FILE")]
     coords: Option<String>,
+    /// Position table from a coordinate-table TOML file: only its [[position]] entries
+    /// load (number, x, y, z, r, axis5, axis6, speed, accel, decel, arm = "right" |
+    /// "left"), replacing those of --coords. Default: the --coords file's positions.
+    #[arg(long, value_name = "FILE")]
+    positions: Option<String>,
+    /// Position numbering of the model: 4 (positions 1-20000, every position message) or
+    /// 3 (1-3000; 21FH, 22DH, 26DH, 290H, 291H answer A01).
+    #[arg(long, value_name = "3|4", default_value_t = 4, value_parser = clap::value_parser!(u8).range(3..=4))]
+    position_digits: u8,
     /// Pace reply bytes at this baud rate (10 bits a character), 9600 to 230400.
     /// Default: no pacing.
     #[arg(long, value_parser = parse_baud)]
@@ -204,6 +219,12 @@ fn run(args: Args) -> Result<(), Failure> {
         setup.coords = file.tables;
         setup.positions = file.positions;
     }
+    if let Some(path) = &args.positions {
+        let file = coords_file::load(path, &setup.model)
+            .map_err(|e| Failure::Flag(format!("--positions: {e}")))?;
+        setup.positions = file.positions;
+    }
+    setup.config.position_digits = args.position_digits;
     setup.config.station = args.station.0;
     setup.config.reply_delay = Duration::from_millis(args.delay_ms);
     setup.config.linear_axes = args.linear_axes;
