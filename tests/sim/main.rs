@@ -10,5 +10,6 @@ mod conformance;
 mod embedded;
 mod lines;
 mod long_run;
+mod positions;
 mod rmc;
 mod stand_in;
