@@ -578,29 +578,33 @@ impl Positions {
     /// Sends what comes next: queries to keep the read going, the next write frame, the
     /// read-back after a write; ends what is finished.
     fn advance(&mut self, said: &mut Vec<(Level, String)>) {
-        if let Some(job) = self.read.as_mut() {
+        if let Some(mut job) = self.read.take() {
             let next = job.next_queries();
             self.commands.extend(next.into_iter().map(|c| (c, false)));
             if job.is_finished() {
-                let job = self.read.take().expect("read job");
                 self.read_ended(&job, said);
+            } else {
+                self.read = Some(job);
             }
         }
-        if let Some(job) = self.write.as_mut() {
+        let chunk = self.chunk();
+        let reading = self.read.is_some();
+        if let Some(mut job) = self.write.take() {
             if let Some(frame) = job.next_frame() {
                 self.commands.push((Command::PositionWrite(frame), true));
-            } else if job.is_sent_out() && self.read.is_none() {
+            } else if job.is_sent_out() && !reading {
                 let numbers = job.to_read_back();
                 if !job.read_back && !numbers.is_empty() {
                     job.read_back = true;
-                    let chunk = self.chunk();
+                    self.write = Some(job);
                     self.begin_read(read::ranges(&numbers, chunk / 2), true);
-                } else {
-                    let job = self.write.take().expect("write job");
-                    said.push(self.write_ended(&job));
-                    self.last_write = Some(job);
+                    return;
                 }
+                said.push(self.write_ended(&job));
+                self.last_write = Some(job);
+                return;
             }
+            self.write = Some(job);
         }
     }
 
@@ -677,6 +681,7 @@ impl Positions {
             (t.differs, "read back different"),
             (t.not_written, "not written"),
             (t.unknown, "unknown (read again)"),
+            (t.pending, "written but not read back"),
         ] {
             if n > 0 {
                 text.push_str(&format!(", {n} {what}"));
