@@ -586,6 +586,44 @@ mod tests {
     }
 
     #[test]
+    fn position_move_takes_the_records_arm_system() {
+        use crate::robot::ArmSystem;
+        for (arm, want) in [
+            (RecordArm::Left, ArmSystem::Left),
+            (RecordArm::Right, ArmSystem::Right),
+        ] {
+            let mut c = sim(4);
+            let mut r = rec(1, &XYZR.map(|a| (a, 0)));
+            r.coords =
+                PerAxis::from_pairs([(Axis::A1, Milli(300_000)), (Axis::A2, Milli(100_000))]);
+            r.arms.scara1 = arm;
+            ask(&mut c, &write(PositionWriteKind::Range3, vec![r]));
+            let cmd = Command::PositionMove(PositionMove {
+                axes: crate::protocol::AxisPattern(0x0F),
+                position: 1,
+                ..PositionMove::default()
+            });
+            assert_eq!(
+                ask(&mut c, &cmd),
+                Reply::Ack(crate::protocol::MessageId::POSITION_MOVE),
+                "{arm:?}"
+            );
+            let mut t = Duration::ZERO;
+            while !c.at_rest() {
+                t += Duration::from_millis(10);
+                c.advance(t);
+                assert!(t < Duration::from_secs(60), "move never ends");
+            }
+            assert_eq!(c.snapshot().arm, want);
+            let tip = c.tip_work();
+            assert!(
+                (tip.x - 300.0).abs() < 1e-3 && (tip.y - 100.0).abs() < 1e-3,
+                "{tip:?}"
+            );
+        }
+    }
+
+    #[test]
     fn rates_become_percentages_of_the_cp_maxima() {
         assert_eq!(percent_of(0.0, 2000.0), 0);
         assert_eq!(percent_of(1.0, 2000.0), 1);
