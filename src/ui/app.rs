@@ -118,6 +118,7 @@ pub struct PendantApp {
     teach: TeachPanel,
     simulator: SimulatorPanel,
     coords: CoordsPanel,
+    positions: super::positions::PositionsPanel,
     /// The teach list and the coordinate drafts in files of their own.
     work_files: WorkFiles,
     arm: ArmView,
@@ -225,6 +226,7 @@ impl PendantApp {
             teach: TeachPanel::default(),
             simulator: SimulatorPanel::default(),
             coords: CoordsPanel::default(),
+            positions: super::positions::PositionsPanel::default(),
             work_files,
             arm: ArmView::default(),
             frame_log: FrameLogPanel::default(),
@@ -700,6 +702,7 @@ impl eframe::App for PendantApp {
                 arm: &mut self.arm,
                 teach: &mut self.teach,
                 coords: &mut self.coords,
+                positions: &mut self.positions,
                 frame_log: &mut self.frame_log,
                 plots: &mut self.plots,
                 simulator: &mut self.simulator,

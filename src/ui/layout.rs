@@ -1,6 +1,6 @@
 //! The rearrangeable centre of the window (egui_tiles): the arm view, position, status,
-//! teach list, coordinate tables, messages and frame log as panes the operator can drag
-//! into tabs, rows and columns.
+//! teach list, the controller's positions, coordinate tables, messages and frame log as
+//! panes the operator can drag into tabs, rows and columns.
 //! The layout is saved with the settings.
 //!
 //! egui_tiles rather than egui_dock: egui_tiles 0.18 is built on egui 0.37 (egui_dock's
@@ -19,6 +19,7 @@ use serde::{Deserialize, Serialize};
 use super::arm_view::ArmView;
 use super::coords::CoordsPanel;
 use super::frame_log::FrameLogPanel;
+use super::positions::PositionsPanel;
 use super::simulator::SimulatorPanel;
 use super::teach::TeachPanel;
 use super::{messages, readout, status};
@@ -31,6 +32,7 @@ pub enum Tab {
     Position,
     Status,
     Teach,
+    Positions,
     Messages,
     Coords,
     FrameLog,
@@ -46,6 +48,7 @@ impl Tab {
             Tab::Position => "Position",
             Tab::Status => "Status",
             Tab::Teach => "Teach list",
+            Tab::Positions => "Positions",
             Tab::Messages => "Messages",
             Tab::Coords => "Coordinate tables",
             Tab::FrameLog => "Frame log",
@@ -56,11 +59,12 @@ impl Tab {
     }
 }
 
-const ALL: [Tab; 10] = [
+const ALL: [Tab; 11] = [
     Tab::Arm,
     Tab::Position,
     Tab::Status,
     Tab::Teach,
+    Tab::Positions,
     Tab::Messages,
     Tab::Coords,
     Tab::FrameLog,
@@ -70,8 +74,8 @@ const ALL: [Tab; 10] = [
 ];
 
 /// The first layout: the arm view large on the left over the messages, the frame log and
-/// the plots (tabs); on the right the position over the status (servo, home), teach list and
-/// coordinate tables as tabs.
+/// the plots (tabs); on the right the position over the status (servo, home), teach list,
+/// the controller's positions and coordinate tables as tabs.
 pub fn default_layout() -> Tree<Tab> {
     let mut tiles = Tiles::default();
     let tabs = |tiles: &mut Tiles<Tab>, panes: &[Tab]| {
@@ -86,6 +90,7 @@ pub fn default_layout() -> Tree<Tab> {
             Tab::Status,
             Tab::Axes,
             Tab::Teach,
+            Tab::Positions,
             Tab::Coords,
             Tab::Simulator,
         ],
@@ -124,6 +129,7 @@ pub struct Tabs<'a> {
     pub arm: &'a mut ArmView,
     pub teach: &'a mut TeachPanel,
     pub coords: &'a mut CoordsPanel,
+    pub positions: &'a mut PositionsPanel,
     pub frame_log: &'a mut FrameLogPanel,
     pub plots: &'a mut super::plots::PlotsPanel,
     pub simulator: &'a mut SimulatorPanel,
@@ -166,6 +172,10 @@ impl Behavior<Tab> for Tabs<'_> {
                     self.teach
                         .show(ui, self.pendant, self.folder, self.now, self.intents)
                 });
+            }
+            Tab::Positions => {
+                self.positions
+                    .show(ui, self.pendant, self.folder, self.now, self.intents)
             }
             Tab::Messages => messages::show(ui, self.pendant, self.started),
             Tab::Coords => self

@@ -20,6 +20,7 @@ mod messages;
 mod pad;
 pub mod plots;
 mod ports;
+mod positions;
 mod readout;
 mod rmc_connection;
 mod run;

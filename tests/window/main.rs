@@ -17,6 +17,7 @@ mod jog_panel;
 mod frame_log_snapshot;
 mod main_window;
 mod plots;
+mod positions;
 mod sessions;
 mod simulator;
 mod sizes;
