@@ -763,6 +763,10 @@ impl PositionsPanel {
                 .truncate()
                 .sense(Sense::click()),
         );
+        // Its accessible name says which cell it is (screen readers, tests).
+        r.widget_info(|| {
+            egui::WidgetInfo::labeled(egui::WidgetType::Label, true, format!("{label}: {text}"))
+        });
         r = match hover {
             Some(h) => r.on_hover_text(format!("{label}: {h}")),
             None => r.on_hover_text(format!("{label}: click to edit")),

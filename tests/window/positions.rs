@@ -5,6 +5,7 @@
 
 use std::time::Instant;
 
+use egui::Key;
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};
 use xsel_pendant::pendant::MotionPhase;
@@ -12,7 +13,7 @@ use xsel_pendant::pendant::positions::write::Outcome;
 use xsel_pendant::pendant::positions::{Positions, Preview, PreviewRow, Row, record_of_pose};
 use xsel_pendant::protocol::{Axis, PositionWriteKind, RecordArm};
 use xsel_pendant::robot::Pose;
-use xsel_pendant::ui::PendantApp;
+use xsel_pendant::ui::{PendantApp, StartOptions};
 
 use crate::kittest_common::{click, replace_text, show_tab, step_until, step_until_shown};
 use crate::main_window::{app, ready, sim_busy, sim_in_frames};
@@ -243,4 +244,81 @@ fn the_model_refuses_a_write_while_a_program_runs_unless_the_risk_is_taken() {
     assert_eq!(p.confirm_write(true, true), Ok(1));
     assert!(p.write.is_some(), "written with the risk taken");
     assert!(!p.take_commands().is_empty(), "the write's frame goes out");
+}
+
+/// The positions pane of a window that opens no line (the draft needs none).
+fn offline<'a>() -> Harness<'a, PendantApp> {
+    let mut h = Harness::builder()
+        .with_size([1280.0, 900.0])
+        .build_eframe(|cc| PendantApp::new(cc, StartOptions::fresh_offline()));
+    h.step();
+    show_tab(&mut h, "Positions");
+    h
+}
+
+/// Clicks the cell whose accessible name begins with `cell` and types `text` over it,
+/// ending with `end` (Enter keeps it, Escape forgets it).
+fn type_cell(h: &mut Harness<'_, PendantApp>, cell: &str, text: &str, end: Key) {
+    h.query_all_by_label_contains(cell)
+        .next()
+        .unwrap_or_else(|| panic!("no cell {cell}"))
+        .click();
+    h.step();
+    h.step();
+    h.key_press_modifiers(egui::Modifiers::COMMAND, Key::A);
+    h.event(egui::Event::Text(text.into()));
+    h.step();
+    h.key_press(end);
+    h.step();
+    h.step();
+}
+
+#[test]
+fn cells_are_edited_in_place_checked_undone_and_go_through_a_file() {
+    let mut h = offline();
+    type_cell(&mut h, "No. 3 X mm", "12.5", Key::Enter);
+    let x = |a: &PendantApp| {
+        a.pendant()
+            .positions
+            .draft(3)
+            .and_then(|r| r.coords.get(Axis::A1))
+            .map(|m| m.0)
+    };
+    assert_eq!(x(h.state()), Some(12_500), "X of No. 3 in the draft");
+    assert!(h.state().pendant().positions.differs(3));
+    step_until_shown(&mut h, "1 row differs");
+    step_until_shown(&mut h, "No. 3 X mm: 12.500");
+    // Escape forgets what was typed; a bad number changes nothing and says why.
+    type_cell(&mut h, "No. 3 X mm", "99", Key::Escape);
+    assert_eq!(x(h.state()), Some(12_500), "Escape forgets the typing");
+    type_cell(&mut h, "No. 3 Y mm", "1.2345", Key::Enter);
+    step_until_shown(&mut h, "at most 3 decimals");
+    assert!(
+        h.state()
+            .pendant()
+            .positions
+            .draft(3)
+            .is_some_and(|r| r.coords.get(Axis::A2).is_none()),
+        "the refused Y is not in the draft"
+    );
+    // Out to a file, undone, and back in from it.
+    let dir = std::env::temp_dir().join(format!("xsel-pendant-positions-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("positions.csv");
+    let _ = std::fs::remove_file(&path);
+    replace_text(&mut h, "File", &path.display().to_string());
+    click(&mut h, "Export");
+    step_until_shown(&mut h, "exported 1 rows");
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains("3,,12.500"), "{text}");
+    click(&mut h, "Undo");
+    step_until(&mut h, "the draft empty", |a| {
+        a.pendant().positions.draft(3).is_none()
+    });
+    click(&mut h, "Import");
+    step_until(&mut h, "No. 3 imported", |a| x(a) == Some(12_500));
+    click(&mut h, "Undo");
+    click(&mut h, "Redo");
+    assert_eq!(x(h.state()), Some(12_500), "Redo brings the import back");
+    let _ = std::fs::remove_dir_all(&dir);
 }
