@@ -765,7 +765,7 @@ impl PositionsPanel {
         );
         // Its accessible name says which cell it is (screen readers, tests).
         r.widget_info(|| {
-            egui::WidgetInfo::labeled(egui::WidgetType::Label, true, format!("{label}: {text}"))
+            egui::WidgetInfo::labeled(egui::Role::Label, true, format!("{label}: {text}"))
         });
         r = match hover {
             Some(h) => r.on_hover_text(format!("{label}: {h}")),
