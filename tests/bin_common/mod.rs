@@ -43,12 +43,12 @@ pub fn wait_line(
 
 /// Waits for the child to exit; kills it (and returns `None`) at the deadline.
 pub fn wait_exit(child: &mut Child, within: Duration) -> Option<ExitStatus> {
-    let deadline = Instant::now() + within;
-    while Instant::now() < deadline {
-        if let Ok(Some(status)) = child.try_wait() {
-            return Some(status);
-        }
-        std::thread::sleep(Duration::from_millis(20));
+    let mut status = None;
+    if crate::wait::eventually(within, || {
+        status = child.try_wait().ok().flatten();
+        status.is_some()
+    }) {
+        return status;
     }
     let _ = child.kill();
     let _ = child.wait();

@@ -4,6 +4,8 @@
 
 #[path = "../bin_common/mod.rs"]
 mod bin_common;
+#[path = "../wait/mod.rs"]
+mod wait;
 
 mod lean;
 mod pendant;

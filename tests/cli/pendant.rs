@@ -4,11 +4,11 @@
 use std::io::Write;
 use std::net::TcpListener;
 use std::process::{Command, Stdio};
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{Receiver, RecvTimeoutError, channel};
 use std::time::{Duration, Instant};
 
 use crate::bin_common::*;
+use crate::wait::PROCESS;
 
 #[cfg(windows)]
 const MISSING_PORT: &str = "COM199";
@@ -30,7 +30,7 @@ fn every_bad_line_flag_exits_2_with_one_line_naming_it_whatever_the_line() {
         ] {
             let mut args = line.to_vec();
             args.extend([flag, value, "--watch"]);
-            let run = run(PENDANT, &args, Duration::from_secs(20));
+            let run = run(PENDANT, &args, PROCESS);
             let code = run.status.and_then(|s| s.code());
             assert_eq!(code, Some(2), "{args:?}: {}", run.stderr);
             let err: Vec<&str> = run.stderr.lines().collect();
@@ -54,7 +54,7 @@ fn a_line_that_cannot_be_opened_is_reported_at_once() {
         vec!["--headless", "--tcp", &tcp],
         vec!["--tcp", &tcp, "--watch"],
     ] {
-        let run = run(PENDANT, &args, Duration::from_secs(20));
+        let run = run(PENDANT, &args, PROCESS);
         let status = run.status.expect("exits by itself");
         assert!(!status.success(), "{args:?}");
         assert_ne!(status.code(), Some(101), "{args:?}");
@@ -74,7 +74,7 @@ fn a_line_that_cannot_be_opened_is_reported_at_once() {
 #[test]
 fn with_no_display_the_window_says_to_use_headless() {
     for args in [vec![], vec!["--sim", "--baud", "9600"]] {
-        let run = run(PENDANT, &args, Duration::from_secs(20));
+        let run = run(PENDANT, &args, PROCESS);
         let status = run.status.expect("exits by itself");
         assert_eq!(status.code(), Some(2), "{args:?}");
         let err: Vec<&str> = run.stderr.lines().collect();
@@ -115,15 +115,11 @@ fn a_closed_stdout_ends_watch_quietly() {
         .expect("starts");
     let out = lines_of(child.stdout.take().expect("stdout"));
     let err = lines_of(child.stderr.take().expect("stderr"));
-    let got = wait_line(
-        &out,
-        |l| l.starts_with("link: connected"),
-        Duration::from_secs(20),
-    );
+    let got = wait_line(&out, |l| l.starts_with("link: connected"), PROCESS);
     assert!(got.is_ok(), "no connection: {got:?}");
     // Closing our end of the pipe is `| head -2`.
     drop(out);
-    let status = wait_exit(&mut child, Duration::from_secs(20));
+    let status = wait_exit(&mut child, PROCESS);
     let status = status.expect("ends by itself once stdout is closed");
     assert_ne!(status.code(), Some(101));
     assert!(status.success(), "{status:?}");
@@ -131,8 +127,8 @@ fn a_closed_stdout_ends_watch_quietly() {
     assert_no_panic(&stderr.join("\n"));
 }
 
-/// A peer that sends bytes with no line end at about 10 MB/s until told to stop.
-fn flood_server(stop: Arc<AtomicBool>) -> String {
+/// A peer that sends bytes with no line end at about 10 MB/s until `stop` is dropped.
+fn flood_server(stop: Receiver<()>) -> String {
     let listener = TcpListener::bind("127.0.0.1:0").expect("bind");
     let addr = listener.local_addr().expect("addr").to_string();
     std::thread::spawn(move || {
@@ -143,7 +139,7 @@ fn flood_server(stop: Arc<AtomicBool>) -> String {
         let start = Instant::now();
         let mut sent = 0u64;
         // Bounded in time whatever the test does.
-        while !stop.load(Ordering::Relaxed) && start.elapsed() < Duration::from_secs(30) {
+        while start.elapsed() < Duration::from_secs(30) {
             let due = start.elapsed().as_secs_f64() * 10e6;
             if (sent as f64) < due {
                 if peer.write_all(&chunk).is_err() {
@@ -151,7 +147,11 @@ fn flood_server(stop: Arc<AtomicBool>) -> String {
                 }
                 sent += chunk.len() as u64;
             } else {
-                std::thread::sleep(Duration::from_millis(2));
+                // Ahead of the rate: a moment's wait, which the stop ends.
+                match stop.recv_timeout(Duration::from_millis(2)) {
+                    Err(RecvTimeoutError::Timeout) => {}
+                    Ok(()) | Err(RecvTimeoutError::Disconnected) => return,
+                }
             }
         }
     });
@@ -160,8 +160,8 @@ fn flood_server(stop: Arc<AtomicBool>) -> String {
 
 #[test]
 fn a_flooding_peer_gets_a_few_short_lines_and_little_memory() {
-    let stop = Arc::new(AtomicBool::new(false));
-    let addr = flood_server(stop.clone());
+    let (stop, stopped) = channel::<()>();
+    let addr = flood_server(stopped);
     let started = Instant::now();
     let mut child = Command::new(PENDANT)
         .args(["--tcp", &addr, "--watch"])
@@ -184,7 +184,7 @@ fn a_flooding_peer_gets_a_few_short_lines_and_little_memory() {
         max_rss = max_rss.max(rss_kb(child.id()).unwrap_or(0));
     }
     let ran = started.elapsed();
-    stop.store(true, Ordering::Relaxed);
+    drop(stop);
     let _ = child.kill();
     let _ = child.wait();
     let text = lines.join("\n");
@@ -210,7 +210,7 @@ fn watch_shows_the_controller_and_no_position_while_the_line_is_down() {
             .spawn()
             .expect("simulator starts");
         let out = lines_of(sim.stdout.take().expect("stdout"));
-        let addr = out.recv_timeout(Duration::from_secs(20)).expect("address");
+        let addr = out.recv_timeout(PROCESS).expect("address");
         (sim, addr)
     };
     let (mut sim, addr) = start_sim("127.0.0.1:0");
@@ -222,7 +222,7 @@ fn watch_shows_the_controller_and_no_position_while_the_line_is_down() {
         .spawn()
         .expect("starts");
     let out = lines_of(pendant.stdout.take().expect("stdout"));
-    let within = Duration::from_secs(20);
+    let within = PROCESS;
     let first = wait_line(&out, |l| l.starts_with("controller: "), within);
     assert!(first.is_ok(), "no controller line: {first:?}");
     assert!(wait_line(&out, |l| l.starts_with("SCARA: "), within).is_ok());
@@ -230,8 +230,18 @@ fn watch_shows_the_controller_and_no_position_while_the_line_is_down() {
     let _ = sim.wait();
     let down = wait_line(&out, |l| l.contains("line down"), within);
     assert!(down.is_ok(), "the loss was not reported: {down:?}");
-    // The simulator comes back on the same address after a few watch periods.
-    std::thread::sleep(Duration::from_millis(1500));
+    // Three watch periods (500 ms each) with the line down, failing the moment a position
+    // is printed; then the simulator comes back on the same address.
+    let down_for = Duration::from_millis(1500);
+    let early = wait_line(
+        &out,
+        |l| l.starts_with("SCARA") || l.starts_with("  "),
+        down_for,
+    );
+    assert!(
+        early.is_err(),
+        "a position printed while the line was down: {early:?}"
+    );
     let (mut sim, _) = start_sim(&addr);
     let back = wait_line(&out, |l| l.contains("reconnected"), within);
     let _ = pendant.kill();

@@ -7,6 +7,7 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use crate::bin_common::*;
+use crate::wait::PROCESS;
 
 #[test]
 fn every_bad_option_exits_2_with_one_line_naming_it() {
@@ -25,11 +26,7 @@ fn every_bad_option_exits_2_with_one_line_naming_it() {
         ("--alarm", "000"),
         ("--alarm", "C7"),
     ] {
-        let run = run(
-            SIM,
-            &["--tcp", "127.0.0.1:0", flag, value],
-            Duration::from_secs(20),
-        );
+        let run = run(SIM, &["--tcp", "127.0.0.1:0", flag, value], PROCESS);
         let code = run.status.and_then(|s| s.code());
         assert_eq!(code, Some(2), "{flag} {value}: {}", run.stderr);
         let err: Vec<&str> = run.stderr.lines().collect();
@@ -43,7 +40,7 @@ fn every_bad_option_exits_2_with_one_line_naming_it() {
         odd.push(vec!["--tcp", "127.0.0.1:0", "--robot", "/dev/zero"]);
     }
     for args in odd {
-        let run = run(SIM, &args, Duration::from_secs(20));
+        let run = run(SIM, &args, PROCESS);
         assert_eq!(
             run.status.and_then(|s| s.code()),
             Some(2),
@@ -112,7 +109,7 @@ fn serve_tcp(flags: &[&str], stdin: Stdio) -> Served {
         .expect("starts");
     let out = lines_of(sim.stdout.take().expect("stdout"));
     let err = lines_of(sim.stderr.take().expect("stderr"));
-    let addr = out.recv_timeout(Duration::from_secs(20)).expect("address");
+    let addr = out.recv_timeout(PROCESS).expect("address");
     let peer = TcpStream::connect(&addr).expect("connects");
     peer.set_read_timeout(Some(Duration::from_millis(200)))
         .expect("timeout");
@@ -140,7 +137,7 @@ fn closed_stdout_and_stderr_leave_it_serving_with_logging_off() {
         "{first:?}"
     );
     // Two lines of log (the banner, the frame in), then `| head -2` closes the pipe.
-    let logged = wait_line(&err, |l| l.contains("rx "), Duration::from_secs(20));
+    let logged = wait_line(&err, |l| l.contains("rx "), PROCESS);
     assert!(logged.is_ok(), "no log line: {logged:?}");
     // The reader thread lets go of the pipe at the next line it cannot pass on, so
     // later log lines meet a closed pipe.
@@ -191,7 +188,7 @@ fn the_operator_console_and_start_flags_set_e_stop_mode_and_alarms() {
     assert!(send(&mut peer, "!992320F1").starts_with("&99B04"));
     let mut type_line = |line: &str, want: &str| {
         writeln!(console, "{line}").expect("console");
-        let got = wait_line(&out, |l| l.contains(want), Duration::from_secs(20));
+        let got = wait_line(&out, |l| l.contains(want), PROCESS);
         assert!(got.is_ok(), "`{line}`: no `{want}` on stdout: {got:?}");
     };
     type_line("estop off", "E-stop off");
@@ -212,14 +209,10 @@ fn the_operator_console_and_start_flags_set_e_stop_mode_and_alarms() {
         .expect("timeout");
     let mut buf = [0u8; 8];
     assert!(!matches!(second.read(&mut buf), Ok(n) if n > 0));
-    let refused = wait_line(
-        &err,
-        |l| l.contains("refused a second client"),
-        Duration::from_secs(20),
-    );
+    let refused = wait_line(&err, |l| l.contains("refused a second client"), PROCESS);
     assert!(refused.is_ok(), "no log line: {refused:?}");
     type_line("quit", "stopping");
-    let status = wait_exit(&mut sim, Duration::from_secs(20));
+    let status = wait_exit(&mut sim, PROCESS);
     assert!(
         status.is_some_and(|s| s.success()),
         "quit ends it: {status:?}"
@@ -228,7 +221,7 @@ fn the_operator_console_and_start_flags_set_e_stop_mode_and_alarms() {
 
 #[test]
 fn help_states_the_client_rule_units_and_console() {
-    let run = run(SIM, &["--help"], Duration::from_secs(20));
+    let run = run(SIM, &["--help"], PROCESS);
     for want in [
         "second client is refused at once",
         "0.001 deg",
@@ -245,7 +238,7 @@ fn help_states_the_client_rule_units_and_console() {
         (SIM, "xsel-sim"),
         (env!("CARGO_BIN_EXE_rmc-sim"), "rmc-sim"),
     ] {
-        let version = crate::bin_common::run(exe, &["--version"], Duration::from_secs(20));
+        let version = crate::bin_common::run(exe, &["--version"], PROCESS);
         assert!(
             version.stdout.starts_with(&format!("{name} ")),
             "{exe} --version says {:?}",

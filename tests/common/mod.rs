@@ -167,20 +167,6 @@ pub fn jog_x() -> Command {
     })
 }
 
-/// Waits until `cond` holds, checking every few milliseconds; false at the deadline.
-pub fn eventually(timeout: Duration, mut cond: impl FnMut() -> bool) -> bool {
-    let deadline = Instant::now() + timeout;
-    loop {
-        if cond() {
-            return true;
-        }
-        if Instant::now() >= deadline {
-            return false;
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    }
-}
-
 /// The message IDs of the frames the simulator received, in order ("236", "238"...).
 pub fn ids_received(sim: &SimHandle) -> Vec<String> {
     use xsel_pendant::sim::runner::Dir;

@@ -8,29 +8,35 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use xsel_pendant::ui::PendantApp;
 
+// The window binary's waits (and the benches', which include this module alone).
+#[path = "../wait/mod.rs"]
+pub mod wait;
+use wait::eventually;
+
 /// How long a wait may take before the test fails (only a failing test waits this long).
 pub const DEADLINE: Duration = Duration::from_secs(40);
 
 /// Steps the window until `done` holds, or fails naming `what` and the pendant's last
 /// messages after the deadline.
 pub fn step_until(h: &mut Harness<'_, PendantApp>, what: &str, done: impl Fn(&PendantApp) -> bool) {
-    let end = Instant::now() + DEADLINE;
-    while !done(h.state()) {
-        assert!(
-            Instant::now() < end,
-            "timed out waiting for: {what}; last jog message: {:?}; messages: {:?}",
-            h.state().pendant().jog.feedback,
-            h.state()
-                .pendant()
-                .messages
-                .iter()
-                .rev()
-                .take(5)
-                .collect::<Vec<_>>()
-        );
-        h.step();
-        std::thread::sleep(Duration::from_millis(5));
-    }
+    let held = eventually(DEADLINE, || {
+        done(h.state()) || {
+            h.step();
+            false
+        }
+    });
+    assert!(
+        held,
+        "timed out waiting for: {what}; last jog message: {:?}; messages: {:?}",
+        h.state().pendant().jog.feedback,
+        h.state()
+            .pendant()
+            .messages
+            .iter()
+            .rev()
+            .take(5)
+            .collect::<Vec<_>>()
+    );
     h.step();
 }
 

@@ -1,17 +1,16 @@
 //! The link's safety rules when the line misbehaves: motion never re-sent, late replies
 //! never credited to a move, a jog stopped when the line stalls, lost and regained lines.
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use crate::common::*;
+use crate::wait::{LONG, until};
 use xsel_pendant::link::{LinkConfig, LinkEvent, Origin, Priority};
 use xsel_pendant::protocol::{
     Axis, AxisPattern, CentiG, Command, Direction, Jog, JogFrame, JogMotion, Milli, MmPerSec, Reply,
 };
 use xsel_pendant::sim::runner::{RunOptions, SimCore, start_tcp};
 use xsel_pendant::sim::{Controller, Fault, FaultSpec};
-
-const LONG: Duration = Duration::from_secs(10);
 
 #[test]
 fn a_motion_command_that_times_out_is_never_sent_again_and_status_is_read_instead() {
@@ -155,11 +154,7 @@ fn a_stalled_line_stops_a_running_jog() {
         stop.is_some(),
         "the link stopped the jog by itself: {seen:#?}"
     );
-    let deadline = Instant::now() + LONG;
-    while sim.with(|c| c.in_use()) != 0 {
-        assert!(Instant::now() < deadline, "the arm never stopped");
-        std::thread::sleep(Duration::from_millis(10));
-    }
+    until("the arm to stop", LONG, || sim.with(|c| c.in_use()) == 0);
 }
 
 #[test]

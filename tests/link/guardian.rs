@@ -21,14 +21,12 @@ use xsel_pendant::session::{LineOwner, Session};
 use xsel_pendant::sim::runner::{RunOptions, SimCore, TcpServer, start_tcp};
 use xsel_pendant::sim::{Controller, FaultSpec};
 
-use crate::common::{
-    answered, eventually, ids_received, jog_x, ready_setup, stop_follows_last_jog, wait_for,
-};
+use crate::common::{answered, ids_received, jog_x, ready_setup, stop_follows_last_jog, wait_for};
+use crate::wait::{LONG, PROCESS, eventually};
 
 /// Set for the child "window": the simulator's address, and how the window ends.
 const WINDOW_ADDR: &str = "XSEL_GUARDIAN_TEST_WINDOW";
 const WINDOW_ENDS: &str = "XSEL_GUARDIAN_TEST_ENDS";
-const LONG: Duration = Duration::from_secs(20);
 
 fn guardian() -> LineOwner {
     LineOwner::Guardian {
@@ -69,7 +67,7 @@ fn window_process() {
     )
     .expect("a session");
     let mut seen = Vec::new();
-    let connected = wait_for(&session.events, LONG, &mut seen, |e| {
+    let connected = wait_for(&session.events, PROCESS, &mut seen, |e| {
         matches!(e, LinkEvent::Connected { .. })
     });
     let Some(LinkEvent::Connected { line }) = connected else {
@@ -77,25 +75,27 @@ fn window_process() {
     };
     println!("connected {line}");
     let id = session.link.submit(jog_x(), Priority::User);
-    match wait_for(&session.events, LONG, &mut seen, answered(id)) {
+    match wait_for(&session.events, PROCESS, &mut seen, answered(id)) {
         Some(LinkEvent::Reply { .. }) => println!("jogging"),
         other => panic!("the jog was not accepted: {other:?}"),
     }
     let _ = std::io::stdout().flush();
     if std::env::var(WINDOW_ENDS).is_ok_and(|e| e == "exit") {
+        // Ten frames of a window, each woken by the link's events or a 20 ms timer.
         for _ in 0..10 {
             session.link.renew_jog_lease();
-            std::thread::sleep(Duration::from_millis(20));
+            let _ = session.events.recv_timeout(Duration::from_millis(20));
         }
         drop(session);
         println!("exited");
         return;
     }
-    // Held until the test kills or stops this process.
+    // Held until the test kills or stops this process: a frame whenever events come, and
+    // at least every 20 ms.
     loop {
         session.link.renew_jog_lease();
+        let _ = session.events.recv_timeout(Duration::from_millis(20));
         let _ = session.events.try_iter().count();
-        std::thread::sleep(Duration::from_millis(20));
     }
 }
 
@@ -145,7 +145,7 @@ impl Window {
     /// Waits for a line of the window's output starting with `text`.
     fn expect(&mut self, text: &str) -> String {
         loop {
-            match self.lines.recv_timeout(LONG) {
+            match self.lines.recv_timeout(PROCESS) {
                 Ok(line) if line.starts_with(text) => return line,
                 Ok(_) => {}
                 Err(_) => panic!("the window never said {text:?}"),
@@ -173,8 +173,7 @@ impl Drop for Window {
 /// The arm is idle and the frames after the last jog include 238H.
 fn assert_stopped(sim: &TcpServer) {
     assert!(
-        eventually(Duration::from_secs(10), || sim.handle.with(|c| c.in_use())
-            == 0),
+        eventually(LONG, || sim.handle.with(|c| c.in_use()) == 0),
         "the arm still moves"
     );
     assert!(
@@ -186,7 +185,7 @@ fn assert_stopped(sim: &TcpServer) {
 
 /// A second client is served: the guardian has let go of the line.
 fn assert_line_free(sim: &TcpServer) {
-    let free = eventually(Duration::from_secs(10), || {
+    let free = eventually(LONG, || {
         let Ok(mut t) = TcpTransport::connect(&sim.addr.to_string(), Duration::from_secs(1)) else {
             return false;
         };
@@ -228,6 +227,8 @@ mod noisy_line {
     use std::sync::{Arc, Mutex};
     use std::time::Duration;
 
+    use crossbeam_channel::{RecvTimeoutError, Sender, bounded};
+
     use super::{Window, assert_stopped, simulator};
 
     /// A TCP relay from one client to `upstream` that adds junk CR LF lines to what the
@@ -236,7 +237,8 @@ mod noisy_line {
     struct JunkRelay {
         addr: SocketAddr,
         junk: Arc<AtomicBool>,
-        stop: Arc<AtomicBool>,
+        /// Dropped with the relay: its junk writer ends.
+        _stop: Sender<()>,
     }
 
     impl JunkRelay {
@@ -244,8 +246,8 @@ mod noisy_line {
             let listener = TcpListener::bind("127.0.0.1:0").expect("a relay port");
             let addr = listener.local_addr().expect("its address");
             let junk = Arc::new(AtomicBool::new(false));
-            let stop = Arc::new(AtomicBool::new(false));
-            let (junk_on, stopping) = (junk.clone(), stop.clone());
+            let (stop, stopping) = bounded::<()>(0);
+            let junk_on = junk.clone();
             std::thread::spawn(move || {
                 let Ok((client, _)) = listener.accept() else {
                     return;
@@ -288,8 +290,10 @@ mod noisy_line {
                 let slice: Vec<u8> =
                     b"JJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJJ\r\n"
                         .repeat((bytes_per_sec / 100 / 62).max(1));
-                while !stopping.load(Ordering::Relaxed) {
-                    std::thread::sleep(Duration::from_millis(10));
+                // A slice every 10 ms until the relay is dropped.
+                while let Err(RecvTimeoutError::Timeout) =
+                    stopping.recv_timeout(Duration::from_millis(10))
+                {
                     if junk_on.load(Ordering::Relaxed) {
                         let mut c = to_client.lock().unwrap_or_else(|p| p.into_inner());
                         if c.write_all(&slice).is_err() {
@@ -298,13 +302,11 @@ mod noisy_line {
                     }
                 }
             });
-            JunkRelay { addr, junk, stop }
-        }
-    }
-
-    impl Drop for JunkRelay {
-        fn drop(&mut self) {
-            self.stop.store(true, Ordering::Relaxed);
+            JunkRelay {
+                addr,
+                junk,
+                _stop: stop,
+            }
         }
     }
 
@@ -351,7 +353,7 @@ fn hundreds_of_queries_through_the_guardian_are_all_answered_in_order() {
     let mut answered_ids = Vec::new();
     let mut seen = Vec::new();
     while answered_ids.len() < ids.len() {
-        match wait_for(&session.events, LONG, &mut seen, |e| {
+        match wait_for(&session.events, PROCESS, &mut seen, |e| {
             matches!(
                 e,
                 LinkEvent::Reply { .. }

@@ -4,6 +4,8 @@
 
 #[path = "../common/mod.rs"]
 mod common;
+#[path = "../wait/mod.rs"]
+mod wait;
 
 mod backlog;
 mod faults;

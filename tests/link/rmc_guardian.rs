@@ -17,8 +17,9 @@ use xsel_pendant::session::LineOwner;
 use xsel_pendant::session::rmc::RmcSession;
 use xsel_pendant::sim::rmc::{RmcConfig, RmcServer};
 
+use crate::wait::{PROCESS, until};
+
 const WINDOW_ADDR: &str = "XSEL_RMC_GUARDIAN_TEST_WINDOW";
-const LONG: Duration = Duration::from_secs(20);
 
 fn axis0() -> AxisId {
     AxisId::new(0).unwrap()
@@ -38,7 +39,7 @@ fn rmc_window_process() {
         exe: PathBuf::from(env!("CARGO_BIN_EXE_xsel-pendant")),
     };
     let session = RmcSession::open(&settings, Arc::new(|_| {}), &owner).expect("a session");
-    let end = Instant::now() + LONG;
+    let end = Instant::now() + PROCESS;
     let wait = |what: &str, done: &dyn Fn(&RmcEvent) -> bool| loop {
         assert!(Instant::now() < end, "the window never saw {what}");
         if let Ok(e) = session.events.recv_timeout(Duration::from_millis(100))
@@ -69,9 +70,10 @@ fn rmc_window_process() {
     });
     println!("moving");
     let _ = std::io::stdout().flush();
+    // Held until the test kills this process.
     loop {
+        let _ = session.events.recv_timeout(Duration::from_millis(20));
         let _ = session.events.try_iter().count();
-        std::thread::sleep(Duration::from_millis(20));
     }
 }
 
@@ -111,20 +113,14 @@ fn a_killed_window_leaves_the_rmc_axis_stopped_by_its_guardian() {
     let mut lines = BufReader::new(child.0.stdout.take().unwrap()).lines();
     let moving = lines.any(|l| l.is_ok_and(|l| l.starts_with("moving")));
     assert!(moving, "the window never started its move");
-    let end = Instant::now() + LONG;
-    while truth().target_velocity == 0.0 {
-        assert!(Instant::now() < end, "the axis never moved");
-        std::thread::sleep(Duration::from_millis(5));
-    }
+    until("the axis to move", PROCESS, || {
+        truth().target_velocity != 0.0
+    });
     child.0.kill().expect("kill the window");
     let _ = child.0.wait();
-    while truth().target_velocity != 0.0 {
-        assert!(
-            Instant::now() < end,
-            "the axis still moves after the window died"
-        );
-        std::thread::sleep(Duration::from_millis(10));
-    }
+    until("the axis to stop after the window died", PROCESS, || {
+        truth().target_velocity == 0.0
+    });
     let s = truth();
     assert!(
         s.target_position < 50.0,

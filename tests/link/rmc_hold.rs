@@ -45,12 +45,13 @@ fn the_first_hold_over_tcp_with_the_guardian_runs_until_release() {
     let mut safety_stops = Vec::new();
     let mut stops_after_release = 0;
     // One loop turn is one frame of the window: events in, the pointer's state, the calls
-    // out in the order the model gives them.
+    // out in the order the model gives them. As the window does, a frame comes when the
+    // link has events, and at the latest a lease renewal after the last one.
     loop {
         assert!(Instant::now() < deadline, "the hold never ended");
-        std::thread::sleep(RENEW_EVERY);
+        let woke = session.events.recv_timeout(RENEW_EVERY).ok();
         let now = Instant::now();
-        for event in session.events.try_iter() {
+        for event in woke.into_iter().chain(session.events.try_iter()) {
             match &event {
                 RmcEvent::SafetyStop { why, .. } => {
                     safety_stops.push((pressed.map(|p| now - p), why.text()))

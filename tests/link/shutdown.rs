@@ -1,15 +1,14 @@
 //! STOP survives every way out: explicit shutdown, dropping the handle (mid-jog, right
 //! after `stop_all`, with the line down), and a jog whose lease is not renewed.
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use crate::common::*;
+use crate::wait::{LONG, eventually};
 use xsel_pendant::link::{
     LinkConfig, LinkEvent, NotSentReason, Origin, Priority, ShutdownReport, StopOutcome,
 };
 use xsel_pendant::sim::FaultSpec;
-
-const LONG: Duration = Duration::from_secs(10);
 
 /// No polling, and a lease long enough that it is not what stops the jog.
 fn config() -> LinkConfig {
@@ -210,17 +209,18 @@ fn a_renewed_lease_keeps_the_jog_running() {
     let jog = link.submit(jog_x(), Priority::User);
     let mut seen = Vec::new();
     wait_for(&events, LONG, &mut seen, answered(jog)).expect("jog answered");
-    // Renewed well within the lease for several lease lengths: no STOP goes out.
-    for _ in 0..30 {
+    // Renewed well within the lease for four lease lengths: no STOP goes out (the watch
+    // fails the moment one does).
+    let stopped = eventually(4 * lease, || {
         link.renew_jog_lease();
-        std::thread::sleep(Duration::from_millis(20));
-    }
+        ids_received(&sim).iter().any(|id| id == "238")
+    });
     while let Ok(e) = events.try_recv() {
         seen.push(e);
     }
     assert!(
-        !ids_received(&sim).iter().any(|id| id == "238"),
-        "{}",
+        !stopped,
+        "a STOP while the lease was renewed: {}",
         story(&seen)
     );
     assert_ne!(sim.with(|c| c.in_use()), 0, "still jogging");
@@ -284,13 +284,11 @@ fn a_refused_jog_leaves_no_lease_to_lapse_but_a_running_one_keeps_its_lease() {
         "{}",
         story(&seen)
     );
-    let quiet = Instant::now() + 4 * lease;
-    while Instant::now() < quiet {
-        std::thread::sleep(Duration::from_millis(10));
-    }
-    assert_eq!(
-        stops(),
-        before,
+    // Watched for four lease lengths, failing the moment a STOP goes out: no later event
+    // could show that a lease never armed did not lapse.
+    let stopped = eventually(4 * lease, || stops() != before);
+    assert!(
+        !stopped,
         "a STOP for a jog that never ran: {}",
         story(&seen)
     );

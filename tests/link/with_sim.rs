@@ -1,15 +1,14 @@
 //! The link engine against the simulator: over the embedded pipe and a real
 //! pseudo-terminal, with STOP, lost lines and table downloads.
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use crate::common::*;
+use crate::wait::{LONG, until};
 use xsel_pendant::line::LineSettings;
 use xsel_pendant::link::{LinkConfig, LinkEvent, Origin, Polling, Priority, TableRequest};
 use xsel_pendant::protocol::{Command, CoordKind, ErrorCode, Reply};
 use xsel_pendant::sim::FaultSpec;
-
-pub const LONG: Duration = Duration::from_secs(10);
 
 #[test]
 fn polls_bring_scara_and_system_status_over_the_embedded_pipe() {
@@ -83,11 +82,7 @@ fn a_relative_step_moves_the_arm_by_exactly_the_step_in_the_work_frame() {
         ),
         "2D5H acknowledged: {answer:?}"
     );
-    let deadline = Instant::now() + LONG;
-    while sim.with(|c| c.in_use()) != 0 {
-        assert!(Instant::now() < deadline, "the move never ended");
-        std::thread::sleep(Duration::from_millis(10));
-    }
+    until("the move to end", LONG, || sim.with(|c| c.in_use()) == 0);
     let after = sim.with(|c| c.tip_work());
     assert!(
         (after.x - before.x + 5.0).abs() < 0.001,

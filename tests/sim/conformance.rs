@@ -13,6 +13,11 @@ use xsel_pendant::sim::runner::{RunOptions, SimCore, SimHandle, TcpServer, start
 use xsel_pendant::sim::{Controller, FaultSpec, Mode, SimSetup};
 
 use crate::wire::{frame, sc};
+use wait::{LONG, eventually, until};
+
+// The simulator binary's waits, for its other modules too (as `crate::conformance::wait`).
+#[path = "../wait/mod.rs"]
+pub(crate) mod wait;
 
 /// The line a test talks over.
 #[derive(Clone, Copy, Debug)]
@@ -169,17 +174,15 @@ impl Client {
 
     /// Polls 212H (all axes) until no axis is in use (bit 0); returns axes 1-4's statuses.
     fn wait_idle(&mut self) -> [u32; 4] {
-        let deadline = Instant::now() + Duration::from_secs(10);
-        loop {
+        let mut st: Vec<u32> = Vec::new();
+        let idle = eventually(LONG, || {
             let r = self.cmd("!99212FF");
             let n = (r.len() - 10) / 16;
-            let st: Vec<u32> = (0..n).map(|k| hex(&r[8 + 16 * k..10 + 16 * k])).collect();
-            if st.iter().all(|s| s & 1 == 0) {
-                return [st[0], st[1], st[2], st[3]];
-            }
-            assert!(Instant::now() < deadline, "axes still in use: {st:?}");
-            std::thread::sleep(Duration::from_millis(10));
-        }
+            st = (0..n).map(|k| hex(&r[8 + 16 * k..10 + 16 * k])).collect();
+            st.iter().all(|s| s & 1 == 0)
+        });
+        assert!(idle, "axes still in use: {st:?}");
+        [st[0], st[1], st[2], st[3]]
     }
 
     /// Servo on and home axes 1-4, checking the status bits on the way.
@@ -361,7 +364,9 @@ fn every_message_is_answered_with_its_layout(line: Line) {
     // 25BH: acknowledged, then silent while rebooting, then back (servos off).
     assert_eq!(c.cmd("!9925B"), "#9925B3E");
     assert!(c.silent(&frame("!99215")), "silent while rebooting");
-    std::thread::sleep(Duration::from_millis(350));
+    until("the controller back from its reboot", LONG, || {
+        !c.sim().with(|ctl| ctl.is_rebooting())
+    });
     let (st, _) = c.scara(0);
     assert!(
         st.iter().all(|s| s & 0x08 == 0),
@@ -432,7 +437,10 @@ fn stop_mid_move_ends_short_and_not_completed(line: Line) {
         )),
         "#992D540"
     );
-    std::thread::sleep(Duration::from_millis(400));
+    // Stopped once it has run 10 mm of the 150.
+    until("the line to run 10 mm", LONG, || {
+        before[1] - c.scara(0).1[1] >= 10_000
+    });
     assert_eq!(c.cmd("!992380F00"), "#9923832");
     let st = c.wait_idle();
     assert!(
@@ -449,8 +457,9 @@ fn stop_mid_move_ends_short_and_not_completed(line: Line) {
     let n = c.sim().counters();
     assert_eq!(n.motion_cancelled, 1);
     // Jog until STOP, then an inching step in the each-axis system.
+    let (_, rest) = c.scara(3);
     assert_eq!(c.cmd(&jog(1, 20, 0, 1)), "#9923630");
-    std::thread::sleep(Duration::from_millis(200));
+    until("the jog to move the arm", LONG, || c.scara(3).1 != rest);
     let (st, _) = c.scara(0);
     assert!(st.iter().all(|s| s & 1 == 1), "jogging: {st:?}");
     assert_eq!(c.cmd("!992380F00"), "#9923832");
@@ -468,6 +477,7 @@ fn moves_out_of_reach_or_range_are_refused_and_the_arm_stays(line: Line) {
     c.servo_and_home();
     let (_, before) = c.scara(0);
     let (_, joints_before) = c.scara(3);
+    let started = c.sim().counters().motion_started;
     let refusals = [
         // X +400 mm: beyond the 500 mm reach.
         (format!("!992D50100000000000002{}", i32hex(400_000)), "B08"),
@@ -496,7 +506,12 @@ fn moves_out_of_reach_or_range_are_refused_and_the_arm_stays(line: Line) {
         assert_eq!(now, before, "arm moved after {body}");
         assert!(st.iter().all(|s| s & 1 == 0), "axis in use after a refusal");
     }
-    std::thread::sleep(Duration::from_millis(100));
+    // A refused move never starts: none counted as started, the joints where they were.
+    assert_eq!(
+        c.sim().counters().motion_started,
+        started,
+        "a refused move started"
+    );
     assert_eq!(c.scara(3).1, joints_before);
     let n = c.sim().counters();
     assert_eq!(n.motion_refused, refusals.len() as u64);

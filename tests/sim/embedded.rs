@@ -11,24 +11,8 @@ use xsel_pendant::sim::framing::Silence;
 use xsel_pendant::sim::runner::{Dir, format_entry};
 use xsel_pendant::sim::{EmbeddedOptions, Fault, FaultSpec, Mode, start_embedded};
 
+use crate::conformance::wait::{LONG, eventually};
 use crate::wire::frame;
-
-/// Generous: a deadline only bounds how long a failing test waits.
-const PATIENCE: Duration = Duration::from_secs(5);
-
-/// Polls `cond` until it holds or [`PATIENCE`] runs out; returns whether it held.
-fn eventually(mut cond: impl FnMut() -> bool) -> bool {
-    let deadline = Instant::now() + PATIENCE;
-    loop {
-        if cond() {
-            return true;
-        }
-        if Instant::now() >= deadline {
-            return false;
-        }
-        std::thread::sleep(Duration::from_millis(2));
-    }
-}
 
 fn ask(pipe: &mut PipeEnd, body: &str, wait: Duration) -> Option<String> {
     pipe.write_all(&frame(body)).unwrap();
@@ -49,7 +33,7 @@ fn embedded_simulator_answers_and_reports() {
     opts.setup.config.start_ready = true;
     opts.read_timeout = Duration::from_millis(10);
     let (mut pipe, sim) = start_embedded(opts);
-    let w = PATIENCE;
+    let w = LONG;
     assert_eq!(
         ask(&mut pipe, "!99215", w).as_deref(),
         Some("#9921510000000000060004\r\n")
@@ -68,7 +52,7 @@ fn embedded_simulator_answers_and_reports() {
     sim.set_faults(FaultSpec::none().with(Fault::Drop, 1.0));
     pipe.write_all(&frame("!99215")).unwrap();
     assert!(
-        eventually(|| sim.fault_counts().drop == 1),
+        eventually(LONG, || sim.fault_counts().drop == 1),
         "the drop is counted"
     );
     // The drop is decided before anything is written: no byte of that reply will come.
@@ -85,7 +69,7 @@ fn embedded_simulator_answers_and_reports() {
     assert!(sim.is_running());
     drop(pipe);
     assert!(
-        eventually(|| !sim.is_running()),
+        eventually(LONG, || !sim.is_running()),
         "the thread ends when the pendant's end is dropped"
     );
     sim.join();
@@ -105,7 +89,7 @@ fn every_frame_in_is_logged_with_the_reason_of_a_silence() {
     let (mut pipe, sim) = start_embedded(opts);
     pipe.write_all(b"#992152D\r\nhello\r\n!99215FF\r\nzz!99215")
         .unwrap();
-    let r = ask(&mut pipe, "!99215", PATIENCE);
+    let r = ask(&mut pipe, "!99215", LONG);
     assert_eq!(r.as_deref(), Some("#9921510000000000060004\r\n"));
     let ins: Vec<(Vec<u8>, Option<Silence>)> = sim
         .traffic()
@@ -132,7 +116,7 @@ fn every_frame_in_is_logged_with_the_reason_of_a_silence() {
     );
     assert_eq!(n.frames, n.replies + n.errors + n.silent(), "{n:?}");
     // The reply is logged once written: it may reach us first.
-    eventually(|| lines.lock().unwrap().len() >= 7);
+    eventually(LONG, || lines.lock().unwrap().len() >= 7);
     let lines = lines.lock().unwrap();
     assert_eq!(lines.len(), 7, "six in, one out: {lines:#?}");
     assert!(

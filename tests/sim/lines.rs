@@ -3,6 +3,13 @@
 //! client, paced replies over TCP, a host that never reads the 25BH reply. Every wait has
 //! a deadline; nothing asserts on timing.
 
+// Threaded smoke tests that keep a fixed sleep: a third-party host's pace, with no
+// condition to wait for, only a speed to keep:
+// - `ten_thousand_pipelined_frames_over_a_pty_are_all_answered_in_order`: a reader 20 ms
+//   slow a read, so that the pty fills while the writer goes on;
+// - `a_frame_sent_a_byte_at_a_time_is_answered`: 3 ms between bytes, so that each comes
+//   to the simulator on its own.
+
 use std::io::{Read, Write};
 use std::net::TcpStream;
 use std::sync::{Arc, Mutex};
@@ -12,6 +19,7 @@ use xsel_pendant::line::byte_time_8n1;
 use xsel_pendant::sim::runner::{RunOptions, SimCore, start_tcp};
 use xsel_pendant::sim::{Controller, FaultSpec, SimSetup};
 
+use crate::conformance::wait::{LONG, eventually};
 use crate::wire::{frame, sc};
 
 const FRAMES: usize = 10_000;
@@ -209,15 +217,10 @@ fn a_second_tcp_client_is_refused_at_once_and_logged() {
             || matches!(&got, Err(e) if e.kind() != std::io::ErrorKind::WouldBlock && e.kind() != std::io::ErrorKind::TimedOut),
         "the second client is closed at once, not left waiting: {got:?}"
     );
-    let deadline = Instant::now() + Duration::from_secs(5);
-    while !seen.lock().unwrap().iter().any(|l| l.contains("refused")) {
-        assert!(
-            Instant::now() < deadline,
-            "no log line: {:?}",
-            seen.lock().unwrap()
-        );
-        std::thread::sleep(Duration::from_millis(10));
-    }
+    let logged = eventually(LONG, || {
+        seen.lock().unwrap().iter().any(|l| l.contains("refused"))
+    });
+    assert!(logged, "no log line: {:?}", seen.lock().unwrap());
     // The first client is still served.
     first.write_all(&numbered(2)).unwrap();
     let lines = read_lines(|b| first.read(b), 1);

@@ -5,7 +5,9 @@
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpStream;
 use std::process::{Child, Command, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+use crate::conformance::wait::{LONG, until};
 
 /// Kills the simulator when the test ends, passed or not.
 struct Guard(Child);
@@ -136,15 +138,11 @@ fn rmc_sim_moves_an_axis_for_a_plain_modbus_client() {
     first.write_reals(20480, &[0.0; 6]);
     assert_eq!(first.status().0 & ACK, 0);
     first.write_reals(20480, &[277.0, 10.0, 100.0, 1000.0, 1000.0, 0.0]);
-    let deadline = Instant::now() + Duration::from_secs(10);
-    let (bits, command) = loop {
-        let (bits, command) = first.status();
-        if bits & (IN_POSITION | ACK) == IN_POSITION | ACK {
-            break (bits, command);
-        }
-        assert!(Instant::now() < deadline, "never in position: {bits:#x}");
-        std::thread::sleep(Duration::from_millis(5));
-    };
+    let (mut bits, mut command) = first.status();
+    until("In Position and ACK", LONG, || {
+        (bits, command) = first.status();
+        bits & (IN_POSITION | ACK) == IN_POSITION | ACK
+    });
     assert_eq!(command, 10.0, "{bits:#x}");
 
     // A second connection has its own ACK bits: 0 for the axis the first commanded.

@@ -11,6 +11,7 @@ use xsel_pendant::protocol::HomeState;
 use xsel_pendant::sim::runner::Dir;
 use xsel_pendant::ui::{PendantApp, StartOptions};
 
+use crate::kittest_common::wait::{eventually, until};
 use crate::kittest_common::{DEADLINE, alarm_code, click, replace_text, show_tab, step_until};
 
 pub(crate) fn app<'a>() -> Harness<'a, PendantApp> {
@@ -205,17 +206,14 @@ fn a_held_continuous_jog_runs_until_the_key_is_released() {
     click(&mut h, "Continuous");
     h.key_down(egui::Key::ArrowRight);
     step_until(&mut h, "the jog to run", sim_busy);
-    // Held for a while: the lease is renewed every frame, the jog keeps running.
-    let end = Instant::now() + Duration::from_millis(600);
-    while Instant::now() < end {
+    // Held for 600 ms, more than two jog leases: the lease is renewed every frame, and
+    // the jog runs at every frame (the watch fails the moment it does not).
+    let stopped = eventually(Duration::from_millis(600), || {
         h.key_down(egui::Key::ArrowRight);
         h.step();
-        std::thread::sleep(Duration::from_millis(10));
-    }
-    assert!(
-        sim_busy(h.state()),
-        "the jog stopped while the key was held"
-    );
+        !sim_busy(h.state())
+    });
+    assert!(!stopped, "the jog stopped while the key was held");
     h.key_up(egui::Key::ArrowRight);
     step_until(&mut h, "the jog to stop on release", |a| !sim_busy(a));
     let ids = ids_in(&h.state().sim().map(|s| s.traffic()).unwrap_or_default());
@@ -244,15 +242,9 @@ fn closing_the_window_mid_jog_stops_the_arm() {
         .expect("the built-in simulator");
     // The window closes with the key still held: the app, its link and the simulator go.
     drop(h);
-    let busy = || watch.with(|c| c.snapshot().in_use) != 0;
-    let end = Instant::now() + DEADLINE;
-    while busy() {
-        assert!(
-            Instant::now() < end,
-            "the arm still jogs after the window closed"
-        );
-        std::thread::sleep(Duration::from_millis(5));
-    }
+    until("the arm to stop after the window closed", DEADLINE, || {
+        watch.with(|c| c.snapshot().in_use) == 0
+    });
     let ids = ids_in(&watch.traffic());
     assert_eq!(ids.last().map(String::as_str), Some("238"), "{ids:?}");
 }
@@ -334,14 +326,13 @@ pub(crate) fn count_in(app: &PendantApp, id: &str) -> usize {
 }
 
 /// Steps the window for `d` of real time (the simulator runs on the clock), checking
-/// `each` after every frame.
+/// `each` after every frame: a hold is a length of time, watched frame by frame.
 fn hold_for(h: &mut Harness<'_, PendantApp>, d: Duration, each: impl Fn(&PendantApp)) {
-    let end = Instant::now() + d;
-    while Instant::now() < end {
+    let _ = eventually(d, || {
         h.step();
         each(h.state());
-        std::thread::sleep(Duration::from_millis(5));
-    }
+        false
+    });
 }
 
 pub(crate) fn button_rect(h: &Harness<'_, PendantApp>, label: &str) -> egui::Rect {
@@ -577,25 +568,31 @@ fn pgup_raises_the_tool_and_pgdn_lowers_it() {
 fn an_idle_connected_window_is_woken_by_a_handful_of_events_in_5_s_of_polling() {
     let mut h = app();
     ready(&mut h);
-    // Let the move of homing settle and every first answer arrive.
-    let settled = Instant::now() + Duration::from_secs(1);
-    while Instant::now() < settled {
+    // Let the move of homing settle and every first answer arrive: four polls in a row
+    // that woke nothing.
+    let mut quiet_from = (h.state().link_wakes(), sim_polls(h.state()));
+    until("four polls in a row that woke nothing", DEADLINE, || {
         h.step();
-        std::thread::sleep(Duration::from_millis(20));
-    }
+        let (wakes, polls) = (h.state().link_wakes(), sim_polls(h.state()));
+        if wakes != quiet_from.0 {
+            quiet_from = (wakes, polls);
+        }
+        polls >= quiet_from.1 + 4
+    });
+    // 5 s of polling, failing the moment a sixth wake comes.
     let (wakes, polls) = (h.state().link_wakes(), sim_polls(h.state()));
-    let end = Instant::now() + Duration::from_secs(5);
-    while Instant::now() < end {
+    let woke = |h: &Harness<'_, PendantApp>| h.state().link_wakes() - wakes;
+    let too_many = eventually(Duration::from_secs(5), || {
         h.step();
-        std::thread::sleep(Duration::from_millis(50));
-    }
+        woke(&h) > 5
+    });
     let polled = sim_polls(h.state()) - polls;
-    let woke = h.state().link_wakes() - wakes;
-    assert!(polled >= 20, "the link polled only {polled} times in 5 s");
+    let woke = woke(&h);
     assert!(
-        woke <= 5,
+        !too_many,
         "{woke} wakes for {polled} polls that answered the same as before"
     );
+    assert!(polled >= 20, "the link polled only {polled} times in 5 s");
     // A change is still drawn at once: a step moves the arm, and its replies wake.
     click(&mut h, "X+");
     step_until(&mut h, "the step's replies to wake the window", |a| {
