@@ -38,11 +38,3 @@ pub fn until(what: &str, within: Duration, cond: impl FnMut() -> bool) {
         "timed out after {within:?} waiting for {what}"
     );
 }
-
-/// Watches `cond` for all of `window`; fails naming `what` the moment it holds. For what
-/// must not happen (a STOP nobody asked for, a backlog that keeps growing), where no later
-/// event can show it did not.
-#[track_caller]
-pub fn never(what: &str, window: Duration, cond: impl FnMut() -> bool) {
-    assert!(!eventually(window, cond), "{what} (within {window:?})");
-}
