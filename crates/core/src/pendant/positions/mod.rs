@@ -79,7 +79,9 @@ impl Column {
                 3 => "Z mm",
                 4 => "R deg",
                 5 => "Axis 5 mm",
-                _ => "Axis 6 mm",
+                6 => "Axis 6 mm",
+                7 => "Axis 7 mm",
+                _ => "Axis 8 deg",
             },
             Column::Arm => "Arm",
             Column::Speed => "Speed mm/s",
@@ -160,6 +162,14 @@ pub fn parse_cell(rec: &mut PositionRecord, column: Column, text: &str) -> Resul
 }
 
 fn parse_decimal(t: &str, decimals: usize) -> Result<f64, String> {
+    // Digits, one point, a leading sign: no exponent, no "inf" (a number read as typed).
+    let digits = t.strip_prefix(['-', '+']).unwrap_or(t);
+    if digits.is_empty()
+        || !digits.chars().all(|c| c.is_ascii_digit() || c == '.')
+        || digits.matches('.').count() > 1
+    {
+        return Err(format!("`{t}` is not a number"));
+    }
     let v: f64 = t.parse().map_err(|_| format!("`{t}` is not a number"))?;
     if !v.is_finite() {
         return Err(format!("`{t}` is not a number"));
@@ -407,8 +417,16 @@ impl Positions {
         ))
     }
 
-    fn take_in(&mut self, data: &PositionData, first: u16, count: u16) -> Result<(), String> {
-        let end = u32::from(first) + u32::from(count);
+    /// Takes a reply's records in; `Ok(Some(range))`: the reply may have been cut short by
+    /// the reply buffer, and `range` (after its last record) is to be read again.
+    fn take_in(
+        &mut self,
+        data: &PositionData,
+        first: u16,
+        count: u16,
+    ) -> Result<Option<RangeInclusive<u16>>, String> {
+        let mut end = u32::from(first) + u32::from(count);
+        let asked_end = end;
         let mut prev = 0u16;
         for rec in &data.records {
             let n = u32::from(rec.number);
@@ -421,6 +439,18 @@ impl Positions {
             }
             prev = rec.number;
         }
+        let len = data.kind.reply_len(&data.records);
+        // Cut at this controller's buffer, or at the small one of the J/K/TT models
+        // whichever this one has: a needless query after a full reply costs little.
+        let cut = [self.reply_buffer, crate::protocol::SMALL_REPLY_BUFFER]
+            .into_iter()
+            .any(|buffer| len <= buffer && data.kind.may_be_cut(len, buffer));
+        let mut again = None;
+        if prev > 0 && cut && u32::from(prev) + 1 < end {
+            // Numbers after the last record are not known to be empty.
+            end = u32::from(prev) + 1;
+            again = Some(prev + 1..=(asked_end - 1) as u16);
+        }
         for n in first..(end.min(u32::from(u16::MAX)) as u16) {
             if let Some(r) = self.row_mut(n) {
                 *r = Row::Empty;
@@ -431,7 +461,7 @@ impl Positions {
                 *r = Row::Held(*rec);
             }
         }
-        Ok(())
+        Ok(again)
     }
 
     fn fail_rows(&mut self, first: u16, count: u16, why: &str) {
@@ -448,11 +478,19 @@ impl Positions {
         match event {
             LinkEvent::Reply { command, reply, .. } => match (command, reply) {
                 (Command::PositionQuery(q), Reply::Positions(data)) => {
-                    if self.read.as_mut().is_some_and(|j| j.answered(q))
-                        && let Err(why) = self.take_in(data, q.first, q.count)
-                    {
-                        said.push((Level::Error, format!("positions {}: {why}", q.first)));
-                        self.fail_rows(q.first, q.count, &why);
+                    if self.read.as_mut().is_some_and(|j| j.answered(q)) {
+                        match self.take_in(data, q.first, q.count) {
+                            Ok(None) => {}
+                            Ok(Some(rest)) => {
+                                if let Some(job) = self.read.as_mut() {
+                                    job.read_again(rest);
+                                }
+                            }
+                            Err(why) => {
+                                said.push((Level::Error, format!("positions {}: {why}", q.first)));
+                                self.fail_rows(q.first, q.count, &why);
+                            }
+                        }
                     }
                 }
                 (Command::PositionWrite(w), Reply::PositionsWritten(done)) => {

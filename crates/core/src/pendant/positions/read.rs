@@ -26,6 +26,8 @@ pub struct ReadJob {
     pub done: u32,
     /// Whether this read checks a write (its rows are compared when it ends).
     pub verifies: bool,
+    /// Ranges to ask for before going on (the rest of a reply that was cut short).
+    again: VecDeque<RangeInclusive<u16>>,
 }
 
 impl ReadJob {
@@ -44,6 +46,7 @@ impl ReadJob {
             in_flight: VecDeque::new(),
             done: 0,
             verifies,
+            again: VecDeque::new(),
         }
     }
 
@@ -66,6 +69,23 @@ impl ReadJob {
     pub fn next_queries(&mut self) -> Vec<Command> {
         let mut out = Vec::new();
         while self.in_flight.len() < IN_FLIGHT {
+            if let Some(r) = self.again.pop_front() {
+                let count = (u32::from(*r.end()) - u32::from(*r.start()) + 1)
+                    .min(u32::from(self.chunk)) as u16;
+                let q = PositionQuery {
+                    kind: self.kind,
+                    first: *r.start(),
+                    count,
+                };
+                if let Some(rest) = r.start().checked_add(count).filter(|s| s <= r.end()) {
+                    self.again.push_front(rest..=*r.end());
+                }
+                // The numbers asked again were counted done with the reply that was cut.
+                self.done = self.done.saturating_sub(u32::from(count));
+                self.in_flight.push_back(q);
+                out.push(Command::PositionQuery(q));
+                continue;
+            }
             let Some(range) = self.parts.get(self.part) else {
                 break;
             };
@@ -102,12 +122,18 @@ impl ReadJob {
 
     /// Every query sent and answered.
     pub fn is_finished(&self) -> bool {
-        self.in_flight.is_empty() && self.part >= self.parts.len()
+        self.in_flight.is_empty() && self.again.is_empty() && self.part >= self.parts.len()
     }
 
     /// Stops asking; what is in flight is still taken in.
     pub fn stop_asking(&mut self) {
         self.part = self.parts.len();
+        self.again.clear();
+    }
+
+    /// Asks for `range` again first (a reply cut short by the reply buffer).
+    pub fn read_again(&mut self, range: RangeInclusive<u16>) {
+        self.again.push_back(range);
     }
 }
 

@@ -56,7 +56,10 @@ impl Bench {
         );
         b.pump(|_| Fault::Pass);
         // Work 0 and tool 0 are selected on the simulator: the base frame and the flange.
-        for kind in [crate::protocol::CoordKind::Work, crate::protocol::CoordKind::Tool] {
+        for kind in [
+            crate::protocol::CoordKind::Work,
+            crate::protocol::CoordKind::Tool,
+        ] {
             b.p.handle_event(
                 start,
                 LinkEvent::TableDone {
@@ -588,4 +591,26 @@ fn go_is_2d6h_at_the_capped_jog_speed_after_the_checks_of_a_step() {
             assert_eq!(speed.0, sent.cp_speed_mm_s)
         }
     }
+}
+
+#[test]
+fn a_reply_cut_short_by_the_buffer_is_read_on_from_its_last_record() {
+    // The simulator's buffer is the small one; the pendant sizes for the large one.
+    let mut setup = empty_setup();
+    setup.config.reply_buffer = crate::protocol::SMALL_REPLY_BUFFER;
+    for n in 1..=60u16 {
+        setup.positions.insert(n, record(n, 200_000 + i32::from(n)));
+    }
+    let mut b = Bench::new(setup);
+    b.apply(PositionsIntent::Read { from: 1, to: 60 });
+    b.pump(|_| Fault::Pass);
+    let pos = &b.p.positions;
+    for n in 1..=60u16 {
+        assert_eq!(
+            pos.row(n),
+            &Row::Held(record(n, 200_000 + i32::from(n))),
+            "No. {n}"
+        );
+    }
+    assert!(matches!(pos.feedback, Some((Level::Info, ref t)) if t.contains("60 used")));
 }

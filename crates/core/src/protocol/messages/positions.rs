@@ -72,6 +72,28 @@ impl PositionQueryKind {
         HEAD + if self.arms() { 2 } else { 0 } + digits(self.four()) + TAIL
     }
 
+    /// The length of a reply carrying `records`, header to LF.
+    pub fn reply_len<'r>(self, records: impl IntoIterator<Item = &'r PositionRecord>) -> usize {
+        self.reply_fixed()
+            + records
+                .into_iter()
+                .map(|r| self.record_len(r))
+                .sum::<usize>()
+    }
+
+    /// Characters of `record` in this query's reply.
+    pub fn record_len(self, record: &PositionRecord) -> usize {
+        record_len(digits(self.four()), record.coords.len(), self.arms())
+    }
+
+    /// Whether a reply of `len` bytes may have been cut short by a reply buffer of
+    /// `reply_buffer` bytes: one more record of a single axis would not have fitted.
+    /// Whether a controller cuts or refuses is not stated `[inferred, PROTOCOL.md 3.24]`;
+    /// a host reads on from the last number returned.
+    pub fn may_be_cut(self, len: usize, reply_buffer: usize) -> bool {
+        len + record_len(digits(self.four()), 1, self.arms()) > reply_buffer
+    }
+
     /// How many records carrying `axes` axes each fit one reply in a buffer of
     /// `reply_buffer` bytes (PROTOCOL.md 3.24's table; header to LF counted `[inferred]`).
     /// A host cannot know a record's axes before it reads it: size with the controller's

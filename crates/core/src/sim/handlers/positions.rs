@@ -53,27 +53,6 @@ fn write_is_4_digit(kind: PositionWriteKind) -> bool {
     !matches!(kind, PositionWriteKind::Range | PositionWriteKind::Change)
 }
 
-/// Characters of a query reply besides its records: header, station, ID, the reserved
-/// `00` of 22DH, the count, SC CR LF (PROTOCOL.md 3.25-3.27).
-fn reply_fixed(kind: PositionQueryKind) -> usize {
-    let (digits, reserved) = match kind {
-        PositionQueryKind::Query => (3, 0),
-        PositionQueryKind::Query2 => (4, 0),
-        PositionQueryKind::Query3 => (4, 2),
-    };
-    6 + reserved + digits + 4
-}
-
-/// Characters of one reply record: number, pattern, rates, 8 per axis, arm byte (22DH).
-fn reply_record(kind: PositionQueryKind, record: &PositionRecord) -> usize {
-    let (digits, arms) = match kind {
-        PositionQueryKind::Query => (3, 0),
-        PositionQueryKind::Query2 => (4, 0),
-        PositionQueryKind::Query3 => (4, 2),
-    };
-    digits + 2 + 12 + 8 * record.coords.len() + arms
-}
-
 /// A rate of 26BH (mm/s, or 0.01 G as mm/s^2) as a PTP percentage of `max` (0 stays 0:
 /// the parameter's value), rounded up, 1 to 100.
 fn percent_of(v: f64, max: f64) -> u16 {
@@ -147,10 +126,10 @@ impl Controller {
         }
         self.check_position_range(q.first, q.count)?;
         let last = q.first + (q.count - 1);
-        let mut len = reply_fixed(q.kind);
+        let mut len = q.kind.reply_len([]);
         let mut records = Vec::new();
         for record in self.positions.range(q.first..=last).map(|(_, r)| r) {
-            len += reply_record(q.kind, record);
+            len += q.kind.record_len(record);
             if len > self.cfg.reply_buffer {
                 break;
             }
@@ -408,7 +387,7 @@ mod tests {
             assert_eq!(got.len(), fit, "{kind:?}");
             assert_eq!(got[0].number, 5);
             // One more would not have fitted.
-            assert!(out.len() + reply_record(kind, &got[0]) > 2048);
+            assert!(out.len() + kind.record_len(&got[0]) > 2048);
         }
         // The small buffer halves it.
         let mut s = SimSetup::default();
