@@ -135,6 +135,49 @@ impl Pendant {
         })
     }
 
+    /// What a move to position record `rec` would do now, for its ghost: Go to No. N
+    /// hovered (the controller's record) or a row of the write preview (the draft's).
+    pub fn preview_position(
+        &self,
+        rec: &crate::protocol::PositionRecord,
+        now: Instant,
+    ) -> Option<StepPreview> {
+        let arm = self.arm_now(now).ok();
+        let plan = match &arm {
+            None => Err(Refusal::NoPosition),
+            Some(a) => jog::plan_position_go(&self.model, &self.kin, &self.jog_sent(), rec, a),
+        };
+        let tip_base = match (&plan, &arm) {
+            (Ok(p), Some(a)) => a.work.work_to_base(&p.end_work),
+            (Err(_), Some(a)) => {
+                // The record's place as far as it says (axes it lacks stay where they are).
+                let here = crate::robot::tip_in_work(&self.kin, &a.joints, &a.work, &a.tool);
+                let mut w = here.to_wire();
+                for (i, axis) in [
+                    crate::protocol::Axis::A1,
+                    crate::protocol::Axis::A2,
+                    crate::protocol::Axis::A3,
+                    crate::protocol::Axis::A4,
+                ]
+                .into_iter()
+                .enumerate()
+                {
+                    if let Some(v) = rec.coords.get(axis) {
+                        w[i] = v.0;
+                    }
+                }
+                a.work.work_to_base(&Pose::from_wire(w))
+            }
+            _ => return None,
+        };
+        Some(StepPreview {
+            label: format!("No. {}", rec.number),
+            tip_base,
+            joints: plan.as_ref().ok().map(|p| p.end),
+            plan,
+        })
+    }
+
     /// "Go to target": 2D4H after the readiness, frame and move checks; an arm flip
     /// asks for a second press. The target stays set (a refused one can be edited).
     pub fn go_to_target(&mut self, now: Instant) {

@@ -1,18 +1,27 @@
 //! Typed message bodies, one file per message family (PROTOCOL.md section 3).
 
-/// Declares a flag-byte newtype with one getter and one builder per bit.
+/// Declares a flag-byte newtype with one getter and one builder per bit, and `BITS`, the
+/// same bits named for the frame describer (with any multi-bit groups after them): each
+/// bit's meaning is written once.
 macro_rules! flags {
     (
         $(#[$m:meta])*
         $name:ident {
-            $( $(#[$fm:meta])* $get:ident / $set:ident = $bit:expr; )*
+            $( $(#[$fm:meta])* $get:ident / $set:ident = $bit:expr, $label:literal; )*
         }
+        $( groups [ $($group:expr),* $(,)? ] )?
     ) => {
         $(#[$m])*
         #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
         pub struct $name(pub u8);
 
         impl $name {
+            /// Every named bit (then bit groups), for descriptions.
+            pub(crate) const BITS: &'static [crate::protocol::fields::BitDef] = &[
+                $( crate::protocol::fields::bit($bit, $label), )*
+                $( $($group,)* )?
+            ];
+
             $(
                 $(#[$fm])*
                 pub const fn $get(self) -> bool {

@@ -2,7 +2,7 @@
 
 use crate::protocol::axis::{Axis, AxisPattern, PerAxis};
 use crate::protocol::error::{EncodeError, MessageError};
-use crate::protocol::fields::{BitDef, Name, Reader, Show, bit};
+use crate::protocol::fields::{BitDef, Name, Reader, Show};
 use crate::protocol::ids::ErrorCode;
 use crate::protocol::units::{AxisUnit, Milli};
 use crate::protocol::writer::Writer;
@@ -25,14 +25,20 @@ flags! {
     /// as received.
     AxisStatus {
         /// Bit 0: a task owns the axis (moving, switching servo, paused).
-        in_use / with_in_use = 0;
+        in_use / with_in_use = 0, "servo axis in use";
         /// Bit 3: servo on.
-        servo_on / with_servo_on = 3;
+        servo_on / with_servo_on = 3, "servo on";
         /// Bit 4: the last operation command completed normally.
-        completed_normally / with_completed_normally = 4;
+        completed_normally / with_completed_normally = 4, "operation completed normally";
         /// Bit 5: push error detected.
-        push_error / with_push_error = 5;
+        push_error / with_push_error = 5, "push error";
     }
+    groups [BitDef {
+        lo: 1,
+        width: 2,
+        name: "home state",
+        values: &[(0, "not done"), (1, "homing"), (2, "done")],
+    }]
 }
 
 impl AxisStatus {
@@ -62,11 +68,11 @@ flags! {
     /// Axis sensor input status, 1 hex digit (PROTOCOL.md 3.3). Each: 1 = ON.
     SensorInput {
         /// Bit 0: creep sensor.
-        creep / with_creep = 0;
+        creep / with_creep = 0, "creep sensor";
         /// Bit 1: overrun sensor.
-        overrun / with_overrun = 1;
+        overrun / with_overrun = 1, "overrun sensor";
         /// Bit 2: home sensor.
-        home / with_home = 2;
+        home / with_home = 2, "home sensor";
     }
 }
 
@@ -74,19 +80,19 @@ flags! {
     /// Encoder status (at reset) (PROTOCOL.md 3.3).
     EncoderStatus {
         /// Bit 0: OS overspeed.
-        overspeed / with_overspeed = 0;
+        overspeed / with_overspeed = 0, "OS overspeed";
         /// Bit 1: FS full-absolute status.
-        full_absolute / with_full_absolute = 1;
+        full_absolute / with_full_absolute = 1, "FS full-absolute status";
         /// Bit 2: CE count error.
-        count_error / with_count_error = 2;
+        count_error / with_count_error = 2, "CE count error";
         /// Bit 3: OF counter overflow.
-        counter_overflow / with_counter_overflow = 3;
+        counter_overflow / with_counter_overflow = 3, "OF counter overflow";
         /// Bit 5: ME multi-rotation error.
-        multi_rotation_error / with_multi_rotation_error = 5;
+        multi_rotation_error / with_multi_rotation_error = 5, "ME multi-rotation error";
         /// Bit 6: BE battery error.
-        battery_error / with_battery_error = 6;
+        battery_error / with_battery_error = 6, "BE battery error";
         /// Bit 7: BA battery alarm.
-        battery_alarm / with_battery_alarm = 7;
+        battery_alarm / with_battery_alarm = 7, "BA battery alarm";
     }
 }
 
@@ -105,35 +111,6 @@ pub struct AxisState {
     pub position: Milli,
 }
 
-pub(crate) const AXIS_STATUS_BITS: &[BitDef] = &[
-    bit(0, "servo axis in use"),
-    BitDef {
-        lo: 1,
-        width: 2,
-        name: "home state",
-        values: &[(0, "not done"), (1, "homing"), (2, "done")],
-    },
-    bit(3, "servo on"),
-    bit(4, "operation completed normally"),
-    bit(5, "push error"),
-];
-
-const SENSOR_BITS: &[BitDef] = &[
-    bit(0, "creep sensor"),
-    bit(1, "overrun sensor"),
-    bit(2, "home sensor"),
-];
-
-const ENCODER_BITS: &[BitDef] = &[
-    bit(0, "OS overspeed"),
-    bit(1, "FS full-absolute status"),
-    bit(2, "CE count error"),
-    bit(3, "OF counter overflow"),
-    bit(5, "ME multi-rotation error"),
-    bit(6, "BE battery error"),
-    bit(7, "BA battery alarm"),
-];
-
 /// Reads the per-axis blocks for every axis of `pattern`; `unit` gives each axis's unit.
 pub(crate) fn read_axis_blocks(
     r: &mut Reader<'_, '_>,
@@ -142,12 +119,18 @@ pub(crate) fn read_axis_blocks(
 ) -> Result<PerAxis<AxisState>, MessageError> {
     let mut out = PerAxis::new();
     for a in pattern {
-        let status = AxisStatus(r.u8(Name::axis("status", a), 2, Show::Bits(AXIS_STATUS_BITS))?);
-        let sensor =
-            SensorInput(r.u8(Name::axis("sensor input", a), 1, Show::Bits(SENSOR_BITS))?);
+        let status = AxisStatus(r.u8(Name::axis("status", a), 2, Show::Bits(AxisStatus::BITS))?);
+        let sensor = SensorInput(r.u8(
+            Name::axis("sensor input", a),
+            1,
+            Show::Bits(SensorInput::BITS),
+        )?);
         let error = r.error_code(Name::axis("error code", a))?;
-        let encoder =
-            EncoderStatus(r.u8(Name::axis("encoder status", a), 2, Show::Bits(ENCODER_BITS))?);
+        let encoder = EncoderStatus(r.u8(
+            Name::axis("encoder status", a),
+            2,
+            Show::Bits(EncoderStatus::BITS),
+        )?);
         let position = r.coord(Name::axis("position", a), unit(a))?;
         out.set(
             a,
@@ -227,19 +210,19 @@ flags! {
     /// 215H system status byte 1.
     SystemStatus1 {
         /// Bit 0: mode switch in MANUAL (0 = AUTO).
-        manual_switch / with_manual_switch = 0;
+        manual_switch / with_manual_switch = 0, "mode switch MANUAL";
         /// Bit 1: TP enable switch OFF.
-        tp_enable_off / with_tp_enable_off = 1;
+        tp_enable_off / with_tp_enable_off = 1, "TP enable switch OFF";
         /// Bit 2: safety gate open (enable switch on some controllers).
-        safety_gate_open / with_safety_gate_open = 2;
+        safety_gate_open / with_safety_gate_open = 2, "safety gate open";
         /// Bit 3: emergency stop active.
-        emergency_stop / with_emergency_stop = 3;
+        emergency_stop / with_emergency_stop = 3, "emergency stop";
         /// Bit 4: power error.
-        power_error / with_power_error = 4;
+        power_error / with_power_error = 4, "power error";
         /// Bit 5: battery low warning.
-        battery_low / with_battery_low = 5;
+        battery_low / with_battery_low = 5, "battery low warning";
         /// Bit 6: battery voltage error.
-        battery_error / with_battery_error = 6;
+        battery_error / with_battery_error = 6, "battery voltage error";
     }
 }
 
@@ -247,17 +230,17 @@ flags! {
     /// 215H system status byte 2.
     SystemStatus2 {
         /// Bit 0: application data flash-ROM write/erase in progress.
-        flash_writing / with_flash_writing = 0;
+        flash_writing / with_flash_writing = 0, "flash-ROM write in progress";
         /// Bit 1: slave parameter write in progress.
-        slave_parameter_writing / with_slave_parameter_writing = 1;
+        slave_parameter_writing / with_slave_parameter_writing = 1, "slave parameter write in progress";
         /// Bit 2: servo interlock.
-        servo_interlock / with_servo_interlock = 2;
+        servo_interlock / with_servo_interlock = 2, "servo interlock";
         /// Bit 3: I/O interlock.
-        io_interlock / with_io_interlock = 3;
+        io_interlock / with_io_interlock = 3, "I/O interlock";
         /// Bit 4: waiting for restart.
-        waiting_for_restart / with_waiting_for_restart = 4;
+        waiting_for_restart / with_waiting_for_restart = 4, "waiting for restart";
         /// Bit 5: program running.
-        program_running / with_program_running = 5;
+        program_running / with_program_running = 5, "program running";
     }
 }
 
@@ -265,39 +248,15 @@ flags! {
     /// 215H system status byte 3.
     SystemStatus3 {
         /// Bit 0: drive source cut off.
-        drive_cut_off / with_drive_cut_off = 0;
+        drive_cut_off / with_drive_cut_off = 0, "drive source cut off";
         /// Bit 1: operating in AUTO mode.
-        auto_operation / with_auto_operation = 1;
+        auto_operation / with_auto_operation = 1, "operating in AUTO mode";
         /// Bit 2: system ready.
-        ready / with_ready = 2;
+        ready / with_ready = 2, "system ready";
         /// Bit 4: operation mode positioner (0 = program).
-        positioner_mode / with_positioner_mode = 4;
+        positioner_mode / with_positioner_mode = 4, "operation mode positioner";
     }
 }
-
-const STATUS1_BITS: &[BitDef] = &[
-    bit(0, "mode switch MANUAL"),
-    bit(1, "TP enable switch OFF"),
-    bit(2, "safety gate open"),
-    bit(3, "emergency stop"),
-    bit(4, "power error"),
-    bit(5, "battery low warning"),
-    bit(6, "battery voltage error"),
-];
-const STATUS2_BITS: &[BitDef] = &[
-    bit(0, "flash-ROM write in progress"),
-    bit(1, "slave parameter write in progress"),
-    bit(2, "servo interlock"),
-    bit(3, "I/O interlock"),
-    bit(4, "waiting for restart"),
-    bit(5, "program running"),
-];
-const STATUS3_BITS: &[BitDef] = &[
-    bit(0, "drive source cut off"),
-    bit(1, "operating in AUTO mode"),
-    bit(2, "system ready"),
-    bit(4, "operation mode positioner"),
-];
 
 /// 215H reply: system status (PROTOCOL.md 3.4).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -335,17 +294,17 @@ impl SystemStatus {
         let status1 = SystemStatus1(r.u8(
             Name::new("system status byte 1"),
             2,
-            Show::Bits(STATUS1_BITS),
+            Show::Bits(SystemStatus1::BITS),
         )?);
         let status2 = SystemStatus2(r.u8(
             Name::new("system status byte 2"),
             2,
-            Show::Bits(STATUS2_BITS),
+            Show::Bits(SystemStatus2::BITS),
         )?);
         let status3 = SystemStatus3(r.u8(
             Name::new("system status byte 3"),
             2,
-            Show::Bits(STATUS3_BITS),
+            Show::Bits(SystemStatus3::BITS),
         )?);
         let status4 = r.u8(Name::new("system status byte 4 (reserved)"), 2, Show::Hex)?;
         Ok(SystemStatus {
