@@ -13,11 +13,8 @@ use xsel_pendant::sim::runner::{RunOptions, SimCore, SimHandle, TcpServer, start
 use xsel_pendant::sim::{Controller, FaultSpec, Mode, SimSetup};
 
 use crate::wire::{frame, sc};
-use wait::{LONG, eventually, until};
+use crate::wait::{LONG, eventually, until};
 
-// The simulator binary's waits, for its other modules too (as `crate::conformance::wait`).
-#[path = "../wait/mod.rs"]
-pub(crate) mod wait;
 
 /// The line a test talks over.
 #[derive(Clone, Copy, Debug)]

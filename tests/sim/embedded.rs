@@ -11,7 +11,7 @@ use xsel_pendant::sim::framing::Silence;
 use xsel_pendant::sim::runner::{Dir, format_entry};
 use xsel_pendant::sim::{EmbeddedOptions, Fault, FaultSpec, Mode, start_embedded};
 
-use crate::conformance::wait::{LONG, eventually};
+use crate::wait::{LONG, eventually};
 use crate::wire::frame;
 
 fn ask(pipe: &mut PipeEnd, body: &str, wait: Duration) -> Option<String> {

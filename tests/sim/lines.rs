@@ -19,7 +19,7 @@ use xsel_pendant::line::byte_time_8n1;
 use xsel_pendant::sim::runner::{RunOptions, SimCore, start_tcp};
 use xsel_pendant::sim::{Controller, FaultSpec, SimSetup};
 
-use crate::conformance::wait::{LONG, eventually};
+use crate::wait::{LONG, eventually};
 use crate::wire::{frame, sc};
 
 const FRAMES: usize = 10_000;

@@ -3,6 +3,8 @@
 //!
 //! One test binary for the group: each links the whole app, so fewer binaries build faster.
 
+#[path = "../wait/mod.rs"]
+mod wait;
 #[path = "../wire/mod.rs"]
 mod wire;
 

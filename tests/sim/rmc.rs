@@ -7,7 +7,7 @@ use std::net::TcpStream;
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
-use crate::conformance::wait::{LONG, until};
+use crate::wait::{LONG, until};
 
 /// Kills the simulator when the test ends, passed or not.
 struct Guard(Child);
