@@ -694,6 +694,8 @@ impl eframe::App for PendantApp {
             });
         self.arm.hovered_step = pad.hovered.map(|t| (t.axis, t.direction));
         self.arm.hovered_point = self.teach.hovered_go;
+        // Last frame's hovered Go or preview row; this frame's is found while drawing.
+        self.arm.hovered_position = self.positions.hovered.take();
         self.frame_log.live_in_sight = false;
         egui::CentralPanel::default().show(ui, |ui| {
             let mut tabs = Tabs {
@@ -718,6 +720,9 @@ impl eframe::App for PendantApp {
             };
             tabs.pane_rects.clear();
             layout::show(ui, &mut self.dock, &mut tabs);
+            let top = ui.max_rect().top();
+            self.positions
+                .preview_window(ui.ctx(), top, &self.pendant, &mut intents);
         });
         self.live_log_shown.store(
             self.frame_log.live_in_sight,

@@ -54,6 +54,9 @@ pub struct ArmView {
     pub hovered_step: Option<(JogAxis, Direction)>,
     /// The taught point whose Go is under the pointer (last frame).
     pub hovered_point: Option<usize>,
+    /// The position record whose move is under the pointer (the Positions view's Go or
+    /// a row of its write preview).
+    pub hovered_position: Option<crate::protocol::PositionRecord>,
     /// Where the context menu was opened, scene mm.
     menu_at: Option<Mm>,
     /// The last scene painted (tests read it).
@@ -254,6 +257,10 @@ impl ArmView {
             .filter(|_| stepping)
             .and_then(|(axis, dir)| pendant.preview_jog(axis, dir, now))
             .or_else(|| self.hovered_point.and_then(|i| pendant.preview_go(i, now)))
+            .or_else(|| {
+                self.hovered_position
+                    .and_then(|r| pendant.preview_position(&r, now))
+            })
             .or_else(|| pendant.preview_target(now))
             .or_else(|| pendant.preview_followed(now))
     }

@@ -20,7 +20,7 @@ mod messages;
 mod pad;
 pub mod plots;
 mod ports;
-mod positions;
+pub mod positions;
 mod readout;
 mod rmc_connection;
 mod run;

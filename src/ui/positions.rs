@@ -87,6 +87,9 @@ pub struct PositionsPanel {
     file: FileField<PositionsFile>,
     job: Option<Job<PositionsDone>>,
     file_message: Option<(bool, String)>,
+    /// The record whose move is under the pointer this frame (a Go, a preview row): the
+    /// arm view draws its ghost.
+    pub hovered: Option<PositionRecord>,
 }
 
 impl Default for PositionsPanel {
@@ -102,6 +105,7 @@ impl Default for PositionsPanel {
             file: FileField::new(&FILE_FIELD, ""),
             job: None,
             file_message: None,
+            hovered: None,
         }
     }
 }
@@ -183,9 +187,6 @@ impl PositionsPanel {
         out: &mut Vec<Intent>,
     ) {
         let positions = &pendant.positions;
-        if positions.preview.is_none() {
-            self.take_the_risk = false;
-        }
         let mut ask = Vec::new();
         self.toolbar(ui, positions, &mut ask);
         self.filter_bar(ui, positions);
@@ -200,9 +201,25 @@ impl PositionsPanel {
         // Computed once a frame: 20,000 numbers filtered cost well under a millisecond.
         let visible = positions.visible(&self.filter);
         self.table(ui, pendant, &visible, now, &mut ask);
-        if let Some(preview) = &positions.preview {
-            self.preview(ui, preview, &mut ask);
-        }
+        out.extend(ask.into_iter().map(Intent::Positions));
+    }
+
+    /// The write's preview, whichever tab is in front, in a window that stays below
+    /// `top` (the centre's top edge: the top bar's STOP is never covered). Called once
+    /// a frame after the panes, which clear [`PositionsPanel::hovered`] first.
+    pub fn preview_window(
+        &mut self,
+        ctx: &egui::Context,
+        top: f32,
+        pendant: &Pendant,
+        out: &mut Vec<Intent>,
+    ) {
+        let Some(preview) = &pendant.positions.preview else {
+            self.take_the_risk = false;
+            return;
+        };
+        let mut ask = Vec::new();
+        self.preview(ctx, top, preview, &mut ask);
         out.extend(ask.into_iter().map(Intent::Positions));
     }
 
@@ -374,7 +391,7 @@ impl PositionsPanel {
                 (_, Err(e)) => e.to_string(),
                 _ => String::new(),
             };
-            if ui
+            let go = ui
                 .add_enabled(
                     ready.is_ok() && number.is_ok(),
                     Button::new(format!("Go to No. {shown_n}")),
@@ -383,11 +400,16 @@ impl PositionsPanel {
                     "Move to the controller's record (not the draft's): {}",
                     go_words(pendant)
                 ))
-                .on_disabled_hover_text(go_why)
-                .clicked()
-                && let Ok(n) = number
-            {
-                ask.push(PositionsIntent::Go(n));
+                .on_disabled_hover_text(go_why);
+            if let Ok(n) = number {
+                if go.hovered()
+                    && let Row::Held(r) = pendant.positions.row(n)
+                {
+                    self.hovered = Some(*r);
+                }
+                if go.clicked() {
+                    ask.push(PositionsIntent::Go(n));
+                }
             }
             ui.label(RichText::new(go_words(pendant)).small().color(GREY));
         });
@@ -616,16 +638,19 @@ impl PositionsPanel {
                                     ask.push(PositionsIntent::Revert(n));
                                     self.edit = None;
                                 }
-                                if matches!(positions.row(n), Row::Held(_))
-                                    && ui
+                                if let Row::Held(held) = positions.row(n) {
+                                    let go = ui
                                         .add_enabled(ready.is_ok(), Button::new("Go").small())
                                         .on_hover_text(format!(
                                             "Go to No. {n} (the controller's record): {go_how}"
                                         ))
-                                        .on_disabled_hover_text(&go_why)
-                                        .clicked()
-                                {
-                                    ask.push(PositionsIntent::Go(n));
+                                        .on_disabled_hover_text(&go_why);
+                                    if go.hovered() {
+                                        self.hovered = Some(*held);
+                                    }
+                                    if go.clicked() {
+                                        ask.push(PositionsIntent::Go(n));
+                                    }
                                 }
                             });
                         });
@@ -787,13 +812,16 @@ impl PositionsPanel {
 
     /// The write's preview, in a window that stays inside the centre (the top bar's
     /// STOP is never covered).
-    fn preview(&mut self, ui: &mut Ui, preview: &Preview, ask: &mut Vec<PositionsIntent>) {
-        // From the pane's top down: the top bar with STOP lies above every pane.
-        let content = ui.ctx().content_rect();
-        let area = egui::Rect::from_min_max(
-            egui::pos2(content.left(), ui.clip_rect().top()),
-            content.max,
-        );
+    fn preview(
+        &mut self,
+        ctx: &egui::Context,
+        top: f32,
+        preview: &Preview,
+        ask: &mut Vec<PositionsIntent>,
+    ) {
+        // From the centre's top down: the top bar with STOP lies above it.
+        let content = ctx.content_rect();
+        let area = egui::Rect::from_min_max(egui::pos2(content.left(), top), content.max);
         let mut open = true;
         egui::Window::new("Write positions to the controller")
             .collapsible(false)
@@ -802,7 +830,7 @@ impl PositionsPanel {
             .default_pos(area.left_top() + egui::vec2(40.0, 40.0))
             .default_width(560.0)
             .open(&mut open)
-            .show(ui.ctx(), |ui| {
+            .show(ctx, |ui| {
                 ui.label(format!(
                     "{} rows change ({}):",
                     preview.rows.len(),
@@ -813,12 +841,16 @@ impl PositionsPanel {
                     .id_salt("positions-preview-rows")
                     .show(ui, |ui| {
                         for row in &preview.rows {
-                            ui.label(format!(
+                            let line = ui.label(format!(
                                 "No. {}: {} -> {}",
                                 row.number,
                                 row_words(&row.old),
                                 record_words(&row.new)
                             ));
+                            if line.hovered() {
+                                // Its ghost in the arm view: where the new row would take the arm.
+                                self.hovered = Some(row.new);
+                            }
                             match &row.check {
                                 Ok(()) => {
                                     ui.label(RichText::new("    the arm can go there").color(GREEN))

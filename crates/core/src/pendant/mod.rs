@@ -524,7 +524,9 @@ impl Pendant {
             }
             Reply::Version(v) => self.controller.version = Some(v),
             Reply::Ack(_) => match command {
-                Command::ScaraMoveRelative(_) | Command::ScaraMoveAbsolute(_) => {
+                Command::ScaraMoveRelative(_)
+                | Command::ScaraMoveAbsolute(_)
+                | Command::ScaraMovePosition(_) => {
                     if let Some(f) = self
                         .jog
                         .followed

@@ -383,6 +383,14 @@ fn teach_write_read_back_and_go_bring_the_arm_back_to_the_taught_pose() {
         panic!("no 2D6H: {:?}", b.p.jog.feedback);
     };
     assert_eq!(m.position, 12);
+    // The acknowledge makes it the followed move: phase and command position follow it.
+    assert!(
+        b.p.jog
+            .followed
+            .as_ref()
+            .is_some_and(|f| f.accepted.is_some())
+    );
+    assert!(b.p.jog.command_position.is_some());
     b.settle();
     let back = b.sim.tip_work();
     for (a, t) in [(back.x, taught.x), (back.y, taught.y), (back.z, taught.z)] {
