@@ -90,7 +90,11 @@ pub struct PositionsPanel {
     /// The record whose move is under the pointer this frame (a Go, a preview row): the
     /// arm view draws its ghost.
     pub hovered: Option<PositionRecord>,
+    /// The numbers shown, and what they were filtered from (revision, filter, capacity).
+    visible: Option<VisibleRows>,
 }
+
+type VisibleRows = ((u64, Filter, u16), Vec<u16>);
 
 impl Default for PositionsPanel {
     fn default() -> Self {
@@ -106,6 +110,7 @@ impl Default for PositionsPanel {
             job: None,
             file_message: None,
             hovered: None,
+            visible: None,
         }
     }
 }
@@ -198,9 +203,18 @@ impl PositionsPanel {
             .map(|(level, text)| (level_color(*level), text.as_str()));
         reserved_line(ui, feedback, feedback.map(|(_, t)| t));
         ui.separator();
-        // Computed once a frame: 20,000 numbers filtered cost well under a millisecond.
-        let visible = positions.visible(&self.filter);
-        self.table(ui, pendant, &visible, now, &mut ask);
+        // Filtered again only when the table, the draft or the filter changed.
+        let key = (
+            positions.revision(),
+            self.filter.clone(),
+            positions.capacity(),
+        );
+        if self.visible.as_ref().is_none_or(|(k, _)| *k != key) {
+            self.visible = Some((key, positions.visible(&self.filter)));
+        }
+        let visible = self.visible.take().unwrap_or_default();
+        self.table(ui, pendant, &visible.1, now, &mut ask);
+        self.visible = Some(visible);
         out.extend(ask.into_iter().map(Intent::Positions));
     }
 

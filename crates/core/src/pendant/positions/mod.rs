@@ -252,6 +252,9 @@ pub struct Positions {
     commands: Vec<(Command, bool)>,
     /// A Go that flips the arm, waiting for a second press until then.
     pub(crate) go_confirm: Option<(u16, Instant)>,
+    /// Counts changes to rows and draft: a view's filtered numbers stay valid while it
+    /// holds.
+    revision: u64,
 }
 
 impl Default for Positions {
@@ -277,6 +280,7 @@ impl Positions {
             feedback: None,
             commands: Vec::new(),
             go_confirm: None,
+            revision: 0,
         }
     }
 
@@ -312,6 +316,7 @@ impl Positions {
     }
 
     fn row_mut(&mut self, n: u16) -> Option<&mut Row> {
+        self.revision += 1;
         n.checked_sub(1)
             .and_then(|i| self.rows.get_mut(usize::from(i)))
     }
@@ -345,6 +350,11 @@ impl Positions {
             .filter(|r| self.differs(r.number))
             .copied()
             .collect()
+    }
+
+    /// Changes so far to the rows and the draft (what [`Positions::visible`] depends on).
+    pub fn revision(&self) -> u64 {
+        self.revision
     }
 
     /// The numbers the table shows under `filter`, ascending.
@@ -703,6 +713,7 @@ impl Positions {
             };
             if outcome == Outcome::Holds {
                 self.draft.remove(&n);
+                self.revision += 1;
             }
             job.outcomes.insert(n, outcome);
         }
@@ -740,6 +751,7 @@ impl Positions {
     // ---- the draft ----
 
     fn edit(&mut self, changes: Vec<(u16, Option<PositionRecord>)>) {
+        self.revision += 1;
         let mut before = Vec::with_capacity(changes.len());
         for (n, new) in changes {
             let old = match new {
@@ -782,6 +794,7 @@ impl Positions {
         let Some(step) = step else {
             return false;
         };
+        self.revision += 1;
         let mut back = Vec::with_capacity(step.len());
         for (n, rec) in step.into_iter().rev() {
             let old = match rec {
