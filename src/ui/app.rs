@@ -720,9 +720,9 @@ impl eframe::App for PendantApp {
             };
             tabs.pane_rects.clear();
             layout::show(ui, &mut self.dock, &mut tabs);
-            let top = ui.max_rect().top();
+            let centre = ui.max_rect();
             self.positions
-                .preview_window(ui.ctx(), top, &self.pendant, &mut intents);
+                .preview_window(ui.ctx(), centre, &self.pendant, &mut intents);
         });
         self.live_log_shown.store(
             self.frame_log.live_in_sight,

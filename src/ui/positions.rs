@@ -218,13 +218,13 @@ impl PositionsPanel {
         out.extend(ask.into_iter().map(Intent::Positions));
     }
 
-    /// The write's preview, whichever tab is in front, in a window that stays below
-    /// `top` (the centre's top edge: the top bar's STOP is never covered). Called once
-    /// a frame after the panes, which clear [`PositionsPanel::hovered`] first.
+    /// The write's preview, whichever tab is in front, in a window kept inside `centre`
+    /// (the panes: never over the top bar's STOP or the jog column's pad). Called once a
+    /// frame after the panes.
     pub fn preview_window(
         &mut self,
         ctx: &egui::Context,
-        top: f32,
+        centre: egui::Rect,
         pendant: &Pendant,
         out: &mut Vec<Intent>,
     ) {
@@ -233,7 +233,7 @@ impl PositionsPanel {
             return;
         };
         let mut ask = Vec::new();
-        self.preview(ctx, top, preview, &mut ask);
+        self.preview(ctx, centre, preview, &mut ask);
         out.extend(ask.into_iter().map(Intent::Positions));
     }
 
@@ -829,25 +829,23 @@ impl PositionsPanel {
     fn preview(
         &mut self,
         ctx: &egui::Context,
-        top: f32,
+        area: egui::Rect,
         preview: &Preview,
         ask: &mut Vec<PositionsIntent>,
     ) {
-        // From the centre's top down: the top bar with STOP lies above it.
-        let content = ctx.content_rect();
-        let area = egui::Rect::from_min_max(egui::pos2(content.left(), top), content.max);
         let mut open = true;
         egui::Window::new("Write positions to the controller")
             .collapsible(false)
             .resizable(true)
             .constrain_to(area)
-            .default_pos(area.left_top() + egui::vec2(40.0, 40.0))
+            .default_pos(area.left_top() + egui::vec2(20.0, 20.0))
             .default_width(560.0)
             .open(&mut open)
             .show(ctx, |ui| {
+                let n = preview.rows.len();
                 ui.label(format!(
-                    "{} rows change ({}):",
-                    preview.rows.len(),
+                    "{n} {} ({}):",
+                    if n == 1 { "row changes" } else { "rows change" },
                     preview.kind.id()
                 ));
                 egui::ScrollArea::vertical()
