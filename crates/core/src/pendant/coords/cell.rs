@@ -55,7 +55,7 @@ impl Column {
     pub fn limit(self) -> i32 {
         match self {
             Column::R => 360_000,
-            _ => 99_999_999,
+            _ => LENGTH_LIMIT,
         }
     }
 
@@ -69,6 +69,11 @@ impl Column {
         CoordSystem::from_wire(w)
     }
 }
+
+/// The largest length an entry may have, 0.001 mm: 5 integer digits, the controller's
+/// usual parameter range `[inferred]` (PROTOCOL.md gives only the signed 32-bit field).
+/// Position records' coordinates take the same.
+pub const LENGTH_LIMIT: i32 = 99_999_999;
 
 /// How a value is shown and written: three decimals, `-12.345`.
 pub fn show(value: i32) -> String {

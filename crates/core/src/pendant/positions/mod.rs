@@ -28,6 +28,8 @@ use super::Level;
 /// Axes a record may carry, to size queries for the worst case before a record is read
 /// (PROTOCOL.md 3.24 `[inferred]`): the SCARA's four and two linear axes.
 pub const RECORD_AXES: usize = 6;
+/// The largest coordinate a cell takes, 0.001 units: the coordinate tables' lengths'.
+const COORD_LIMIT: i32 = crate::pendant::coords::cell::LENGTH_LIMIT;
 /// Undo steps kept.
 const UNDO_DEPTH: usize = 100;
 
@@ -125,9 +127,17 @@ pub fn parse_cell(rec: &mut PositionRecord, column: Column, text: &str) -> Resul
                 rec.coords.remove(a);
                 return Ok(());
             }
-            let v = parse_decimal(t, 3)?;
-            let m = Milli::from_units(v).ok_or_else(|| format!("{t} is out of range"))?;
-            rec.coords.set(a, m);
+            // The teach list's exact parser: digits, a dot, 3 decimals, no float rounding.
+            let v = crate::pendant::teach::file::parse_milli(t)?;
+            if v.unsigned_abs() > COORD_LIMIT.unsigned_abs() {
+                return Err(format!(
+                    "{} is out of range ({} to {})",
+                    Milli(v),
+                    Milli(-COORD_LIMIT),
+                    Milli(COORD_LIMIT)
+                ));
+            }
+            rec.coords.set(a, Milli(v));
         }
         Column::Arm => {
             rec.arms.scara1 = match t.to_ascii_lowercase().as_str() {

@@ -168,7 +168,7 @@ impl PositionWriteKind {
         } else {
             digits(self.four())
         };
-        number + 2 + 12 + 8 * axes + if self.arms() { 2 } else { 0 }
+        record_len(number, axes, self.arms())
     }
 
     /// The length of the whole command frame (header to LF) for these records.
@@ -358,6 +358,32 @@ impl PositionRecord {
     }
 }
 
+/// Reads `count` records whose number fields are `number` digits wide (0: none, record
+/// *i* is `start` + *i*). A count the data cannot hold (each record is at least its
+/// fixed part long) is refused before anything is allocated for it.
+fn read_records(
+    r: &mut Reader<'_, '_>,
+    count: usize,
+    number: usize,
+    start: u16,
+    arms: bool,
+) -> Result<Vec<PositionRecord>, MessageError> {
+    let shortest = record_len(number, 0, arms);
+    if count * shortest > r.remaining() {
+        return Err(r.invalid(format!(
+            "at most {} records in the {} characters that follow",
+            r.remaining() / shortest,
+            r.remaining()
+        )));
+    }
+    let mut records = Vec::with_capacity(count);
+    for i in 0..count {
+        let implied = start.saturating_add(i as u16);
+        records.push(PositionRecord::read(r, i + 1, number, implied, arms)?);
+    }
+    Ok(records)
+}
+
 /// Reads the `00` reserved field of 22DH, 290H and 291H.
 fn read_reserved(r: &mut Reader<'_, '_>) -> Result<(), MessageError> {
     if r.u8(Name::new("reserved"), 2, Show::Hex)? != 0 {
@@ -427,20 +453,7 @@ impl PositionData {
         let d = digits(kind.four());
         let count =
             usize::from(r.u16(Name::new("number of effective records"), d, Show::Number)?);
-        // Each record is at least `record_len(d, 0, ..)` characters: a count the data
-        // cannot hold is refused before anything is allocated for it.
-        let shortest = record_len(d, 0, kind.arms());
-        if count * shortest > r.remaining() {
-            return Err(r.invalid(format!(
-                "at most {} records in the {} characters that follow",
-                r.remaining() / shortest,
-                r.remaining()
-            )));
-        }
-        let mut records = Vec::with_capacity(count);
-        for i in 0..count {
-            records.push(PositionRecord::read(r, i + 1, d, 0, kind.arms())?);
-        }
+        let records = read_records(r, count, d, 0, kind.arms())?;
         Ok(PositionData { kind, records })
     }
 
@@ -483,26 +496,8 @@ impl PositionWrite {
         };
         let count =
             usize::from(r.u16(Name::new("number of change position data"), d, Show::Number)?);
-        let shortest = kind.record(0);
-        if count * shortest > r.remaining() {
-            return Err(r.invalid(format!(
-                "at most {} records in the {} characters that follow",
-                r.remaining() / shortest,
-                r.remaining()
-            )));
-        }
         let number = if kind.is_range() { 0 } else { d };
-        let mut records = Vec::with_capacity(count);
-        for i in 0..count {
-            let implied = start.saturating_add(i as u16);
-            records.push(PositionRecord::read(
-                r,
-                i + 1,
-                number,
-                implied,
-                kind.arms(),
-            )?);
-        }
+        let records = read_records(r, count, number, start, kind.arms())?;
         Ok(PositionWrite { kind, records })
     }
 
