@@ -523,6 +523,14 @@ fn cells_are_checked_like_the_coordinate_tables_and_undo_redo_walk_the_draft() {
             .unwrap_err()
             .contains("not a number")
     );
+    assert!(
+        p.set_cell(5, x, "100000")
+            .unwrap_err()
+            .contains("out of range")
+    );
+    for typed in ["1e-4", "inf", "NaN", "1.2.3", "-", "0x10", "1,5"] {
+        assert!(p.set_cell(5, x, typed).is_err(), "{typed}");
+    }
     assert!(p.set_cell(0, x, "1").is_err());
     assert!(p.set_cell(20_001, x, "1").is_err());
     assert!(p.set_cell(5, Column::Arm, "up").is_err());
