@@ -109,7 +109,10 @@ fn main() {
     let still: Vec<Duration> = (0..frames).map(|_| run(false)).collect();
     stats("Positions view, 20,000 rows, a still frame", still);
     let scrolling: Vec<Duration> = (0..frames).map(|_| run(true)).collect();
-    stats("Positions view, 20,000 rows, scrolling 220 px a frame", scrolling);
+    stats(
+        "Positions view, 20,000 rows, scrolling 220 px a frame",
+        scrolling,
+    );
     for (what, filter) in [
         ("filter, all rows", Filter::default()),
         (

@@ -12,9 +12,8 @@ use xsel_pendant::sim::runner::{PtyServer, start_pty};
 use xsel_pendant::sim::runner::{RunOptions, SimCore, SimHandle, TcpServer, start_tcp};
 use xsel_pendant::sim::{Controller, FaultSpec, Mode, SimSetup};
 
-use crate::wire::{frame, sc};
 use crate::wait::{LONG, eventually, until};
-
+use crate::wire::{frame, sc};
 
 /// The line a test talks over.
 #[derive(Clone, Copy, Debug)]
