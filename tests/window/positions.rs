@@ -292,7 +292,7 @@ fn cells_are_edited_in_place_checked_undone_and_go_through_a_file() {
     type_cell(&mut h, "No. 3 X mm", "99", Key::Escape);
     assert_eq!(x(h.state()), Some(12_500), "Escape forgets the typing");
     type_cell(&mut h, "No. 3 Y mm", "1.2345", Key::Enter);
-    step_until_shown(&mut h, "at most 3 decimals");
+    step_until_shown(&mut h, "more than 3 decimals");
     assert!(
         h.state()
             .pendant()
