@@ -1,5 +1,5 @@
 //! The settings and the operator's work in files of their own: the settings, the teach
-//! list and the coordinate-table drafts, read back at start and written after every
+//! list, the coordinate-table drafts and the position table's draft and names, read back at start and written after every
 //! change as jobs off the UI thread (see `files::saved`), and flushed at exit; what
 //! happens is said in Messages.
 
@@ -15,6 +15,8 @@ use crate::pendant::{Level, Pendant, Settings};
 const DRAFTS_FILE: &str = "coords-drafts.json";
 /// The teach list.
 const TEACH_FILE: &str = "teach-list.json";
+/// The position table's draft and the names beside its numbers.
+const POSITIONS_FILE: &str = "positions-work.json";
 /// The settings (connection, jog choices, theme, frame log size).
 const SETTINGS_FILE: &str = "settings.json";
 
@@ -23,6 +25,7 @@ const SETTINGS_FILE: &str = "settings.json";
 pub struct WorkFiles {
     drafts: Option<SavedFile>,
     teach: Option<SavedFile>,
+    positions: Option<SavedFile>,
     settings: Option<SavedFile>,
 }
 
@@ -32,6 +35,9 @@ impl WorkFiles {
         Self {
             drafts: dir.map(|d| SavedFile::new(d.join(DRAFTS_FILE), "coordinate-table drafts")),
             teach: dir.map(|d| SavedFile::new(d.join(TEACH_FILE), "teach list")),
+            positions: dir.map(|d| {
+                SavedFile::new(d.join(POSITIONS_FILE), "position table's draft and names")
+            }),
             settings: dir
                 .filter(|_| with_settings)
                 .map(|d| SavedFile::new(d.join(SETTINGS_FILE), "settings")),
@@ -54,7 +60,7 @@ impl WorkFiles {
 
     /// Every file is written up to date (the settings and the teach list at least once).
     pub fn all_saved(&self) -> bool {
-        [&self.settings, &self.teach, &self.drafts]
+        [&self.settings, &self.teach, &self.drafts, &self.positions]
             .into_iter()
             .flatten()
             .all(SavedFile::is_saved)
@@ -81,6 +87,34 @@ impl WorkFiles {
                 }
             }
             file.mark_written(pendant.coords.revision());
+        }
+        if let Some(file) = &mut self.positions {
+            let restored = file.restore(|b| Ok(b.to_vec()));
+            say_all(pendant, restored.notes, now);
+            if let Some(bytes) = restored.value {
+                match pendant.positions.restore(&bytes) {
+                    Ok((0, 0)) => {}
+                    Ok((rows, names)) => {
+                        let count = |n: usize, one: &str| {
+                            format!("{n} {one}{}", if n == 1 { "" } else { "s" })
+                        };
+                        let text = format!(
+                            "position table's draft restored: {}, {} of numbers not in it",
+                            count(rows, "row"),
+                            count(names, "name")
+                        );
+                        pendant.note(text, now);
+                    }
+                    Err(why) => {
+                        let text = format!(
+                            "the position table's draft in {} was not restored: {why}",
+                            file.path().display()
+                        );
+                        pendant.say(Level::Warning, text, now);
+                    }
+                }
+            }
+            file.mark_written(pendant.positions.work_revision());
         }
         if let Some(file) = &mut self.teach {
             let restored =
@@ -141,15 +175,20 @@ impl WorkFiles {
     ) -> impl Iterator<Item = (&'a mut SavedFile, u64, Contents<'a>)> {
         let coords = &pendant.coords;
         let teach = &pendant.teach;
+        let positions = &pendant.positions;
         let settings = &pendant.settings;
         let drafts: Contents<'a> =
             Box::new(move || serde_json::to_vec(&coords.saved()).unwrap_or_default());
         let list: Contents<'a> = Box::new(move || teach.list().to_json().into_bytes());
+        let work: Contents<'a> = Box::new(move || positions.saved());
         let prefs: Contents<'a> =
             Box::new(move || serde_json::to_vec_pretty(settings).unwrap_or_default());
         [
             self.drafts.as_mut().map(|f| (f, coords.revision(), drafts)),
             self.teach.as_mut().map(|f| (f, teach.revision(), list)),
+            self.positions
+                .as_mut()
+                .map(|f| (f, positions.work_revision(), work)),
             self.settings
                 .as_mut()
                 .map(|f| (f, settings_revision(settings), prefs)),

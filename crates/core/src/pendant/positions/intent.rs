@@ -88,11 +88,8 @@ impl Pendant {
                         crate::pendant::teach::MAX_NAME_CHARS
                     ))
                 } else {
-                    if name.is_empty() {
-                        self.positions.names.remove(&number);
-                    } else {
-                        self.positions.names.insert(number, name);
-                    }
+                    self.positions
+                        .set_name(number, Some(name).filter(|n| !n.is_empty()));
                     Ok(None)
                 }
             }
@@ -182,7 +179,8 @@ impl Pendant {
         }
         self.positions.put(rec)?;
         if !name.trim().is_empty() {
-            self.positions.names.insert(number, name.trim().to_owned());
+            self.positions
+                .set_name(number, Some(name.trim().to_owned()));
         }
         Ok(Some(format!(
             "taught No. {number}: X {:.3} Y {:.3} Z {:.3} R {:.3} (work {}, tool {}) into the draft: Write to store it in the controller",

@@ -248,7 +248,8 @@ pub struct Positions {
     pub reply_buffer: usize,
     rows: Vec<Row>,
     draft: BTreeMap<u16, PositionRecord>,
-    /// Names kept beside numbers (the pendant's own; the controller has none).
+    /// Names kept beside numbers (the pendant's own; the controller has none). Read
+    /// here; changed with [`Positions::set_name`].
     pub names: BTreeMap<u16, String>,
     undo: Vec<Vec<(u16, Option<PositionRecord>)>>,
     redo: Vec<Vec<(u16, Option<PositionRecord>)>>,
@@ -265,6 +266,22 @@ pub struct Positions {
     /// Counts changes to rows and draft: a view's filtered numbers stay valid while it
     /// holds.
     revision: u64,
+    /// Counts changes to the draft and the names (what is saved between runs).
+    work_revision: u64,
+}
+
+/// The `format` of the saved work's file.
+const SAVED_FORMAT: &str = "xsel-positions-work 1";
+
+/// The operator's work on the position table, as saved between runs.
+#[derive(serde::Serialize, serde::Deserialize)]
+struct SavedWork {
+    format: String,
+    /// The draft, as a position file (JSON).
+    draft: String,
+    /// Names of numbers not in the draft.
+    #[serde(default)]
+    names: BTreeMap<u16, String>,
 }
 
 impl Default for Positions {
@@ -291,6 +308,7 @@ impl Positions {
             commands: Vec::new(),
             go_confirm: None,
             revision: 0,
+            work_revision: 0,
         }
     }
 
@@ -360,6 +378,69 @@ impl Positions {
             .filter(|r| self.differs(r.number))
             .copied()
             .collect()
+    }
+
+    /// The name beside `n` (`None`: none).
+    pub fn set_name(&mut self, n: u16, name: Option<String>) {
+        self.work_revision += 1;
+        match name {
+            Some(name) => self.names.insert(n, name),
+            None => self.names.remove(&n),
+        };
+    }
+
+    /// Changes so far to the operator's work (the draft and the names): what is saved
+    /// between runs.
+    pub fn work_revision(&self) -> u64 {
+        self.work_revision
+    }
+
+    /// The operator's work as saved between runs: the draft as a position file (JSON,
+    /// names beside its rows) and the names of numbers not in the draft.
+    pub fn saved(&self) -> Vec<u8> {
+        let rows: Vec<(PositionRecord, Option<String>)> = self
+            .draft
+            .values()
+            .map(|r| (*r, self.names.get(&r.number).cloned()))
+            .collect();
+        let names: BTreeMap<u16, String> = self
+            .names
+            .iter()
+            .filter(|(n, _)| !self.draft.contains_key(n))
+            .map(|(n, s)| (*n, s.clone()))
+            .collect();
+        let saved = SavedWork {
+            format: SAVED_FORMAT.into(),
+            draft: file::to_json(&rows),
+            names,
+        };
+        serde_json::to_vec(&saved).unwrap_or_default()
+    }
+
+    /// Takes back the work saved by [`Positions::saved`]: how many draft rows and names,
+    /// or why not (then nothing changes). Undo starts empty.
+    pub fn restore(&mut self, bytes: &[u8]) -> Result<(usize, usize), String> {
+        let saved: SavedWork = serde_json::from_slice(bytes).map_err(|e| e.to_string())?;
+        if saved.format != SAVED_FORMAT {
+            return Err(format!("format `{}` is not `{SAVED_FORMAT}`", saved.format));
+        }
+        let rows = file::parse(saved.draft.as_bytes()).map_err(|e| e.to_string())?;
+        for (r, _) in &rows {
+            self.check_number(r.number)?;
+        }
+        let (n_rows, n_names) = (rows.len(), saved.names.len());
+        self.draft.clear();
+        self.names = saved.names;
+        for (r, name) in rows {
+            if let Some(name) = name {
+                self.names.insert(r.number, name);
+            }
+            self.draft.insert(r.number, r);
+        }
+        self.undo.clear();
+        self.redo.clear();
+        self.revision += 1;
+        Ok((n_rows, n_names))
     }
 
     /// Changes so far to the rows and the draft (what [`Positions::visible`] depends on).
@@ -724,6 +805,7 @@ impl Positions {
             if outcome == Outcome::Holds {
                 self.draft.remove(&n);
                 self.revision += 1;
+                self.work_revision += 1;
             }
             job.outcomes.insert(n, outcome);
         }
@@ -762,6 +844,7 @@ impl Positions {
 
     fn edit(&mut self, changes: Vec<(u16, Option<PositionRecord>)>) {
         self.revision += 1;
+        self.work_revision += 1;
         let mut before = Vec::with_capacity(changes.len());
         for (n, new) in changes {
             let old = match new {
@@ -805,6 +888,7 @@ impl Positions {
             return false;
         };
         self.revision += 1;
+        self.work_revision += 1;
         let mut back = Vec::with_capacity(step.len());
         for (n, rec) in step.into_iter().rev() {
             let old = match rec {
@@ -874,7 +958,7 @@ impl Positions {
         let mut changes = Vec::with_capacity(n);
         for (r, name) in records {
             if let Some(name) = name.filter(|s| !s.trim().is_empty()) {
-                self.names.insert(r.number, name);
+                self.set_name(r.number, Some(name));
             }
             changes.push((r.number, Some(r)));
         }

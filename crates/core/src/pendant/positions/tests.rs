@@ -630,3 +630,31 @@ fn a_reply_cut_short_by_the_buffer_is_read_on_from_its_last_record() {
     }
     assert!(matches!(pos.feedback, Some((Level::Info, ref t)) if t.contains("60 used")));
 }
+
+#[test]
+fn the_draft_and_the_names_come_back_in_the_next_run_exactly() {
+    let mut p = Positions::new();
+    p.put(record(12, 301_234)).unwrap();
+    p.put(record_of_pose(20_000, [-1, 2, -3, 4], RecordArm::Left))
+        .unwrap();
+    p.set_name(12, Some("pick, \"left\" bin".into()));
+    p.set_name(7, Some("held by the controller".into()));
+    let before = p.work_revision();
+    let bytes = p.saved();
+    let mut q = Positions::new();
+    assert_eq!(q.restore(&bytes), Ok((2, 1)));
+    assert_eq!(q.draft(12), p.draft(12));
+    assert_eq!(q.draft(20_000), p.draft(20_000));
+    assert_eq!(q.names, p.names);
+    assert!(!q.can_undo(), "a restored draft is not an edit to undo");
+    // Saving reads nothing back into the revision; an edit moves it.
+    assert_eq!(p.work_revision(), before);
+    p.set_cell(12, Column::Arm, "left").unwrap();
+    assert!(p.work_revision() > before);
+    // A damaged file changes nothing and says why.
+    let mut r = Positions::new();
+    r.put(record(3, 1)).unwrap();
+    let cut = &bytes[..bytes.len() / 2];
+    assert!(r.restore(cut).is_err());
+    assert!(r.draft(3).is_some() && r.draft(12).is_none());
+}
