@@ -1044,12 +1044,11 @@ impl Positions {
     }
 
     /// The line went down: reads and writes end where they are.
+    /// What was read is forgotten too: the next line may reach another controller (or
+    /// this one changed meanwhile), and Go checks the record the controller will use.
+    /// The draft and the names stay.
     pub fn line_gone(&mut self) {
-        if let Some(job) = self.read.take() {
-            for q in job.in_flight {
-                self.fail_rows(q.first, q.count, "the line went down");
-            }
-        }
+        self.read = None;
         if let Some(mut job) = self.write.take() {
             job.frame_ended(
                 Outcome::Unknown("the line went down before the answer".into()),
@@ -1058,6 +1057,10 @@ impl Positions {
             self.last_write = Some(job);
         }
         self.preview = None;
+        self.go_confirm = None;
+        self.rows.fill(Row::Unread);
+        self.kind = PositionQueryKind::Query3;
+        self.revision += 1;
     }
 }
 

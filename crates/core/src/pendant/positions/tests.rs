@@ -658,3 +658,29 @@ fn the_draft_and_the_names_come_back_in_the_next_run_exactly() {
     assert!(r.restore(cut).is_err());
     assert!(r.draft(3).is_some() && r.draft(12).is_none());
 }
+
+#[test]
+fn a_lost_line_forgets_what_was_read_and_go_waits_for_a_new_read() {
+    let mut setup = empty_setup();
+    setup.positions.insert(9, record(9, 300_000));
+    let mut b = Bench::new(setup);
+    b.apply(PositionsIntent::Read { from: 1, to: 10 });
+    b.pump(|_| Fault::Pass);
+    b.p.positions.put(record(4, 111_000)).unwrap();
+    assert!(matches!(b.p.positions.row(9), Row::Held(_)));
+    let now = b.now();
+    b.p.handle_event(
+        now,
+        LinkEvent::Disconnected {
+            reason: crate::link::LineDownReason::Closed,
+        },
+    );
+    assert_eq!(
+        b.p.positions.row(9),
+        &Row::Unread,
+        "another controller may answer next"
+    );
+    assert!(b.p.positions.draft(4).is_some(), "the draft stays");
+    b.apply(PositionsIntent::Go(9));
+    assert!(b.p.take_requests().is_empty());
+}
