@@ -8,6 +8,7 @@ use std::time::Instant;
 
 use crate::files::saved::{SaveNews, SavedFile};
 use crate::pendant::coords::SavedDrafts;
+use crate::pendant::positions::RestoredWork;
 use crate::pendant::teach::TeachList;
 use crate::pendant::{Level, Pendant, Settings};
 
@@ -89,29 +90,21 @@ impl WorkFiles {
             file.mark_written(pendant.coords.revision());
         }
         if let Some(file) = &mut self.positions {
-            let restored = file.restore(|b| Ok(b.to_vec()));
+            // A file that does not read is set aside (its last good copy read), never
+            // overwritten by the empty draft of this run.
+            let restored = file.restore(RestoredWork::parse);
             say_all(pendant, restored.notes, now);
-            if let Some(bytes) = restored.value {
-                match pendant.positions.restore(&bytes) {
-                    Ok((0, 0)) => {}
-                    Ok((rows, names)) => {
-                        let count = |n: usize, one: &str| {
-                            format!("{n} {one}{}", if n == 1 { "" } else { "s" })
-                        };
-                        let text = format!(
-                            "position table's draft restored: {}, {} of numbers not in it",
-                            count(rows, "row"),
-                            count(names, "name")
-                        );
-                        pendant.note(text, now);
-                    }
-                    Err(why) => {
-                        let text = format!(
-                            "the position table's draft in {} was not restored: {why}",
-                            file.path().display()
-                        );
-                        pendant.say(Level::Warning, text, now);
-                    }
+            if let Some(work) = restored.value {
+                let (rows, names) = pendant.positions.restore(work);
+                if rows + names > 0 {
+                    let count =
+                        |n: usize, one: &str| format!("{n} {one}{}", if n == 1 { "" } else { "s" });
+                    let text = format!(
+                        "position table's draft restored: {}, {} of numbers not in it",
+                        count(rows, "row"),
+                        count(names, "name")
+                    );
+                    pendant.note(text, now);
                 }
             }
             file.mark_written(pendant.positions.work_revision());

@@ -89,13 +89,33 @@ impl Pending {
     }
 
     /// Whether a time-out may be answered by sending it again: never motion; never a
+    /// write to the controller's data (it is sent once; the writer reads back what the
+    /// controller holds); never a
     /// poll (the next poll is the retry) or a proving query (the next motion sends
     /// another); never 25BH software reset (the controller may be rebooting without a
     /// reply, PROTOCOL.md 3.13); queries and STOP (stopping twice is harmless).
     pub fn may_retry(&self, retries: u8) -> bool {
         !self.command.is_motion()
+            && !self.command.writes_data()
             && self.command != Command::SoftwareReset
             && !matches!(self.origin, Origin::Poll | Origin::Proof { .. })
             && self.attempts <= retries
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::protocol::{PositionWrite, PositionWriteKind};
+
+    #[test]
+    fn a_write_to_the_controller_is_never_sent_again_after_a_time_out() {
+        let p = |command| Pending::new(RequestId(1), command, Origin::User, Priority::User);
+        assert!(p(Command::SystemStatus).may_retry(2));
+        let write = Command::PositionWrite(PositionWrite {
+            kind: PositionWriteKind::Range3,
+            records: Vec::new(),
+        });
+        assert!(!p(write).may_retry(2));
     }
 }

@@ -273,6 +273,35 @@ pub struct Positions {
 /// The `format` of the saved work's file.
 const SAVED_FORMAT: &str = "xsel-positions-work 1";
 
+/// The operator's work read back from its file, every row checked.
+#[derive(Debug)]
+pub struct RestoredWork {
+    rows: Vec<(PositionRecord, Option<String>)>,
+    names: BTreeMap<u16, String>,
+}
+
+impl RestoredWork {
+    /// Reads what [`Positions::saved`] wrote, or says why not (the file is then set aside
+    /// and its last good copy read, as every work file's).
+    pub fn parse(bytes: &[u8]) -> Result<RestoredWork, String> {
+        let saved: SavedWork = serde_json::from_slice(bytes).map_err(|e| e.to_string())?;
+        if saved.format != SAVED_FORMAT {
+            return Err(format!("format `{}` is not `{SAVED_FORMAT}`", saved.format));
+        }
+        let rows = file::parse(saved.draft.as_bytes()).map_err(|e| e.to_string())?;
+        let max = MAX_POSITIONS_4_DIGIT;
+        if let Some(n) = saved.names.keys().find(|&&n| n == 0 || n > max) {
+            return Err(format!(
+                "a name for No. {n}, which is not a position number"
+            ));
+        }
+        Ok(RestoredWork {
+            rows,
+            names: saved.names,
+        })
+    }
+}
+
 /// The operator's work on the position table, as saved between runs.
 #[derive(serde::Serialize, serde::Deserialize)]
 struct SavedWork {
@@ -417,21 +446,13 @@ impl Positions {
         serde_json::to_vec(&saved).unwrap_or_default()
     }
 
-    /// Takes back the work saved by [`Positions::saved`]: how many draft rows and names,
-    /// or why not (then nothing changes). Undo starts empty.
-    pub fn restore(&mut self, bytes: &[u8]) -> Result<(usize, usize), String> {
-        let saved: SavedWork = serde_json::from_slice(bytes).map_err(|e| e.to_string())?;
-        if saved.format != SAVED_FORMAT {
-            return Err(format!("format `{}` is not `{SAVED_FORMAT}`", saved.format));
-        }
-        let rows = file::parse(saved.draft.as_bytes()).map_err(|e| e.to_string())?;
-        for (r, _) in &rows {
-            self.check_number(r.number)?;
-        }
-        let (n_rows, n_names) = (rows.len(), saved.names.len());
+    /// Takes back the work saved by [`Positions::saved`] (read with [`RestoredWork::parse`]):
+    /// how many draft rows and names of numbers not in it. Undo starts empty.
+    pub fn restore(&mut self, work: RestoredWork) -> (usize, usize) {
+        let counts = (work.rows.len(), work.names.len());
         self.draft.clear();
-        self.names = saved.names;
-        for (r, name) in rows {
+        self.names = work.names;
+        for (r, name) in work.rows {
             if let Some(name) = name {
                 self.names.insert(r.number, name);
             }
@@ -440,7 +461,7 @@ impl Positions {
         self.undo.clear();
         self.redo.clear();
         self.revision += 1;
-        Ok((n_rows, n_names))
+        counts
     }
 
     /// Changes so far to the rows and the draft (what [`Positions::visible`] depends on).

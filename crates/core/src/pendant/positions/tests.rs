@@ -642,7 +642,7 @@ fn the_draft_and_the_names_come_back_in_the_next_run_exactly() {
     let before = p.work_revision();
     let bytes = p.saved();
     let mut q = Positions::new();
-    assert_eq!(q.restore(&bytes), Ok((2, 1)));
+    assert_eq!(q.restore(RestoredWork::parse(&bytes).unwrap()), (2, 1));
     assert_eq!(q.draft(12), p.draft(12));
     assert_eq!(q.draft(20_000), p.draft(20_000));
     assert_eq!(q.names, p.names);
@@ -651,12 +651,17 @@ fn the_draft_and_the_names_come_back_in_the_next_run_exactly() {
     assert_eq!(p.work_revision(), before);
     p.set_cell(12, Column::Arm, "left").unwrap();
     assert!(p.work_revision() > before);
-    // A damaged file changes nothing and says why.
-    let mut r = Positions::new();
-    r.put(record(3, 1)).unwrap();
+    // A damaged file is refused whole (the work files set it aside), with the reason.
     let cut = &bytes[..bytes.len() / 2];
-    assert!(r.restore(cut).is_err());
-    assert!(r.draft(3).is_some() && r.draft(12).is_none());
+    assert!(RestoredWork::parse(cut).is_err());
+    let other = String::from_utf8(bytes.clone())
+        .unwrap()
+        .replace("xsel-positions-work 1", "something else");
+    assert!(
+        RestoredWork::parse(other.as_bytes())
+            .unwrap_err()
+            .contains("format")
+    );
 }
 
 #[test]

@@ -358,6 +358,13 @@ impl PositionRecord {
     }
 }
 
+/// Writes the `00` reserved field of 22DH, 290H and 291H (`present`: the message has it).
+fn write_reserved(w: &mut Writer<'_>, present: bool) {
+    if present {
+        w.hex_fit(0, 2);
+    }
+}
+
 /// Reads `count` records whose number fields are `number` digits wide (0: none, record
 /// *i* is `start` + *i*). A count the data cannot hold (each record is at least its
 /// fixed part long) is refused before anything is allocated for it.
@@ -418,9 +425,7 @@ impl PositionQuery {
     }
 
     pub(crate) fn write(&self, w: &mut Writer<'_>) -> Result<(), EncodeError> {
-        if self.kind.arms() {
-            w.hex_fit(0, 2);
-        }
+        write_reserved(w, self.kind.arms());
         let d = digits(self.kind.four());
         w.hex("query head position number", u32::from(self.first), d)?;
         w.hex("number of query records", u32::from(self.count), d)
@@ -458,9 +463,7 @@ impl PositionData {
     }
 
     pub(crate) fn write(&self, w: &mut Writer<'_>) -> Result<(), EncodeError> {
-        if self.kind.arms() {
-            w.hex_fit(0, 2);
-        }
+        write_reserved(w, self.kind.arms());
         let d = digits(self.kind.four());
         let n = u32::try_from(self.records.len()).unwrap_or(u32::MAX);
         w.hex("number of effective records", n, d)?;
@@ -503,9 +506,7 @@ impl PositionWrite {
 
     pub(crate) fn write(&self, w: &mut Writer<'_>) -> Result<(), EncodeError> {
         let kind = self.kind;
-        if kind.arms() {
-            w.hex_fit(0, 2);
-        }
+        write_reserved(w, kind.arms());
         let d = digits(kind.four());
         if kind.is_range() {
             let start = self.records.first().map_or(0, |r| r.number);
@@ -570,9 +571,7 @@ impl PositionsWritten {
     }
 
     pub(crate) fn write(&self, w: &mut Writer<'_>) -> Result<(), EncodeError> {
-        if self.kind.arms() {
-            w.hex_fit(0, 2);
-        }
+        write_reserved(w, self.kind.arms());
         let d = digits(self.kind.four());
         if self.kind.is_range() {
             w.hex("change start position number", u32::from(self.first), d)?;
