@@ -14,6 +14,7 @@ use super::messages::positions::{
     PositionMove, PositionQuery, PositionQueryKind, PositionWrite, PositionWriteKind,
 };
 use super::messages::scara::{ScaraMove, ScaraPositionMove};
+use super::messages::signals::{BitChange, BitQuery, BitSpace, VarData, VarKind, VarQuery};
 use super::messages::scara_status::{ScaraStatusQuery, ScaraStatusQuery2};
 use super::writer::{Writer, encode_frame};
 
@@ -71,6 +72,14 @@ pub enum Command {
     PositionWrite(PositionWrite),
     /// 26BH move to a position number.
     PositionMove(PositionMove),
+    /// 20BH / 20CH / 20DH input port, output port or flag query.
+    BitQuery(BitQuery),
+    /// 24AH output port or 24BH flag status change.
+    BitChange(BitChange),
+    /// 20EH / 20FH / 210H integer, real or string variable query.
+    VarQuery(VarQuery),
+    /// 24CH / 24DH integer or real variable change (no message changes strings).
+    VarWrite(VarData),
 }
 
 impl Command {
@@ -101,6 +110,14 @@ impl Command {
             Command::PositionQuery(q) => q.kind.id(),
             Command::PositionWrite(w) => w.kind.id(),
             Command::PositionMove(_) => MessageId::POSITION_MOVE,
+            Command::BitQuery(q) => q.space.id(),
+            Command::BitChange(c) => c.id(),
+            Command::VarQuery(q) => q.kind.query_id(),
+            Command::VarWrite(d) => match d.kind() {
+                VarKind::Real => MessageId::REAL_CHANGE,
+                // Strings have no change message: encoding refuses them.
+                _ => MessageId::INTEGER_CHANGE,
+            },
         }
     }
 
@@ -123,11 +140,15 @@ impl Command {
         )
     }
 
-    /// Whether this command writes the controller's data (positions): automatic
+    /// Whether this command writes the controller's data (positions, outputs, flags,
+    /// variables): automatic
     /// operation for the operator (confirm, refuse while unsafe), never re-sent blindly
     /// after a time-out (the controller may have written it: read back instead).
     pub const fn writes_data(&self) -> bool {
-        matches!(self, Command::PositionWrite(_))
+        matches!(
+            self,
+            Command::PositionWrite(_) | Command::BitChange(_) | Command::VarWrite(_)
+        )
     }
 
     /// Whether this command moves the arm or an axis: a jog or a move (not servo or
@@ -173,6 +194,9 @@ impl Command {
             Command::CoordQuery2(q) => 17 + 8 * n(q.axes) * usize::from(q.count),
             Command::PositionQuery(q) => q.max_reply_len(),
             Command::PositionWrite(w) => super::PositionsWritten::frame_len(w.kind),
+            Command::BitQuery(q) => q.max_reply_len(),
+            Command::VarQuery(q) => q.max_reply_len(),
+            Command::VarWrite(_) => super::VarsWritten::FRAME_LEN,
             _ => 10,
         };
         len.max(10)
@@ -227,6 +251,14 @@ impl Command {
             Command::PositionQuery(q) => q.write(w),
             Command::PositionWrite(p) => p.write(w),
             Command::PositionMove(m) => m.write(w),
+            Command::BitQuery(q) => q.write(w),
+            Command::BitChange(c) => c.write(w),
+            Command::VarQuery(q) => q.write(w),
+            Command::VarWrite(d) if d.kind() == VarKind::Text => Err(w.error(
+                "values",
+                "string variables cannot be written (no change message was found)",
+            )),
+            Command::VarWrite(d) => d.write(w),
         }
     }
 
@@ -291,6 +323,16 @@ pub(crate) fn decode_command_data(
         MessageId::POSITION_RANGE_WRITE_3 => write(r, PositionWriteKind::Range3)?,
         MessageId::POSITION_CHANGE_WRITE_3 => write(r, PositionWriteKind::Change3)?,
         MessageId::POSITION_MOVE => Command::PositionMove(PositionMove::read(r)?),
+        MessageId::INPUT_QUERY => Command::BitQuery(BitQuery::read(r, BitSpace::Input)?),
+        MessageId::OUTPUT_QUERY => Command::BitQuery(BitQuery::read(r, BitSpace::Output)?),
+        MessageId::FLAG_QUERY => Command::BitQuery(BitQuery::read(r, BitSpace::Flag)?),
+        MessageId::OUTPUT_CHANGE => Command::BitChange(BitChange::read(r, BitSpace::Output)?),
+        MessageId::FLAG_CHANGE => Command::BitChange(BitChange::read(r, BitSpace::Flag)?),
+        MessageId::INTEGER_QUERY => Command::VarQuery(VarQuery::read(r, VarKind::Integer)?),
+        MessageId::REAL_QUERY => Command::VarQuery(VarQuery::read(r, VarKind::Real)?),
+        MessageId::STRING_QUERY => Command::VarQuery(VarQuery::read(r, VarKind::Text)?),
+        MessageId::INTEGER_CHANGE => Command::VarWrite(VarData::read(r, VarKind::Integer)?),
+        MessageId::REAL_CHANGE => Command::VarWrite(VarData::read(r, VarKind::Real)?),
         _ => {
             return Err(MessageError {
                 message: Some(id),

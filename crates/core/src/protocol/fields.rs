@@ -105,6 +105,14 @@ pub(crate) enum Show {
     Code(&'static [(u32, &'static str)]),
     /// Controller error number.
     Error,
+    /// Program number: 0 = global.
+    Program,
+    /// A group of 8 ports or flags from the given number: which are ON.
+    Group(u16),
+    /// Signed 32-bit two's complement.
+    Signed,
+    /// One character as 2 hex digits.
+    Char,
 }
 
 fn render(show: Show, v: u32, width: usize) -> (String, Vec<BitNote>) {
@@ -125,6 +133,11 @@ fn render(show: Show, v: u32, width: usize) -> (String, Vec<BitNote>) {
         Show::Magnitude(u) => (format!("{}.{:03} {u}", v / 1000, v % 1000), Vec::new()),
         Show::Pattern => (AxisPattern(v as u8).to_string(), Vec::new()),
         Show::Error => (ErrorCode(v as u16).to_string(), Vec::new()),
+        Show::Program if v == 0 => ("0 (global)".to_string(), Vec::new()),
+        Show::Program => (format!("program {v}"), Vec::new()),
+        Show::Group(first) => (group_text(first, v as u8), Vec::new()),
+        Show::Signed => ((v as i32).to_string(), Vec::new()),
+        Show::Char => (format!("'{}' ({v:02X}H)", (v as u8).escape_ascii()), Vec::new()),
         Show::Code(table) => {
             let text = match table.iter().find(|(c, _)| *c == v) {
                 Some((_, t)) => format!("{v} = {t}"),
@@ -153,6 +166,21 @@ fn render(show: Show, v: u32, width: usize) -> (String, Vec<BitNote>) {
                 .collect();
             (format!("{v:0width$X}H"), notes)
         }
+    }
+}
+
+/// Which of the 8 bits of a group from `first` are ON, by number.
+fn group_text(first: u16, byte: u8) -> String {
+    use super::messages::signals::group_bit;
+    let on: Vec<String> = (0..8u16)
+        .filter(|&i| byte & group_bit(i) != 0)
+        .map(|i| first.saturating_add(i).to_string())
+        .collect();
+    let last = first.saturating_add(7);
+    match on.len() {
+        0 => format!("{first}-{last}: all OFF"),
+        8 => format!("{first}-{last}: all ON"),
+        _ => format!("{first}-{last}: ON {}", on.join(", ")),
     }
 }
 
@@ -342,6 +370,24 @@ impl<'a, 'r> Reader<'a, 'r> {
             }
         }
         Ok(Milli::from_wire(self.hex(name, 8, Show::Coord(unit))?))
+    }
+
+    /// 16 hex digits (a double's bits, PROTOCOL.md 3.40), most significant first; the
+    /// description gives both encodings' readings.
+    pub(crate) fn word64(&mut self, name: Name) -> Result<u64, MessageError> {
+        let pos = self.pos;
+        let raw = self.take(name, 16)?;
+        let (Some(hi), Some(lo)) = (parse_hex(&raw[..8]), parse_hex(&raw[8..])) else {
+            return Err(self.bad(name, pos, raw, "16 hex digits".to_string()));
+        };
+        let v = (u64::from(hi) << 32) | u64::from(lo);
+        if self.rec.is_some() {
+            let plain = f64::from_bits(v);
+            let swapped = f64::from_bits(v.rotate_left(32));
+            let value = format!("{plain} (most significant first) / {swapped} (word-swapped)");
+            self.record(name, pos, raw, value, Vec::new());
+        }
+        Ok(v)
     }
 
     /// Raw text of `width` characters, checked with `ok` (for 200H data, 216H text and

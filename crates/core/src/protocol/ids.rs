@@ -183,11 +183,38 @@ impl MessageId {
     /// 2D6H SCARA position-number move.
     pub const SCARA_MOVE_POSITION: MessageId = MessageId(0x2D6);
 
+    /// 20BH input port query.
+    pub const INPUT_QUERY: MessageId = MessageId(0x20B);
+    /// 20CH output port query.
+    pub const OUTPUT_QUERY: MessageId = MessageId(0x20C);
+    /// 20DH flag query.
+    pub const FLAG_QUERY: MessageId = MessageId(0x20D);
+    /// 20EH integer variable query (page not retrieved: layout inferred, PROTOCOL.md 3.39).
+    pub const INTEGER_QUERY: MessageId = MessageId(0x20E);
+    /// 20FH real variable query.
+    pub const REAL_QUERY: MessageId = MessageId(0x20F);
+    /// 210H string variable query.
+    pub const STRING_QUERY: MessageId = MessageId(0x210);
+    /// 24AH output port status change.
+    pub const OUTPUT_CHANGE: MessageId = MessageId(0x24A);
+    /// 24BH flag status change.
+    pub const FLAG_CHANGE: MessageId = MessageId(0x24B);
+    /// 24CH integer variable change.
+    pub const INTEGER_CHANGE: MessageId = MessageId(0x24C);
+    /// 24DH real variable change.
+    pub const REAL_CHANGE: MessageId = MessageId(0x24D);
+
     /// Every message ID this library knows, ascending.
-    pub const ALL: [MessageId; 30] = [
+    pub const ALL: [MessageId; 40] = [
         Self::TEST_CALL,
         Self::VERSION,
         Self::POSITION_QUERY,
+        Self::INPUT_QUERY,
+        Self::OUTPUT_QUERY,
+        Self::FLAG_QUERY,
+        Self::INTEGER_QUERY,
+        Self::REAL_QUERY,
+        Self::STRING_QUERY,
         Self::AXIS_STATUS,
         Self::SYSTEM_STATUS,
         Self::ERROR_DETAIL,
@@ -201,6 +228,10 @@ impl MessageId {
         Self::STOP,
         Self::POSITION_RANGE_WRITE,
         Self::POSITION_CHANGE_WRITE,
+        Self::OUTPUT_CHANGE,
+        Self::FLAG_CHANGE,
+        Self::INTEGER_CHANGE,
+        Self::REAL_CHANGE,
         Self::ALARM_RESET,
         Self::SOFTWARE_RESET,
         Self::SPEED_CHANGE,
@@ -223,6 +254,12 @@ impl MessageId {
             0x200 => "test call",
             0x201 => "version code query",
             0x209 => "effective position data query",
+            0x20B => "input port query",
+            0x20C => "output port query",
+            0x20D => "flag query",
+            0x20E => "integer variable query",
+            0x20F => "real variable query",
+            0x210 => "string variable query",
             0x212 => "axis status query",
             0x215 => "system status query",
             0x216 => "error detail query",
@@ -236,6 +273,10 @@ impl MessageId {
             0x238 => "stop and cancel",
             0x244 => "position data range write",
             0x245 => "change position data write",
+            0x24A => "output port status change",
+            0x24B => "flag status change",
+            0x24C => "integer variable change",
+            0x24D => "real variable change",
             0x252 => "alarm reset",
             0x25B => "software reset",
             0x262 => "speed change",
@@ -265,6 +306,8 @@ impl MessageId {
                 | 0x235
                 | 0x236
                 | 0x238
+                | 0x24A
+                | 0x24B
                 | 0x252
                 | 0x25B
                 | 0x262

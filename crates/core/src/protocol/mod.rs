@@ -57,6 +57,10 @@ pub use messages::scara_status::{
     CommonStatus, PositionSystem, ScaraStatus, ScaraStatus2, ScaraStatusQuery, ScaraStatusQuery2,
     ScaraUnitStatus,
 };
+pub use messages::signals::{
+    BitChange, BitData, BitQuery, BitSpace, Category, GLOBAL_FLAGS, INPUTS, LOCAL_FLAGS,
+    OUTPUTS, RealEncoding, RealWord, VarData, VarKind, VarQuery, VarValues, VarsWritten,
+};
 pub use messages::status::{
     AxisState, AxisStatus, EncoderStatus, HomeState, SensorInput, SystemMode, SystemStatus,
     SystemStatus1, SystemStatus2, SystemStatus3,

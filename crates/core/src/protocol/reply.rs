@@ -13,6 +13,7 @@ use super::messages::positions::{
     PositionData, PositionQueryKind, PositionWriteKind, PositionsWritten,
 };
 use super::messages::scara_status::{ScaraStatus, ScaraStatus2};
+use super::messages::signals::{BitData, BitSpace, VarData, VarKind, VarsWritten};
 use super::messages::status::{AxisState, SystemStatus, read_axis_blocks, write_axis_blocks};
 use super::units::AxisUnit;
 use super::writer::{Writer, encode_frame};
@@ -45,6 +46,12 @@ pub enum Reply {
     Positions(PositionData),
     /// 244H / 245H / 26DH / 290H / 291H: how many positions were written.
     PositionsWritten(PositionsWritten),
+    /// 20BH / 20CH / 20DH: ports or flags, 8 to a group.
+    Bits(BitData),
+    /// 20EH / 20FH / 210H: variable values.
+    Vars(VarData),
+    /// 24CH / 24DH: how many variables were changed.
+    VarsWritten(VarsWritten),
     /// `&` error reply: the command was understood but cannot be executed.
     Error(ErrorCode),
 }
@@ -65,6 +72,12 @@ impl Reply {
             Reply::CoordTable2(_) => MessageId::COORD_QUERY_2,
             Reply::Positions(p) => p.kind.id(),
             Reply::PositionsWritten(w) => w.kind.id(),
+            Reply::Bits(b) => b.space.id(),
+            Reply::Vars(v) => v.kind().query_id(),
+            Reply::VarsWritten(w) => match w.kind {
+                VarKind::Real => MessageId::REAL_CHANGE,
+                _ => MessageId::INTEGER_CHANGE,
+            },
             Reply::Error(_) => return None,
         })
     }
@@ -125,6 +138,9 @@ impl Reply {
             Reply::CoordTable2(t) => t.write(w),
             Reply::Positions(p) => p.write(w),
             Reply::PositionsWritten(p) => p.write(w),
+            Reply::Bits(b) => b.write(w),
+            Reply::Vars(v) => v.write(w),
+            Reply::VarsWritten(v) => v.write(w),
             Reply::Error(_) => Ok(()),
         }
     }
@@ -192,6 +208,16 @@ pub(crate) fn decode_reply_data(
         MessageId::POSITION_CHANGE_WRITE_2 => written(r, PositionWriteKind::Change2)?,
         MessageId::POSITION_RANGE_WRITE_3 => written(r, PositionWriteKind::Range3)?,
         MessageId::POSITION_CHANGE_WRITE_3 => written(r, PositionWriteKind::Change3)?,
+        MessageId::INPUT_QUERY => Reply::Bits(BitData::read(r, BitSpace::Input)?),
+        MessageId::OUTPUT_QUERY => Reply::Bits(BitData::read(r, BitSpace::Output)?),
+        MessageId::FLAG_QUERY => Reply::Bits(BitData::read(r, BitSpace::Flag)?),
+        MessageId::INTEGER_QUERY => Reply::Vars(VarData::read(r, VarKind::Integer)?),
+        MessageId::REAL_QUERY => Reply::Vars(VarData::read(r, VarKind::Real)?),
+        MessageId::STRING_QUERY => Reply::Vars(VarData::read(r, VarKind::Text)?),
+        MessageId::INTEGER_CHANGE => {
+            Reply::VarsWritten(VarsWritten::read(r, VarKind::Integer)?)
+        }
+        MessageId::REAL_CHANGE => Reply::VarsWritten(VarsWritten::read(r, VarKind::Real)?),
         _ => {
             return Err(MessageError {
                 message: Some(id),

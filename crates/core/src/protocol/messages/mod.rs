@@ -43,4 +43,5 @@ pub mod motion;
 pub mod positions;
 pub mod scara;
 pub mod scara_status;
+pub mod signals;
 pub mod status;
