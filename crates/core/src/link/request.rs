@@ -31,6 +31,10 @@ pub enum Priority {
     User,
     /// Bulk work that may wait for the user: coordinate-table chunks.
     Background,
+    /// Watching that takes only the line time the status polls leave (signal reads):
+    /// sent when it ends before the next poll is due, or from a small share of the line
+    /// while polls run back to back ([`crate::link::schedule::SPARE_SHARE`]).
+    Spare,
 }
 
 /// Why a request is on the line.

@@ -320,6 +320,11 @@ impl Session {
         self.link.submit(command, Priority::Background);
     }
 
+    /// Sends a query in the line time the status polls leave (a signal read).
+    pub fn submit_spare(&self, command: Command) {
+        self.link.submit(command, Priority::Spare);
+    }
+
     /// 238H for all axes, ahead of anything queued.
     pub fn stop_all(&self) {
         self.link.stop_all();

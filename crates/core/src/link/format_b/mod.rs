@@ -109,7 +109,11 @@ impl FormatB {
     /// A core that opens its line at once; `ids` numbers requests (shared with the handle).
     pub fn new(config: LinkConfig, ids: Arc<AtomicU64>, now: Instant) -> Self {
         Self {
-            sched: Scheduler::new(config.polling.clone(), now),
+            sched: {
+                let mut sched = Scheduler::new(config.polling.clone(), now);
+                sched.set_timing(config.timing);
+                sched
+            },
             lease: JogLease::new(config.jog_lease),
             config,
             ids,
