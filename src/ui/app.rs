@@ -456,6 +456,11 @@ impl PendantApp {
                         s.submit_background(command);
                     }
                 }
+                Request::Spare(command) => {
+                    if let Some(s) = &self.session {
+                        s.submit_spare(command);
+                    }
+                }
                 Request::RenewJogLease => {
                     if let Some(s) = &self.session {
                         s.renew_jog_lease();

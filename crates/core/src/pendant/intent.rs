@@ -39,6 +39,8 @@ pub enum Intent {
     TeachRecord(String),
     /// The position table's view.
     Positions(super::positions::PositionsIntent),
+    /// The Signals view.
+    Signals(super::signals::SignalsIntent),
     /// The teach list after an edit (reorder, delete, rename), as a whole.
     TeachList(super::teach::TeachList),
     /// A teach file read (its points, or why not): waits for "Replace".
@@ -107,6 +109,7 @@ impl Pendant {
             Intent::TeachRecord(name) => self.teach_record(&name, now),
             Intent::TeachList(list) => self.teach.set(list),
             Intent::Positions(p) => self.apply_positions(p, now),
+            Intent::Signals(s) => self.apply_signals(s, now),
             Intent::TeachLoaded { path, read } => self.teach_loaded(&path, read, now),
             Intent::TeachConfirmLoad => self.teach_confirm_load(now),
             Intent::TeachCancelLoad => self.teach_cancel_load(),

@@ -13,6 +13,7 @@ pub mod jog;
 pub mod positions;
 pub mod samples;
 pub mod script;
+pub mod signals;
 pub mod teach;
 
 use std::collections::VecDeque;
@@ -75,6 +76,8 @@ pub enum Request {
     Submit(Command),
     /// A command that gives way to the status polls (position table reads).
     Background(Command),
+    /// A command sent only in the line time the status polls leave (signal reads).
+    Spare(Command),
     /// 238H for all axes, at the head of the queue.
     Stop,
     /// Keep the continuous jog alive (the link stops it when renewals stop).
@@ -178,6 +181,8 @@ pub struct Pendant {
     pub positions: positions::Positions,
     /// Every polled position and status with its time, for the plots.
     pub samples: samples::polled::Polled,
+    /// The watched inputs, outputs, flags and variables.
+    pub signals: signals::Signals,
 }
 
 impl Pendant {
@@ -194,6 +199,7 @@ impl Pendant {
             teach,
             teach_feedback: None,
             positions: positions::Positions::new(),
+            signals: signals::Signals::default(),
             coords: coords::CoordEditor::new(model.work_table_size, model.tool_table_size),
             kin: Scara::new(&model),
             model,
@@ -343,6 +349,9 @@ impl Pendant {
         self.controller.line_lost();
         self.coords.line_gone();
         self.positions.line_gone();
+        if let Some(text) = self.signals.line_gone() {
+            self.say(Level::Warning, text, _now);
+        }
         if self.jog.hold.stop(StopCause::LineLost).is_some() {
             self.say(Level::Error, "the line went down during a jog", _now);
         }
@@ -361,6 +370,13 @@ impl Pendant {
                 self.say(level, text, now);
             }
             return self.positions_out();
+        }
+        if event_command(&event).is_some_and(signals::Signals::owns) {
+            let cx = self.signals_cx(now);
+            for (level, text) in self.signals.handle_event(&event, cx, now) {
+                self.say(level, text, now);
+            }
+            return self.signals_out();
         }
         match event {
             LinkEvent::Connected { line } | LinkEvent::Reconnected { line } => {
@@ -637,6 +653,18 @@ impl Pendant {
         // Motion asked for earlier this frame has not gone out: it never will.
         self.requests
             .retain(|r| !matches!(r, Request::Submit(c) if c.moves_arm()));
+        // So has a signal's change confirmed this frame: STOP comes first.
+        let change = |r: &Request| {
+            matches!(
+                r,
+                Request::Submit(Command::BitChange(_) | Command::VarWrite(_))
+            )
+        };
+        let change_dropped = self.requests.iter().any(change);
+        self.requests.retain(|r| !change(r));
+        if let Some(text) = self.signals.stopped(change_dropped) {
+            self.say(Level::Warning, text, now);
+        }
         self.requests.push(Request::Stop);
         self.jog.hold.stop(cause);
         self.axes.stop(cause);
@@ -736,6 +764,9 @@ impl Pendant {
     /// controller leaves the state that allows motion is stopped (and latched).
     pub fn tick(&mut self, now: Instant) {
         self.samples.poll_captures(now);
+        self.signals.tick(now, self.line.is_up());
+        self.signals_out();
+        self.samples.signal_samples(self.signals.take_samples());
         if self.jog.hold.jog().is_none() {
             return;
         }
@@ -757,6 +788,39 @@ impl Pendant {
                 ),
                 now,
             );
+        }
+    }
+}
+
+impl Pendant {
+    /// Applies one Signals intent: the sub-model decides; its words go to Messages.
+    pub fn apply_signals(&mut self, intent: signals::SignalsIntent, now: Instant) {
+        let cx = self.signals_cx(now);
+        if let Some((level, text)) = self.signals.apply(intent, cx, now) {
+            self.say(level, text, now);
+        }
+        self.signals_out();
+    }
+
+    /// What the signals' checks need to know of the line and the controller.
+    fn signals_cx(&self, now: Instant) -> signals::SignalsCx {
+        let system = self.controller.system.as_ref().map(|s| s.value);
+        signals::SignalsCx {
+            ready: self.controller_ready(now).map_err(|why| why.to_string()),
+            program_running: system.map(|s| s.status2.program_running()),
+            io_interlock: system.is_some_and(|s| s.status2.io_interlock()),
+        }
+    }
+
+    /// Moves the signals' commands to the requests: reads in the line time the polls
+    /// leave, changes and read-backs at the user's priority (behind any STOP).
+    fn signals_out(&mut self) {
+        for (command, user) in self.signals.take_commands() {
+            self.requests.push(if user {
+                Request::Submit(command)
+            } else {
+                Request::Spare(command)
+            });
         }
     }
 }

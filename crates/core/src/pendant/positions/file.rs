@@ -53,7 +53,7 @@ pub struct FileError {
 }
 
 impl FileError {
-    fn at(line: usize, field: Option<&str>, message: impl Into<String>) -> FileError {
+    pub(crate) fn at(line: usize, field: Option<&str>, message: impl Into<String>) -> FileError {
         FileError {
             line: Some(line),
             field: field.map(str::to_owned),
@@ -294,7 +294,7 @@ pub fn parse(bytes: &[u8]) -> Result<Vec<(PositionRecord, Option<String>)>, File
 }
 
 /// Bytes that are not UTF-8: a binary file, or text in another encoding.
-fn not_text(bytes: &[u8], offset: usize) -> FileError {
+pub(crate) fn not_text(bytes: &[u8], offset: usize) -> FileError {
     let before = bytes.get(..offset).unwrap_or(bytes);
     let line = 1 + before.iter().filter(|&&b| b == b'\n').count();
     let head = bytes.get(..8192).unwrap_or(bytes);
@@ -398,7 +398,11 @@ impl Rows {
 
 /// Splits one line into fields (RFC 4180 quotes; a field cannot span lines: names hold no
 /// line break). `headings` names the fields for errors.
-fn split_line(line: &str, n: usize, headings: &[&str]) -> Result<Vec<String>, FileError> {
+pub(crate) fn split_line(
+    line: &str,
+    n: usize,
+    headings: &[&str],
+) -> Result<Vec<String>, FileError> {
     let mut fields = Vec::new();
     let mut it = line.chars().peekable();
     loop {

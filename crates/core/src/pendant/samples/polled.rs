@@ -58,7 +58,13 @@ pub struct Polled {
     rmc: Vec<SeriesId>,
     /// The last work pose and its time, for the tool tip's speed.
     last_pose: Option<(Instant, [i32; 4])>,
+    /// A series per plotted signal, made at its first sample.
+    signals: std::collections::HashMap<crate::pendant::signals::Signal, SeriesId>,
 }
+
+/// Rows kept per plotted signal: an hour of reads at 10 rounds a second (the signals'
+/// round starts at most every [`crate::pendant::signals::MIN_ROUND`]).
+pub const SIGNAL_ROWS: usize = 3600 * 10;
 
 impl Polled {
     pub fn new(rmc_axes: usize) -> Self {
@@ -115,6 +121,7 @@ impl Polled {
             joints,
             rmc,
             last_pose: None,
+            signals: Default::default(),
         }
     }
 
@@ -135,6 +142,28 @@ impl Polled {
         let levels = [Sample::Level(u8::from(in_position)), Sample::Level(phase)];
         let values = [x, y, z, r, Sample::Milli(speed), levels[0], levels[1]];
         self.store.push(self.xsel, at, &values);
+    }
+
+    /// Values of plotted signals as read: a series each, named by its row (a bit a
+    /// level, a number a value), on the same clock as the positions.
+    pub fn signal_samples(&mut self, samples: Vec<crate::pendant::signals::SignalSample>) {
+        for s in samples {
+            let store = &mut self.store;
+            let id = *self.signals.entry(s.signal).or_insert_with(|| {
+                let channel = if s.bit {
+                    Channel::level("state")
+                } else {
+                    Channel::new("value", "")
+                };
+                store.add(s.label.clone(), vec![channel], Encoding::Real, SIGNAL_ROWS)
+            });
+            let value = if s.bit {
+                Sample::Level(u8::from(s.value != 0.0))
+            } else {
+                Sample::Real(s.value as f32)
+            };
+            self.store.push(id, s.at, &[value]);
+        }
     }
 
     /// A 2A1H reply in the joint system: J1, J2, J3, J4 in thousandths.
