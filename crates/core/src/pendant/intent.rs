@@ -168,3 +168,15 @@ impl Pendant {
         }
     }
 }
+
+impl From<super::positions::PositionsIntent> for Intent {
+    fn from(i: super::positions::PositionsIntent) -> Intent {
+        Intent::Positions(i)
+    }
+}
+
+impl From<super::signals::SignalsIntent> for Intent {
+    fn from(i: super::signals::SignalsIntent) -> Intent {
+        Intent::Signals(i)
+    }
+}

@@ -835,4 +835,6 @@ mod hold_tests;
 #[cfg(test)]
 mod order_props;
 #[cfg(test)]
+pub(crate) mod sim_bench;
+#[cfg(test)]
 mod tests;
