@@ -1,6 +1,7 @@
 //! The Simulator panel (only on the built-in simulator): the operator states a real
 //! controller takes from its front panel and wiring (E-stop, MODE switch, drive cut-off,
-//! alarms), so an operator can rehearse them without a robot. Returns the action; the
+//! alarms, input sensors, the I/O interlock) and its output lamps, so an operator can
+//! rehearse them without a robot. Returns the action; the
 //! app hands it to the simulator's front panel after drawing, and the simulator's own
 //! thread applies it.
 
@@ -104,6 +105,7 @@ impl SimulatorPanel {
                 action = Some(OperatorAction::ClearAlarm);
             }
         });
+        action = signals(ui, state).or(action);
         // What the last action did, in a line that is always there.
         let feedback = self
             .feedback
@@ -117,4 +119,63 @@ impl SimulatorPanel {
     pub fn done(&mut self, text: String) {
         self.feedback = Some((true, text));
     }
+}
+
+/// The first inputs as sensors to toggle, the first outputs as lamps, and the I/O
+/// interlock switch; the action clicked, if any.
+fn signals(ui: &mut Ui, state: &PanelState) -> Option<OperatorAction> {
+    let mut action = None;
+    ui.separator();
+    ui.horizontal_wrapped(|ui| {
+        ui.label("Inputs").on_hover_text(
+            "Sensors wired to the first input ports: click to switch (20BH reads them)",
+        );
+        for (i, &on) in state.inputs.iter().enumerate() {
+            let number = PanelState::input_number(i);
+            let text = format!("In {number:03}");
+            if ui
+                .selectable_label(on, text)
+                .on_hover_text(format!(
+                    "Input {number}: click to switch it {}",
+                    if on { "OFF" } else { "ON" }
+                ))
+                .clicked()
+            {
+                action = Some(OperatorAction::Input { number, on: !on });
+            }
+        }
+    });
+    ui.horizontal_wrapped(|ui| {
+        ui.label("Outputs")
+            .on_hover_text("The first output ports (24AH switches them; 20CH reads them)");
+        for (i, &on) in state.outputs.iter().enumerate() {
+            lamp(
+                ui,
+                on,
+                GREEN,
+                &format!("Out {}", PanelState::output_number(i)),
+            );
+        }
+    });
+    ui.horizontal(|ui| {
+        lamp(ui, state.interlock, AMBER, "I/O interlock");
+        let (text, hover) = if state.interlock {
+            (
+                "Release I/O interlock",
+                "Release the interlock: the held output changes apply in order",
+            )
+        } else {
+            (
+                "Set I/O interlock",
+                "Output changes (24AH) are acknowledged but held until released; 238H can drop them",
+            )
+        };
+        if ui.button(text).on_hover_text(hover).clicked() {
+            action = Some(OperatorAction::Interlock(!state.interlock));
+        }
+        if state.held > 0 {
+            ui.label(format!("{} output changes held", state.held));
+        }
+    });
+    action
 }

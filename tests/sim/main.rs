@@ -14,4 +14,5 @@ mod lines;
 mod long_run;
 mod positions;
 mod rmc;
+mod signals;
 mod stand_in;

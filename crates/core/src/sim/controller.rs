@@ -6,10 +6,11 @@ use std::time::Duration;
 use super::errors::SimError;
 use super::framing::{Silence, max_command};
 use super::motion::{Motion, MotionKind};
+use super::signals::Signals;
 use super::state::{Alarm, AxisKind, AxisState, Counters, HomeProgress, Mode, SimConfig};
 use crate::files::coords_file::{self, PositionTable};
 use crate::protocol::{
-    Command, ErrorCode, Frame, FrameErrorKind, Header, MessageId, Reply, Sc, Station,
+    Command, ErrorCode, Frame, FrameErrorKind, Header, MessageId, RealEncoding, Reply, Sc, Station,
 };
 use crate::robot::{ArmSystem, CoordSystem, CoordTables, Joints, Pose, RobotModel, Scara};
 
@@ -106,6 +107,8 @@ pub struct Controller {
     pub(crate) rebooting_until: Option<Duration>,
     pub(crate) now: Duration,
     pub(crate) counters: Counters,
+    /// Inputs, outputs, flags, variables and the I/O interlock (boxed: some 100 kB).
+    pub(crate) signals: Box<Signals>,
 }
 
 impl Controller {
@@ -135,6 +138,7 @@ impl Controller {
             rebooting_until: None,
             now: Duration::ZERO,
             counters: Counters::default(),
+            signals: Box::default(),
         };
         c.cfg.linear_axes = c.cfg.linear_axes.min(2);
         if c.cfg.start_ready {
@@ -187,6 +191,21 @@ impl Controller {
 
     pub fn counters(&self) -> &Counters {
         &self.counters
+    }
+
+    /// Inputs, outputs, flags, variables and the I/O interlock.
+    pub fn signals(&self) -> &Signals {
+        &self.signals
+    }
+
+    /// The signals, to set from outside the protocol (console, front panel, tests).
+    pub fn signals_mut(&mut self) -> &mut Signals {
+        &mut self.signals
+    }
+
+    /// How real variables travel (20FH, 24DH).
+    pub fn set_real_encoding(&mut self, encoding: RealEncoding) {
+        self.cfg.real_encoding = encoding;
     }
 
     /// Answers one frame (bytes up to and including LF) received at `now`. Returns the
@@ -341,6 +360,9 @@ impl Controller {
             Command::ScaraStatus2(q) => self.msg_scara_status2(q.axes, q.system_1_4),
             Command::PositionQuery(q) => self.msg_position_query(q)?,
             Command::PositionWrite(ref w) => self.msg_position_write(w)?,
+            Command::BitQuery(ref q) => self.msg_bit_query(q)?,
+            Command::VarQuery(ref q) => self.msg_var_query(q)?,
+            Command::VarWrite(ref d) => self.msg_var_write(d)?,
             Command::SoftwareReset => {
                 self.msg_reset()?;
                 return Ok(self.cfg.reset_replies.then_some(Reply::Ack(cmd.id())));
@@ -368,6 +390,7 @@ impl Controller {
             Command::ScaraMoveRelative(m) => self.msg_scara_move(m, true),
             Command::ScaraMovePosition(m) => self.msg_scara_position(m),
             Command::PositionMove(m) => self.msg_position_move(m),
+            Command::BitChange(c) => self.msg_bit_change(c),
             _ => Err(SimError::UnknownMessage),
         }
     }

@@ -5,6 +5,7 @@
 //! - [`runner::start_pty`] / [`runner::start_tcp`]: serving a pseudo-terminal or TCP port.
 //! - [`errors::CODE_TABLE`]: the error codes of `&` replies.
 //! - [`console`]: operator states (E-stop, mode, cut-off, alarms) from outside the protocol.
+//! - [`signals`]: inputs, outputs, flags and variables (PROTOCOL.md 3.34-3.43).
 //! - [`rmc`]: a simulated Delta RMC151E axis controller over Modbus/TCP.
 
 pub mod console;
@@ -21,6 +22,7 @@ pub mod pipe;
 pub mod rmc;
 pub mod runner;
 mod servers;
+pub mod signals;
 pub mod state;
 
 #[cfg(test)]
@@ -33,6 +35,7 @@ pub use errors::{CODE_TABLE, SimError};
 pub use faults::{Fault, FaultCounts, FaultSpec};
 pub use handlers::{MAX_POSITIONS_3_DIGIT, MAX_POSITIONS_4_DIGIT};
 pub use runner::{EmbeddedOptions, SimHandle, SimWatch, start_embedded};
+pub use signals::Signals;
 pub use state::{Counters, Mode, SimConfig};
 
 /// A short decoded summary of a frame for logs: the protocol describer's title, the

@@ -1,5 +1,6 @@
 //! The simulator's front panel as seen from outside its thread: operator actions (E-stop,
-//! MODE switch, drive cut-off, alarms) and tables to try go in on a channel and are
+//! MODE switch, drive cut-off, alarms, input sensors, the I/O interlock) and tables to
+//! try go in on a channel and are
 //! applied by the simulator's own thread between frames, as a real controller takes its
 //! front panel between scans; what the panel shows comes back whenever it changes.
 //! Nothing outside the simulator's thread locks its controller, so the window never
@@ -10,7 +11,12 @@ use crossbeam_channel::{Receiver, Sender, TryRecvError, unbounded};
 use super::console::OperatorAction;
 use super::controller::Controller;
 use super::state::Mode;
+use crate::protocol::{BitSpace, INPUTS, OUTPUTS};
 use crate::robot::CoordTables;
+
+/// How many ports from each category head the panel shows: inputs 000-015 as sensors to
+/// toggle, outputs 300-315 as lamps (the rest are reached by the console and the line).
+pub const PANEL_PORTS: usize = 16;
 
 /// What the front panel shows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -20,16 +26,42 @@ pub struct PanelState {
     pub drive_cut_off: bool,
     /// The pending alarm's code.
     pub alarm: Option<u16>,
+    /// The first [`PANEL_PORTS`] inputs from the inputs' head.
+    pub inputs: [bool; PANEL_PORTS],
+    /// The first [`PANEL_PORTS`] outputs from the outputs' head.
+    pub outputs: [bool; PANEL_PORTS],
+    /// The I/O interlock (24AH changes held while on).
+    pub interlock: bool,
+    /// Output changes the interlock holds.
+    pub held: usize,
+}
+
+impl PanelState {
+    /// The number of the `i`th input the panel shows.
+    pub fn input_number(i: usize) -> u16 {
+        INPUTS.head() + i as u16
+    }
+
+    /// The number of the `i`th output the panel shows.
+    pub fn output_number(i: usize) -> u16 {
+        OUTPUTS.head() + i as u16
+    }
 }
 
 impl PanelState {
     fn of(c: &Controller) -> Self {
         let s = c.snapshot();
+        let signals = c.signals();
+        let port = |space, n| signals.bit(space, 0, n).unwrap_or(false);
         PanelState {
             emergency_stop: s.emergency_stop,
             mode: s.mode,
             drive_cut_off: s.drive_cut_off,
             alarm: s.alarm.map(|a| a.code),
+            inputs: std::array::from_fn(|i| port(BitSpace::Input, Self::input_number(i))),
+            outputs: std::array::from_fn(|i| port(BitSpace::Output, Self::output_number(i))),
+            interlock: signals.interlock(),
+            held: signals.held().len(),
         }
     }
 }
@@ -169,5 +201,41 @@ mod tests {
         desk.serve(&mut c);
         let _ = panel.take_news();
         assert_eq!(panel.state().and_then(|s| s.alarm), None);
+    }
+
+    #[test]
+    fn the_panel_toggles_inputs_shows_outputs_and_the_interlock() {
+        use crate::protocol::BitChange;
+        let (mut panel, mut desk) = front_panel();
+        let mut c = Controller::new(SimSetup::default());
+        panel.act(OperatorAction::Input {
+            number: PanelState::input_number(3),
+            on: true,
+        });
+        panel.act(OperatorAction::Interlock(true));
+        desk.serve(&mut c);
+        assert_eq!(
+            panel.take_news(),
+            ["input 3 on", "I/O interlock on: output changes held"]
+        );
+        let s = *panel.state().unwrap();
+        assert!(s.inputs[3] && !s.inputs[2] && s.interlock);
+        let out = PanelState::output_number(1);
+        let change = BitChange {
+            space: BitSpace::Output,
+            program: 0,
+            number: out,
+            on: true,
+        };
+        c.signals_mut().change_bit(&change).unwrap();
+        desk.serve(&mut c);
+        let _ = panel.take_news();
+        let s = *panel.state().unwrap();
+        assert_eq!((s.held, s.outputs[1]), (1, false), "held by the interlock");
+        panel.act(OperatorAction::Interlock(false));
+        desk.serve(&mut c);
+        let _ = panel.take_news();
+        let s = *panel.state().unwrap();
+        assert_eq!((s.held, s.outputs[1], s.interlock), (0, true, false));
     }
 }

@@ -180,6 +180,9 @@ pub struct SimConfig {
     /// message) or 3 (1-3000; 21FH, 22DH, 26DH, 290H, 291H answer A01) `[inferred:
     /// PROTOCOL.md 3.24's arithmetic]`. Anything but 3 counts as 4.
     pub position_digits: u8,
+    /// How real variables travel in 20FH and 24DH: PROTOCOL.md 3.40's two encodings, which
+    /// a host cannot read from the controller (console `real-encoding plain|swapped`).
+    pub real_encoding: crate::protocol::RealEncoding,
 }
 
 impl Default for SimConfig {
@@ -197,6 +200,7 @@ impl Default for SimConfig {
             linear_max_speed: 800.0,
             start_ready: false,
             position_digits: 4,
+            real_encoding: crate::protocol::RealEncoding::default(),
         }
     }
 }

@@ -223,10 +223,15 @@ impl Controller {
     }
 
     /// 238H operation stop & cancel (PROTOCOL.md 3.11): every motion that owns one of the
-    /// axes brakes to a stop and ends not completed. Always answered, in any mode.
+    /// axes brakes to a stop and ends not completed; appended byte bit 0 also drops the
+    /// output changes the I/O interlock holds. Always answered, in any mode.
     pub(crate) fn msg_stop(&mut self, s: &Stop) -> Result<(), SimError> {
         let pattern = s.axes.0;
         self.counters.stops += 1;
+        // Appended byte bit 0: drop the output changes the I/O interlock holds (3.11).
+        if s.cancel_held_outputs {
+            self.signals.cancel_held();
+        }
         let now = self.now;
         for m in self.motions.iter_mut() {
             if m.axes & pattern != 0 && !m.cancelled() {

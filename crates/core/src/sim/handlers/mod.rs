@@ -8,6 +8,7 @@ mod axis;
 mod coords;
 mod positions;
 mod scara;
+mod signals;
 mod status;
 mod system;
 

@@ -53,7 +53,7 @@ impl Controller {
             status1: SystemStatus1::default()
                 .with_manual_switch(manual)
                 .with_emergency_stop(self.estop),
-            status2: SystemStatus2::default(),
+            status2: SystemStatus2::default().with_io_interlock(self.signals.interlock()),
             status3: SystemStatus3::default()
                 .with_drive_cut_off(self.drive_cut)
                 .with_auto_operation(!manual)
