@@ -1,5 +1,6 @@
 //! The settings and the operator's work in files of their own: the settings, the teach
-//! list, the coordinate-table drafts and the position table's draft and names, read back at start and written after every
+//! list, the coordinate-table drafts, the position table's draft and names and the
+//! signals' watch list, read back at start and written after every
 //! change as jobs off the UI thread (see `files::saved`), and flushed at exit; what
 //! happens is said in Messages.
 
@@ -18,6 +19,8 @@ const DRAFTS_FILE: &str = "coords-drafts.json";
 const TEACH_FILE: &str = "teach-list.json";
 /// The position table's draft and the names beside its numbers.
 const POSITIONS_FILE: &str = "positions-work.json";
+/// The signals' watch list (and the controller's real encoding).
+const SIGNALS_FILE: &str = "signals-watch.json";
 /// The settings (connection, jog choices, theme, frame log size).
 const SETTINGS_FILE: &str = "settings.json";
 
@@ -27,6 +30,7 @@ pub struct WorkFiles {
     drafts: Option<SavedFile>,
     teach: Option<SavedFile>,
     positions: Option<SavedFile>,
+    signals: Option<SavedFile>,
     settings: Option<SavedFile>,
 }
 
@@ -39,6 +43,7 @@ impl WorkFiles {
             positions: dir.map(|d| {
                 SavedFile::new(d.join(POSITIONS_FILE), "position table's draft and names")
             }),
+            signals: dir.map(|d| SavedFile::new(d.join(SIGNALS_FILE), "signals' watch list")),
             settings: dir
                 .filter(|_| with_settings)
                 .map(|d| SavedFile::new(d.join(SETTINGS_FILE), "settings")),
@@ -61,10 +66,16 @@ impl WorkFiles {
 
     /// Every file is written up to date (the settings and the teach list at least once).
     pub fn all_saved(&self) -> bool {
-        [&self.settings, &self.teach, &self.drafts, &self.positions]
-            .into_iter()
-            .flatten()
-            .all(SavedFile::is_saved)
+        [
+            &self.settings,
+            &self.teach,
+            &self.drafts,
+            &self.positions,
+            &self.signals,
+        ]
+        .into_iter()
+        .flatten()
+        .all(SavedFile::is_saved)
     }
 
     /// Takes back what the last run saved. A teach list still in old settings (and no
@@ -108,6 +119,15 @@ impl WorkFiles {
                 }
             }
             file.mark_written(pendant.positions.work_revision());
+        }
+        if let Some(file) = &mut self.signals {
+            let restored = file
+                .restore(|b| crate::pendant::signals::file::parse(b).map_err(|e| e.to_string()));
+            say_all(pendant, restored.notes, now);
+            if let Some((rows, encoding)) = restored.value {
+                pendant.signals.restore(rows, encoding);
+            }
+            file.mark_written(pendant.signals.revision());
         }
         if let Some(file) = &mut self.teach {
             let restored =
@@ -169,11 +189,13 @@ impl WorkFiles {
         let coords = &pendant.coords;
         let teach = &pendant.teach;
         let positions = &pendant.positions;
+        let signals = &pendant.signals;
         let settings = &pendant.settings;
         let drafts: Contents<'a> =
             Box::new(move || serde_json::to_vec(&coords.saved()).unwrap_or_default());
         let list: Contents<'a> = Box::new(move || teach.list().to_json().into_bytes());
         let work: Contents<'a> = Box::new(move || positions.saved());
+        let watch: Contents<'a> = Box::new(move || signals.saved());
         let prefs: Contents<'a> =
             Box::new(move || serde_json::to_vec_pretty(settings).unwrap_or_default());
         [
@@ -182,6 +204,9 @@ impl WorkFiles {
             self.positions
                 .as_mut()
                 .map(|f| (f, positions.work_revision(), work)),
+            self.signals
+                .as_mut()
+                .map(|f| (f, signals.revision(), watch)),
             self.settings
                 .as_mut()
                 .map(|f| (f, settings_revision(settings), prefs)),

@@ -434,6 +434,18 @@ impl Signals {
         self.states.get(signal)
     }
 
+    /// The watch list and the real encoding as saved between runs.
+    pub fn saved(&self) -> Vec<u8> {
+        file::to_json(&self.rows, self.encoding).into_bytes()
+    }
+
+    /// Takes back what [`Signals::saved`] wrote (checked as an imported file).
+    pub fn restore(&mut self, rows: Vec<WatchRow>, encoding: Option<RealEncoding>) {
+        self.rows = rows;
+        self.encoding = encoding.unwrap_or_default();
+        self.edited();
+    }
+
     /// Changes with every edit of the list (for saving it).
     pub fn revision(&self) -> u64 {
         self.revision
