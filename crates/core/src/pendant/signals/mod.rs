@@ -466,6 +466,11 @@ impl Signals {
             .then(|| self.rounds.len() as f64 / total.as_secs_f64())
     }
 
+    /// Reads of the current round not answered yet.
+    pub fn reads_in_flight(&self) -> usize {
+        self.in_flight.len()
+    }
+
     /// Requests in one round.
     pub fn reads_per_round(&self) -> usize {
         self.plan
