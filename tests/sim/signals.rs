@@ -178,10 +178,10 @@ fn the_section_3_50_examples_answer_byte_for_byte() {
         sim.exact("!9920F0012C01A2"),
         "#9920F0012C01000000003FF80000DB"
     );
-    // 210H: the example reads global columns 1-5, which the inferred numbering (global
-    // string columns from 300) does not have: refused. The same read of program 1's
-    // local columns gives the example's "HELLO".
-    assert_eq!(sim.exact("!9921000001057C"), err("A03"));
+    // 210H: the example reads global columns 1-5; the same read of program 1's local
+    // columns is answered from their own store.
+    sim.type_line("var str 1 = \"HELLO\"", "\"HELLO\"");
+    assert_eq!(sim.exact("!9921000001057C"), "#99210000010548454C4C4FBB");
     sim.type_line("var str 1 = \"HELLO\" 1", "\"HELLO\"");
     assert_eq!(sim.ask("!992100100105"), with_sc("#99210010010548454C4C4F"));
 }

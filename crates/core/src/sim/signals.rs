@@ -739,7 +739,7 @@ mod tests {
             q(VarKind::Integer, 0, 200, 0),
             q(VarKind::Integer, PROGRAMS.end, 1, 1),
             q(VarKind::Real, 0, 100, 1),
-            q(VarKind::Text, 0, 1, 5),
+            q(VarKind::Text, 0, 998, 5),
         ] {
             assert_eq!(
                 s.read_vars(&bad, RealEncoding::Plain, max),

@@ -473,16 +473,16 @@ impl VarKind {
 
     /// The numbers of global (`global`) or local variables of this kind, X-SEL J/K
     /// numbering: integers global 200-299 and local 1-99, reals global 300-399 and local
-    /// 100-199, string columns global 300-999 and local 1-299 `[inferred from vendor
-    /// manuals; not on the spec pages]`.
+    /// 100-199 `[inferred from vendor manuals; not on the spec pages]`; string columns
+    /// 1-999 either way (PROTOCOL.md names none, and its 210H example reads global
+    /// columns 1-5) `[inferred]`.
     pub const fn numbers(self, global: bool) -> Range<u16> {
         match (self, global) {
             (VarKind::Integer, true) => 200..300,
             (VarKind::Integer, false) => 1..100,
             (VarKind::Real, true) => 300..400,
             (VarKind::Real, false) => 100..200,
-            (VarKind::Text, true) => 300..1000,
-            (VarKind::Text, false) => 1..300,
+            (VarKind::Text, _) => 1..1000,
         }
     }
 
