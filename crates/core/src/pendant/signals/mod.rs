@@ -831,9 +831,16 @@ impl Signals {
                     ));
                 }
             }
+            // The link sends a query again: its last word is still to come.
+            LinkEvent::Timeout { retrying: true, .. } => {}
             LinkEvent::Timeout { command, .. } | LinkEvent::Interrupted { command, .. } => {
                 if self.read_done(command) {
-                    self.mark_failed(command, "no reply".to_owned());
+                    // A reply that did not decode (a group short of its count) ends so
+                    // too: the frame log shows what came.
+                    self.mark_failed(
+                        command,
+                        "no valid reply (the frame log shows what came)".to_owned(),
+                    );
                 } else if let Some(c) = self.change_for(command) {
                     // Sent once, never again: what the controller holds is read back.
                     said.push((

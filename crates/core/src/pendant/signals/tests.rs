@@ -601,3 +601,45 @@ fn a_lost_line_ends_the_round_and_says_a_change_is_unknown() {
     round(&mut b);
     assert!(b.sent.iter().any(|c| matches!(c, Command::BitQuery(_))));
 }
+
+#[test]
+fn a_read_the_link_sends_again_keeps_its_round_open() {
+    use crate::link::{LinkEvent, Origin, RequestId};
+    let cx = SignalsCx {
+        ready: Ok(()),
+        program_running: Some(false),
+        io_interlock: false,
+    };
+    let t0 = std::time::Instant::now();
+    let mut s = Signals::default();
+    s.apply(SignalsIntent::Watch(true), cx.clone(), t0);
+    s.tick(t0, true);
+    let reads = s.take_commands();
+    assert_eq!(reads.len(), 3);
+    let timeout = |command: Command, retrying| LinkEvent::Timeout {
+        id: RequestId(1),
+        origin: Origin::User,
+        command,
+        retrying,
+        recheck: None,
+        at: t0,
+    };
+    s.handle_event(&timeout(reads[0].0.clone(), true), cx.clone(), t0);
+    assert_eq!(s.reads_in_flight(), 3, "the retry is still to answer");
+    s.handle_event(&timeout(reads[0].0.clone(), false), cx.clone(), t0);
+    s.handle_event(&timeout(reads[1].0.clone(), false), cx.clone(), t0);
+    let later = t0 + MIN_ROUND * 2;
+    s.tick(later, true);
+    assert!(s.take_commands().is_empty(), "one read still out");
+    s.handle_event(&timeout(reads[2].0.clone(), false), cx.clone(), t0);
+    s.tick(later, true);
+    assert_eq!(s.take_commands().len(), 3);
+    let inputs = s.state(&sig(SignalKind::Input, 0)).unwrap();
+    assert!(
+        inputs
+            .error
+            .as_deref()
+            .unwrap()
+            .starts_with("no valid reply")
+    );
+}
