@@ -114,8 +114,16 @@ pub struct Capture {
 }
 
 impl Capture {
-    /// Copies `trigger`'s span out of the series.
-    fn take(store: &SampleStore, trigger: &Trigger, pre: Duration, post: Duration) -> Option<Self> {
+    /// Copies `trigger`'s span out of the series, with each of `companions` (plotted
+    /// signals) as further channels: at each sample, the companion's last value read at
+    /// or before it (a companion never read before the capture starts is left out).
+    fn take(
+        store: &SampleStore,
+        trigger: &Trigger,
+        pre: Duration,
+        post: Duration,
+        companions: &[SeriesId],
+    ) -> Option<Self> {
         let origin = store.origin()?;
         let series = store.series(trigger.series)?;
         let t0 = trigger.at.saturating_duration_since(origin);
@@ -126,14 +134,21 @@ impl Capture {
             .filter_map(|r| series.time(r))
             .map(|t| t.as_secs_f64() - trigger_s)
             .collect();
-        let values: Vec<Vec<f64>> = (0..series.channels.len())
+        let mut values: Vec<Vec<f64>> = (0..series.channels.len())
             .map(|c| rows.clone().filter_map(|r| series.value(r, c)).collect())
             .collect();
+        let mut channels = series.channels.clone();
+        for id in companions.iter().filter(|id| **id != trigger.series) {
+            if let Some((channel, held)) = held_values(store, *id, trigger_s, &times) {
+                channels.push(channel);
+                values.push(held);
+            }
+        }
         let mut capture = Capture {
             number: 0,
             label: trigger.label.clone(),
             series: series.name.clone(),
-            channels: series.channels.clone(),
+            channels,
             encoding: series.encoding,
             trigger_s,
             times,
@@ -143,6 +158,11 @@ impl Capture {
         };
         capture.summary = capture.summarise();
         Some(capture)
+    }
+
+    /// The values of a channel by its name, or by `series channel` for a companion.
+    pub fn channel_named(&self, name: &str) -> Option<usize> {
+        self.channels.iter().position(|c| c.name == name)
     }
 
     fn channel(&self, c: Option<usize>) -> Option<&[f64]> {
@@ -209,6 +229,34 @@ impl Capture {
     }
 }
 
+/// The first channel of series `id` held at each of `times` (seconds from `trigger_s`):
+/// the last value read at or before each; `None` when nothing was read before the first.
+/// Its channel is named `series channel`, as the trace chooser names it.
+fn held_values(
+    store: &SampleStore,
+    id: SeriesId,
+    trigger_s: f64,
+    times: &[f64],
+) -> Option<(Channel, Vec<f64>)> {
+    let s = store.series(id)?;
+    let (first, last) = (*times.first()?, *times.last()?);
+    let secs = |t: f64| Duration::try_from_secs_f64((trigger_s + t).max(0.0)).unwrap_or_default();
+    let before = s.rows_between(Duration::ZERO, secs(first));
+    let mut row = before.end.checked_sub(1)?;
+    let rows = s.rows_between(secs(first), secs(last));
+    let mut held = Vec::with_capacity(times.len());
+    for &t in times {
+        let at = secs(t);
+        while row + 1 < rows.end && s.time(row + 1).is_some_and(|x| x <= at) {
+            row += 1;
+        }
+        held.push(s.value(row, 0)?);
+    }
+    let mut channel = s.channels.first()?.clone();
+    channel.name = format!("{} {}", s.name, channel.name);
+    Some((channel, held))
+}
+
 /// Captures waiting for their samples, and those taken.
 #[derive(Clone, Debug, Default)]
 pub struct Captures {
@@ -236,7 +284,7 @@ impl Captures {
 
     /// Takes the captures whose span the store now covers (or that `now` has passed by a
     /// second: a device that stopped answering gives what it has).
-    pub fn poll(&mut self, store: &SampleStore, now: Instant) {
+    pub fn poll(&mut self, store: &SampleStore, now: Instant, companions: &[SeriesId]) {
         let (pre, post) = self.settings.spans();
         let origin = store.origin();
         let mut still = VecDeque::new();
@@ -250,7 +298,7 @@ impl Captures {
                 still.push_back(t);
                 continue;
             }
-            if let Some(mut c) = Capture::take(store, &t, pre, post) {
+            if let Some(mut c) = Capture::take(store, &t, pre, post, companions) {
                 if self.list.len() == KEEP_CAPTURES {
                     self.list.pop_front();
                 }

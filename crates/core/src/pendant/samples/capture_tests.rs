@@ -194,3 +194,48 @@ fn a_saved_capture_reads_back_exactly_and_a_damaged_one_is_named_by_line() {
             .contains("not an xsel-pendant capture")
     );
 }
+
+/// A plotted signal rides along in a move's capture: its value as last read at each of
+/// the capture's samples, saved and read back with the rest.
+#[test]
+fn a_plotted_signal_is_held_beside_a_captured_move_and_saved_with_it() {
+    use crate::pendant::signals::{Signal, SignalKind, SignalSample};
+    let t0 = std::time::Instant::now();
+    let ms = |n: u64| t0 + Duration::from_millis(n);
+    let mut polled = Polled::new(0);
+    polled.captures.settings = CaptureSettings::default();
+    let sensor = |at, on: bool| SignalSample {
+        at,
+        signal: Signal::new(SignalKind::Input, 0, 4),
+        label: "Input 4 'part here'".into(),
+        value: f64::from(u8::from(on)),
+        bit: true,
+    };
+    polled.signal_samples(vec![sensor(ms(0), false)]);
+    for n in 0..60u64 {
+        polled.xsel_work(
+            ms(n * 100),
+            [i32::try_from(n).unwrap() * 1000, 0, 0, 0],
+            false,
+            1,
+        );
+        if n == 20 {
+            polled.signal_samples(vec![sensor(ms(2_000), true)]);
+        }
+    }
+    polled.xsel_moved(ms(1_000), "X+ 50".into(), 0);
+    polled.poll_captures(ms(6_000));
+    let c = polled.captures.list.front().expect("a capture");
+    let i = c
+        .channel_named("Input 4 'part here' state")
+        .expect("the signal's channel");
+    let at = |t: f64| c.times.iter().position(|x| (*x - t).abs() < 1e-6).unwrap();
+    assert_eq!(c.values[i][at(0.5)], 0.0);
+    assert_eq!(c.values[i][at(1.0)], 1.0);
+    assert!(c.channels[i].step);
+    let mut file = Vec::new();
+    super::csv::write_capture(&mut file, c).unwrap();
+    let back = super::csv::read_capture(std::io::Cursor::new(file)).unwrap();
+    assert_eq!(back.values[i], c.values[i]);
+    assert_eq!(back.channels[i].name, c.channels[i].name);
+}

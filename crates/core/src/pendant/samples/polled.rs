@@ -217,7 +217,8 @@ impl Polled {
     /// Takes the captures whose samples are in.
     pub fn poll_captures(&mut self, now: Instant) {
         if self.captures.waiting() {
-            self.captures.poll(&self.store, now);
+            let companions: Vec<SeriesId> = self.signals.values().copied().collect();
+            self.captures.poll(&self.store, now, &companions);
         }
     }
 
