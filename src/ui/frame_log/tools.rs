@@ -91,8 +91,26 @@ fn keep_rows(ui: &mut Ui, pendant: &Pendant, out: &mut Vec<Intent>) {
                 .speed(1000),
         )
         .labelled_by(l.id);
+    let dropped = pendant.frame_log.dropped_budget();
+    let budget_mb = pendant.frame_log.budget() / (1024 * 1024);
+    let r = r.on_hover_text(format!(
+        "At most {cap} rows and {budget_mb} MB of them: the oldest go first. {} rows went for \
+         the memory budget so far.",
+        dropped
+    ));
     if r.changed() {
         out.push(Intent::FrameLogCap(cap));
+    }
+    let mut mb = budget_mb;
+    let l = ui.label("MB");
+    let r = ui
+        .add(egui::DragValue::new(&mut mb).range(8..=1024).speed(1))
+        .labelled_by(l.id)
+        .on_hover_text(
+            "The most memory the log's rows take (a line of junk fills it in bytes, not rows)",
+        );
+    if r.changed() {
+        out.push(Intent::FrameLogBudget(mb));
     }
 }
 

@@ -72,6 +72,8 @@ pub enum Intent {
     Coords(CoordsIntent),
     /// Keep at most this many rows in the frame log.
     FrameLogCap(usize),
+    /// Keep at most this many MB of rows in the frame log.
+    FrameLogBudget(usize),
     /// Empty the live frame log.
     ClearFrameLog,
     /// The plots' capture choices (on, length, pre-trigger share).
@@ -125,6 +127,10 @@ impl Pendant {
             Intent::FrameLogCap(cap) => {
                 self.frame_log.set_cap(cap);
                 self.settings.frame_log_cap = Some(cap);
+            }
+            Intent::FrameLogBudget(mb) => {
+                self.frame_log.set_budget(mb.saturating_mul(1024 * 1024));
+                self.settings.frame_log_budget_mb = Some(mb);
             }
             Intent::ClearFrameLog => self.frame_log.clear(),
             Intent::CaptureSettings(c) => {

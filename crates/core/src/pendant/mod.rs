@@ -57,6 +57,8 @@ pub struct Settings {
     pub light_theme: bool,
     /// Rows the frame log keeps (None: [`frame_log::DEFAULT_CAP`]).
     pub frame_log_cap: Option<usize>,
+    /// MB of memory the frame log's rows may take (None: the default budget).
+    pub frame_log_budget_mb: Option<usize>,
     /// The size of everything in the window (Ctrl + / Ctrl - / Ctrl 0; None: 100%).
     pub ui_scale: Option<f32>,
     /// The folder of the last file read or written: a name typed without a folder goes
@@ -188,6 +190,11 @@ pub struct Pendant {
 impl Pendant {
     pub fn new(mut settings: Settings, model: RobotModel) -> Self {
         let log_cap = settings.frame_log_cap.unwrap_or(frame_log::DEFAULT_CAP);
+        let log_budget = settings
+            .frame_log_budget_mb
+            .map_or(frame_log::DEFAULT_BUDGET_BYTES, |mb| {
+                mb.saturating_mul(1024 * 1024)
+            });
         let teach = teach::book::TeachBook::new(std::mem::take(&mut settings.legacy_teach));
         Self {
             axes: axes::RmcAxes::new(settings.rmc.axis_count()),
@@ -209,7 +216,11 @@ impl Pendant {
             health: None,
             health_window: VecDeque::new(),
             messages: VecDeque::new(),
-            frame_log: frame_log::FrameLog::new(log_cap),
+            frame_log: {
+                let mut log = frame_log::FrameLog::new(log_cap);
+                log.set_budget(log_budget);
+                log
+            },
             jog: jog::JogState::default(),
             raw_sent: None,
             requests: Vec::new(),

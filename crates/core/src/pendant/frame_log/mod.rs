@@ -26,6 +26,12 @@ pub use row::{Dir, Protocol, Row, Verdict, hex_pairs};
 const CHUNK: usize = 4096;
 /// The default cap on rows kept.
 pub const DEFAULT_CAP: usize = 1_000_000;
+/// The default cap on the memory the rows take: whole chunks of the oldest rows go
+/// when it is passed, whatever the row cap says (a line of junk fills it in bytes, not
+/// rows).
+pub const DEFAULT_BUDGET_BYTES: usize = 64 * 1024 * 1024;
+/// The most of one garbage run a row keeps; the rest is counted in its note.
+pub const GARBAGE_KEEP: usize = 1024;
 /// The most rows of the other line between a request and its answer for the two to be
 /// paired (each line has one request outstanding; the other line's rows come between).
 const PAIR_REACH: u64 = 1024;
@@ -34,6 +40,12 @@ const PAIR_REACH: u64 = 1024;
 #[derive(Clone, Debug)]
 pub struct FrameLog {
     cap: usize,
+    /// The most memory the rows may take (see [`DEFAULT_BUDGET_BYTES`]).
+    budget: usize,
+    /// Memory the frozen chunks take.
+    frozen_bytes: usize,
+    /// Rows dropped from the head to keep the memory budget.
+    dropped_budget: u64,
     /// Frozen full chunks; `frozen[0]` starts at sequence number `base`.
     frozen: VecDeque<Arc<Chunk>>,
     open: Chunk,
@@ -60,6 +72,9 @@ impl FrameLog {
     pub fn new(cap: usize) -> Self {
         Self {
             cap: cap.max(1),
+            budget: DEFAULT_BUDGET_BYTES,
+            frozen_bytes: 0,
+            dropped_budget: 0,
             frozen: VecDeque::new(),
             open: Chunk::new(),
             base: 0,
@@ -91,6 +106,24 @@ impl FrameLog {
     pub fn set_cap(&mut self, cap: usize) {
         self.cap = cap.max(1);
         self.trim();
+    }
+
+    /// The cap on the memory the rows take.
+    pub fn budget(&self) -> usize {
+        self.budget
+    }
+
+    /// A new memory budget (at least one chunk's worth is always kept); the oldest rows
+    /// beyond it go at once.
+    pub fn set_budget(&mut self, bytes: usize) {
+        self.budget = bytes;
+        self.trim();
+    }
+
+    /// Rows dropped from the head to keep the memory budget (also in
+    /// [`FrameLog::dropped_head`]).
+    pub fn dropped_budget(&self) -> u64 {
+        self.dropped_budget
     }
 
     /// Rows kept.
@@ -131,8 +164,9 @@ impl FrameLog {
 
     /// Forgets every row (counts too); new rows keep counting time from the same start.
     pub fn clear(&mut self) {
-        let (cap, origin, wall) = (self.cap, self.origin, self.origin_wall);
+        let (cap, budget, origin, wall) = (self.cap, self.budget, self.origin, self.origin_wall);
         *self = Self::new(cap);
+        self.budget = budget;
         self.set_origin(origin, wall);
     }
 
@@ -245,6 +279,14 @@ impl FrameLog {
     /// anything else answers it.
     pub fn push_row(&mut self, protocol: Protocol, dir: Dir, bytes: &[u8], note: &str, t_ns: u64) {
         let bytes = if dir == Dir::Timeout { &[][..] } else { bytes };
+        // A garbage run is kept up to a length; the rest is said, not stored.
+        let cut;
+        let (bytes, note) = if dir == Dir::Garbage && bytes.len() > GARBAGE_KEEP {
+            cut = format!("{note} (+{} bytes not kept)", bytes.len() - GARBAGE_KEEP);
+            (&bytes[..GARBAGE_KEEP], cut.as_str())
+        } else {
+            (bytes, note)
+        };
         let mut e = match protocol {
             Protocol::FormatB => Entry::new(dir, t_ns, bytes),
             Protocol::Modbus => Entry::modbus(dir, t_ns, bytes),
@@ -305,6 +347,7 @@ impl FrameLog {
         if self.open.entries.len() == CHUNK {
             let mut full = std::mem::replace(&mut self.open, Chunk::new());
             full.bytes.shrink_to_fit();
+            self.frozen_bytes += full.memory_bytes();
             self.frozen.push_back(Arc::new(full));
             self.index = OpenIndex::default();
         }
@@ -318,8 +361,23 @@ impl FrameLog {
             self.head += over;
             self.dropped_head += over;
         }
+        // The memory budget: the oldest chunk goes whole while the rows take more.
+        while !self.frozen.is_empty() && self.frozen_bytes + self.open.memory_bytes() > self.budget
+        {
+            let first_end = self.base + CHUNK as u64;
+            let gone = first_end.saturating_sub(self.head);
+            self.head = self.head.max(first_end);
+            self.dropped_head += gone;
+            self.dropped_budget += gone;
+            if let Some(c) = self.frozen.pop_front() {
+                self.frozen_bytes -= c.memory_bytes();
+            }
+            self.base += CHUNK as u64;
+        }
         while !self.frozen.is_empty() && self.head >= self.base + CHUNK as u64 {
-            self.frozen.pop_front();
+            if let Some(c) = self.frozen.pop_front() {
+                self.frozen_bytes -= c.memory_bytes();
+            }
             self.base += CHUNK as u64;
         }
         if self.frozen.is_empty() && self.head > self.base + self.open.entries.len() as u64 {

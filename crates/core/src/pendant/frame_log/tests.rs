@@ -72,6 +72,38 @@ fn the_cap_drops_from_the_head_and_counts() {
     assert!(log.is_empty());
 }
 
+/// A line of junk (2 MB/s of 1,000-byte lines) for ten minutes on a virtual clock: the
+/// rows' memory stays within the budget, what went is counted, the rows kept read.
+#[test]
+fn a_junk_stream_is_held_to_the_memory_budget_not_only_the_row_cap() {
+    let budget = 8 * 1024 * 1024;
+    let mut log = FrameLog::new(DEFAULT_CAP);
+    log.set_budget(budget);
+    let line: Vec<u8> = (0..1_000u32).map(|i| b'a' + (i % 26) as u8).collect();
+    let mut most = 0;
+    // 2,000 lines a second for 600 s.
+    for i in 0..1_200_000u64 {
+        log.push_garbage(&line, "no header", i * 500_000);
+        if i % 10_000 == 0 {
+            most = most.max(log.memory_bytes());
+        }
+    }
+    // One open chunk beyond the budget at most (4,096 rows of 1,000 bytes).
+    assert!(most <= budget + 4096 * 1_100, "{most}");
+    assert!(log.dropped_budget() > 1_000_000);
+    assert_eq!(log.dropped_head(), log.dropped_budget());
+    let last = log.nth(log.len() - 1).unwrap();
+    assert_eq!(last.bytes().as_ref(), &line[..]);
+    // A run longer than a row keeps says how much more there was.
+    log.push_garbage(&vec![b'x'; 5_000], "no CR LF", 0);
+    let row = log.nth(log.len() - 1).unwrap();
+    assert_eq!(row.bytes().len(), GARBAGE_KEEP);
+    assert_eq!(row.note(), "no CR LF (+3976 bytes not kept)");
+    // The row cap still holds, and a clear keeps the budget.
+    log.clear();
+    assert_eq!(log.budget(), budget);
+}
+
 #[test]
 fn timeouts_end_the_outstanding_request() {
     let mut log = FrameLog::new(10);
