@@ -53,10 +53,11 @@ pub enum Next {
     Wait(Option<Instant>),
 }
 
-/// The share of the line's time spare requests may take from the polls: credit builds up
-/// at 1/25 of the time passing, a spare request that cannot end before the next poll is
-/// due goes when the credit covers its expected line time, and each is charged what it
-/// really took. The status poll rate stays within 4 % of its rate without them.
+/// The share of the line's time spare requests may take from the polls when these leave
+/// no slack (a slow line): credit builds up at 1/25 of the time passing, a spare request
+/// goes between two cycles when the credit covers its expected line time, and each is
+/// charged what it really took. With slack, a spare request goes only when it ends
+/// before the next poll is due. The status poll rate stays within 4 % of its rate without them.
 pub const SPARE_SHARE: u32 = 25;
 /// The most line time spare requests may save up while the line has slack.
 const SPARE_SAVINGS: Duration = Duration::from_secs(1);
@@ -79,6 +80,9 @@ pub struct Scheduler {
     /// The spare request on the line: when it went and the time it was expected to take
     /// (the next request can only go once it has ended: its real time is charged then).
     spare_out: Option<(Instant, Duration, bool)>,
+    /// The last poll cycle took longer than its interval: the polls leave no slack, and
+    /// spare requests go on credit.
+    polls_saturated: bool,
     timing: Timing,
     polling: Polling,
     cycle_pos: usize,
@@ -304,7 +308,9 @@ impl Scheduler {
             self.cycle_pos = 0;
             let start = self.cycle_started.unwrap_or(now);
             let gap = self.cycle_interval(now, interval);
-            self.next_poll_at = Some(super::driver::later(start, gap).max(now));
+            let due = super::driver::later(start, gap);
+            self.polls_saturated = due <= now;
+            self.next_poll_at = Some(due.max(now));
             self.background_turn = true;
         }
         Some(Pending::new(
@@ -325,7 +331,8 @@ impl Scheduler {
                 .next_poll_at
                 .is_none_or(|at| super::driver::later(now, time) <= at);
         let from_credit = polling && !ends_in_time;
-        if from_credit && (self.cycle_pos != 0 || self.spare_credit < time) {
+        if from_credit && (!self.polls_saturated || self.cycle_pos != 0 || self.spare_credit < time)
+        {
             return None;
         }
         self.spare_out = Some((now, time, from_credit));
