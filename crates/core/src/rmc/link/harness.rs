@@ -1,5 +1,6 @@
 //! The RMC link core against the simulated RMC151 in one thread on a virtual clock: a
-//! stand-in for the driver that can lose replies, drop writes and cut the line.
+//! stand-in for the driver that can lose replies, drop writes, cut the line and answer
+//! badly.
 
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
@@ -27,6 +28,15 @@ pub enum Fault {
     AckNever,
 }
 
+/// A device that keeps answering badly, every request until healed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Sick {
+    /// Every request answered with exception 04 (Server Device Failure).
+    Exceptions,
+    /// Every read answered with one register fewer than asked (writes run as usual).
+    ShortReads,
+}
+
 pub struct Bench {
     pub core: RmcCore,
     pub sim: RmcController,
@@ -41,6 +51,8 @@ pub struct Bench {
     pub faults: Vec<Fault>,
     /// The line refuses to open while cut.
     pub cut: bool,
+    /// The device answers badly while set.
+    pub sick: Option<Sick>,
     ids: u64,
     latency: Duration,
     /// A write went out since the last status read answered.
@@ -83,6 +95,7 @@ impl Bench {
             events: Vec::new(),
             faults: Vec::new(),
             cut: false,
+            sick: None,
             ids: 0,
             wrote_since_status: false,
             latency: Duration::from_micros(500),
@@ -204,6 +217,10 @@ impl Bench {
                 if fault == Some(Fault::LoseNextWrite) {
                     return;
                 }
+                if let Some(reply) = self.sick_reply(&bytes) {
+                    self.inbound.push_back((self.now + self.latency, reply));
+                    return;
+                }
                 let Some(conn) = self.conn.as_mut() else {
                     return;
                 };
@@ -223,6 +240,24 @@ impl Bench {
                 self.inbound.clear();
             }
         }
+    }
+
+    /// What a sick device answers to `request`, if it answers badly.
+    fn sick_reply(&self, request: &[u8]) -> Option<Vec<u8>> {
+        use crate::rmc::modbus::{ExceptionCode, Response, encode_response};
+        let (header, request) = decode_request(request).ok()?;
+        let response = match (self.sick?, request) {
+            (Sick::Exceptions, r) => Response::Exception {
+                function: r.function(),
+                code: ExceptionCode(4),
+            },
+            (Sick::ShortReads, Request::Read { count, .. }) => Response::Registers {
+                function: 3,
+                words: vec![0; usize::from(count.saturating_sub(1))],
+            },
+            (Sick::ShortReads, _) => return None,
+        };
+        Some(encode_response(header, &response))
     }
 
     /// Runs the virtual clock in 0.5 ms ticks until `done` or `limit` passes; whether

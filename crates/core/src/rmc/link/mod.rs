@@ -33,6 +33,16 @@ use crate::rmc::status::AxisStatus;
 /// 0.25-4 ms]. After it the command counts as not taken, and other requests go on.
 const ACK_WAIT: Duration = Duration::from_millis(500);
 
+/// The longest wait between two requests to a device that keeps answering badly
+/// (exceptions, replies of the wrong size or to another request, no reply, bytes that
+/// are not Modbus/TCP): the wait starts at the poll interval and doubles up to it.
+pub const BACKOFF_MAX: Duration = Duration::from_secs(1);
+
+/// Bad replies in a row before the health line says the link is backing off (fewer are
+/// spaced out too, unsaid: a device that refuses one axis of several only slows that
+/// axis's read).
+const BACKOFF_SAID_AFTER: u32 = 3;
+
 /// How the RMC link behaves.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RmcLinkConfig {
@@ -100,6 +110,21 @@ enum Purpose {
     },
 }
 
+/// The link backing off from a device that keeps answering badly: one retry rate for
+/// every request but the STOPs owed (and the zeros before them), reset by a good reply.
+#[derive(Clone, Debug)]
+struct Backoff {
+    bad_in_row: u32,
+    /// The wait after the last bad reply.
+    wait: Duration,
+    /// No request (but an owed STOP) goes out before this; cleared once passed.
+    until: Option<Instant>,
+    /// The health line said so (it says when the device answers well again).
+    said: bool,
+    /// Good replies since the last bad one (a whole round of them ends a said back-off).
+    good_in_row: u32,
+}
+
 struct InFlight {
     transaction: u16,
     purpose: Purpose,
@@ -127,6 +152,9 @@ pub struct RmcCore {
     timeouts_in_row: u8,
     reader_behind: bool,
     events: VecDeque<RmcEvent>,
+    /// The connection's name as its [`RmcEvent::LineUp`] gave it (the health line).
+    line_name: String,
+    backoff: Option<Backoff>,
 }
 
 impl RmcCore {
@@ -152,6 +180,8 @@ impl RmcCore {
             timeouts_in_row: 0,
             reader_behind: false,
             events: VecDeque::new(),
+            line_name: String::new(),
+            backoff: None,
         }
     }
 
@@ -214,8 +244,9 @@ impl RmcCore {
     fn lose_line(&mut self, now: Instant, reason: String) {
         self.in_flight = None;
         self.rx.clear();
+        let wait = self.backoff.as_ref().map_or(Duration::ZERO, |b| b.wait);
         self.line = Line::Down {
-            retry_at: now + self.config.reconnect_interval,
+            retry_at: now + self.config.reconnect_interval.max(wait),
         };
         // Nothing queued is sent later by itself; a held jog ends (its STOP goes out
         // when the line is back).
@@ -238,6 +269,75 @@ impl RmcCore {
     /// The application's view: the last trusted status of an axis (tests, benches).
     pub fn last_status(&self, axis: AxisId) -> Option<AxisStatus> {
         self.axes.get(axis.index()).and_then(|a| a.last)
+    }
+
+    /// The wait between requests while the link backs off from a device answering
+    /// badly; `None` while it answers well.
+    pub fn backoff(&self) -> Option<Duration> {
+        self.backoff.as_ref().map(|b| b.wait)
+    }
+
+    /// A bad reply (or none): the next request waits, twice as long as after the last
+    /// bad one, from the poll interval up to [`BACKOFF_MAX`]; the health line says so
+    /// after [`BACKOFF_SAID_AFTER`] in a row.
+    pub(super) fn bad_reply(&mut self, now: Instant, what: &str) {
+        let first = self.config.poll_interval.max(Duration::from_millis(1));
+        let b = self.backoff.get_or_insert(Backoff {
+            bad_in_row: 0,
+            wait: Duration::ZERO,
+            until: None,
+            said: false,
+            good_in_row: 0,
+        });
+        b.bad_in_row = b.bad_in_row.saturating_add(1);
+        b.good_in_row = 0;
+        b.wait = if b.wait.is_zero() {
+            first
+        } else {
+            (b.wait * 2).min(BACKOFF_MAX.max(first))
+        };
+        b.until = Some(now + b.wait);
+        if !b.said && b.bad_in_row >= BACKOFF_SAID_AFTER {
+            b.said = true;
+            let n = b.bad_in_row;
+            let name = format!(
+                "{} - backing off: {n} bad replies in a row (the last: {what}); requests \
+                 spaced out to one a second at most until a good reply",
+                self.line_name
+            );
+            self.events.push_back(RmcEvent::LineUp { name, at: now });
+        }
+    }
+
+    /// A good reply: the normal pace again (the health line says so once a whole round
+    /// answered well).
+    pub(super) fn good_reply(&mut self, now: Instant) {
+        let Some(b) = self.backoff.as_mut() else {
+            return;
+        };
+        b.good_in_row += 1;
+        if !b.said {
+            self.backoff = None;
+            return;
+        }
+        // The pace is back at once; the line's word waits for a whole round.
+        b.wait = Duration::ZERO;
+        b.until = None;
+        b.bad_in_row = 0;
+        if b.good_in_row as usize > self.axes.len() {
+            self.backoff = None;
+            let name = self.line_name.clone();
+            self.events.push_back(RmcEvent::LineUp { name, at: now });
+        }
+    }
+
+    /// Whether a request waits for the back-off now: everything but owed STOPs (and the
+    /// zeros ahead of them) and a closing link's last writes.
+    fn held_back(&self, now: Instant) -> bool {
+        let until = self.backoff.as_ref().and_then(|b| b.until);
+        until.is_some_and(|t| now < t)
+            && self.closing.is_none()
+            && !self.axes.iter().any(|a| a.stop_owed)
     }
 }
 
@@ -265,6 +365,7 @@ impl LinkCore for RmcCore {
     fn handle_line(&mut self, now: Instant, change: LineChange) {
         match change {
             LineChange::Opened { name } => {
+                self.line_name = name.clone();
                 self.line = Line::Up;
                 self.drop_line = false;
                 self.in_flight = None;
@@ -344,6 +445,7 @@ impl LinkCore for RmcCore {
             };
             match decoded {
                 Err(e) => {
+                    self.bad_reply(now, "bytes that are not Modbus/TCP");
                     self.lose_line(
                         now,
                         format!("the RMC sent bytes that are not Modbus/TCP: {e}"),
@@ -370,8 +472,12 @@ impl LinkCore for RmcCore {
     }
 
     fn handle_timeout(&mut self, now: Instant) {
+        if let Some(b) = self.backoff.as_mut() {
+            b.until.take_if(|t| *t <= now);
+        }
         if let Some(flight) = self.in_flight.take_if(|f| f.deadline <= now) {
             self.timeouts_in_row = self.timeouts_in_row.saturating_add(1);
+            self.bad_reply(now, "no reply in time");
             self.events.push_back(RmcEvent::Timeout {
                 what: format!(
                     "no reply to transaction {} within {} ms",
@@ -443,6 +549,9 @@ impl LinkCore for RmcCore {
                 if self.closing.is_some() && (closing_due || !self.owes_more()) {
                     return self.finish();
                 }
+                if self.held_back(now) {
+                    return None;
+                }
                 let purpose = self.next_purpose(now)?;
                 let request = self.request_of(purpose);
                 self.transaction = self.transaction.wrapping_add(1);
@@ -478,7 +587,14 @@ impl LinkCore for RmcCore {
         let line = match self.line {
             Line::Down { retry_at } => Some(retry_at),
             Line::Opening => None,
-            Line::Up if self.in_flight.is_none() && !self.reader_behind => Some(self.next_round),
+            // Backing off, the next request waits for the gate (then the round, if due).
+            Line::Up if self.in_flight.is_none() => {
+                match self.backoff.as_ref().and_then(|b| b.until) {
+                    Some(until) => Some(until),
+                    None if !self.reader_behind => Some(self.next_round),
+                    None => None,
+                }
+            }
             Line::Up => None,
         };
         let lease = self

@@ -1,12 +1,12 @@
 //! What the RMC answered, taken in by the link core: zeros done, the module and the
 //! controller's status, an axis's status (and whether its ACK now equals REQ),
-//! exceptions.
+//! exceptions; and whether the reply was a good one (the back-off's measure).
 
 use std::time::Instant;
 
 use super::{InFlight, Purpose, RmcCore, RmcEvent, WriteKind};
 use crate::rmc::modbus::Response;
-use crate::rmc::registers::AxisId;
+use crate::rmc::registers::{AxisId, STATUS_REGISTERS};
 use crate::rmc::status::{AxisStatus, ControllerStatus};
 use crate::rmc::words::dword_at;
 
@@ -17,8 +17,28 @@ impl RmcCore {
             Purpose::Write { id, .. } => id,
             _ => None,
         };
+        // A read answered with another number of registers than it asked for is no
+        // answer (a short module read would read as CPU Module ID 0).
+        let asked = match flight.purpose {
+            Purpose::Module | Purpose::Controller => Some(2),
+            Purpose::Status(_) => Some(STATUS_REGISTERS as usize),
+            _ => None,
+        };
+        if let (Some(asked), Response::Registers { words, .. }) = (asked, &response)
+            && words.len() != asked
+        {
+            let what = format!("{} registers where {asked} were asked for", words.len());
+            self.events.push_back(RmcEvent::Ignored {
+                why: format!("a reply of {what}"),
+            });
+            return self.bad_reply(now, &what);
+        }
         match (flight.purpose, response) {
             (purpose, Response::Exception { function, code }) => {
+                self.bad_reply(
+                    now,
+                    &format!("Modbus exception {:02} ({})", code.0, code.name()),
+                );
                 if let Purpose::Write { axis, kind, .. } = purpose
                     && let Some(a) = self.axis(axis)
                 {
@@ -41,6 +61,7 @@ impl RmcCore {
                     .push_back(RmcEvent::Exception { id, function, code });
             }
             (Purpose::Zeros(axis), Response::Written { .. }) => {
+                self.good_reply(now);
                 if let Some(a) = self.axis(axis) {
                     a.zeroed = true;
                     a.req = false;
@@ -48,27 +69,41 @@ impl RmcCore {
                 }
             }
             (Purpose::Module, Response::Registers { words, .. }) => {
+                self.good_reply(now);
                 self.module_read = true;
                 let cpu_id = dword_at(&words, 0).unwrap_or(0);
                 self.events.push_back(RmcEvent::Module { cpu_id });
             }
             (Purpose::Controller, Response::Registers { words, .. }) => {
+                self.good_reply(now);
                 let status = ControllerStatus(dword_at(&words, 0).unwrap_or(0));
                 self.events
                     .push_back(RmcEvent::Controller { status, at: now });
             }
             (Purpose::Status(axis), Response::Registers { words, .. }) => {
                 match AxisStatus::decode(&words) {
-                    Some(status) => self.on_status(now, axis, status),
-                    None => self.events.push_back(RmcEvent::Ignored {
-                        why: format!("{axis}'s status came back with {} registers", words.len()),
-                    }),
+                    Some(status) => {
+                        self.good_reply(now);
+                        self.on_status(now, axis, status)
+                    }
+                    None => {
+                        self.events.push_back(RmcEvent::Ignored {
+                            why: format!(
+                                "{axis}'s status came back with {} registers",
+                                words.len()
+                            ),
+                        });
+                        self.bad_reply(now, "a status that does not decode");
+                    }
                 }
             }
-            (Purpose::Write { .. }, Response::Written { .. }) => {}
-            (_, other) => self.events.push_back(RmcEvent::Ignored {
-                why: format!("a reply that does not answer its request: {other:?}"),
-            }),
+            (Purpose::Write { .. }, Response::Written { .. }) => self.good_reply(now),
+            (_, other) => {
+                self.events.push_back(RmcEvent::Ignored {
+                    why: format!("a reply that does not answer its request: {other:?}"),
+                });
+                self.bad_reply(now, "a reply that does not answer its request");
+            }
         }
     }
 

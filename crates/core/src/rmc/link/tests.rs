@@ -1,10 +1,11 @@
 //! The RMC link core on a virtual clock against the simulated RMC151: REQ/ACK, no blind
-//! re-send, zeros first, STOP first, and the held jog's chain.
+//! re-send, zeros first, STOP first, the held jog's chain, and backing off from a device
+//! that answers badly.
 
 use std::time::Duration;
 
-use super::harness::{Bench, Fault, axis};
-use super::{HoldJog, RmcEvent, RmcLinkConfig, RmcRequest, SafetyStop};
+use super::harness::{Bench, Fault, Sick, axis};
+use super::{BACKOFF_MAX, HoldJog, RmcEvent, RmcLinkConfig, RmcRequest, SafetyStop};
 use crate::link::core::{Input, LinkCore};
 use crate::rmc::{Command, MoveRelative};
 use crate::robot::RelativeTo;
@@ -499,4 +500,96 @@ fn a_stop_that_overtook_a_hold_and_a_move_sends_neither() {
         .filter(|(c, _)| matches!(c, Command::Stop { .. }))
         .count();
     assert!(stops <= 1, "{stops} Stop (6) writes");
+}
+
+/// Requests written in `[from, to)`.
+fn requests_between(b: &Bench, from: std::time::Instant, to: std::time::Instant) -> usize {
+    b.wire
+        .iter()
+        .filter(|(at, _)| *at >= from && *at < to)
+        .count()
+}
+
+/// The health line's words (the name of the latest `LineUp`) from `from` on.
+fn health_lines(b: &Bench, from: std::time::Instant) -> Vec<String> {
+    b.events
+        .iter()
+        .filter(|(at, _)| *at >= from)
+        .filter_map(|(_, e)| match e {
+            RmcEvent::LineUp { name, .. } => Some(name.clone()),
+            _ => None,
+        })
+        .collect()
+}
+
+#[test]
+fn a_device_that_keeps_answering_badly_is_backed_off_from_and_paced_again_once_healed() {
+    for sick in [Sick::Exceptions, Sick::ShortReads] {
+        let mut b = Bench::enabled();
+        let fell_ill = b.now;
+        b.sick = Some(sick);
+        // The wait doubles from the poll interval (20 ms) to a second within about 1.3 s.
+        b.run_for(2 * SECOND, None);
+        assert_eq!(b.core.backoff(), Some(BACKOFF_MAX), "{sick:?}");
+        let from = b.now;
+        b.run_for(10 * SECOND, None);
+        let sent = requests_between(&b, from, b.now);
+        assert!(
+            sent <= 11,
+            "{sick:?}: {sent} requests in 10 s to a device answering badly"
+        );
+        let said = health_lines(&b, fell_ill);
+        assert_eq!(said.len(), 1, "{sick:?}: said once: {said:?}");
+        assert!(
+            said[0].starts_with("sim - backing off: 3 bad replies in a row"),
+            "{sick:?}: {said:?}"
+        );
+        // Healed: the next request, at most a second later, answers well and the pace is
+        // back; the health line says so once a whole round answered.
+        b.sick = None;
+        let healed = b.now;
+        assert!(
+            b.run_until(2 * SECOND, |b| b.core.backoff().is_none()),
+            "{sick:?}"
+        );
+        let took = b.now - healed;
+        assert!(
+            took <= BACKOFF_MAX + Duration::from_millis(100),
+            "{sick:?}: paced again after {took:?}"
+        );
+        assert_eq!(health_lines(&b, healed), ["sim"], "{sick:?}");
+        let from = b.now;
+        b.run_for(SECOND, None);
+        let sent = requests_between(&b, from, b.now);
+        // Still axes: a round of three reads every 250 ms.
+        assert!((9..=15).contains(&sent), "{sick:?}: {sent} requests in 1 s");
+        assert!(b.core.last_status(axis(0)).is_some());
+    }
+}
+
+#[test]
+fn an_owed_stop_is_never_held_back_by_the_back_off() {
+    let mut b = Bench::enabled();
+    b.send(axis(0), move_by(100.0, RelativeTo::Command));
+    b.run_for(Duration::from_millis(300), None);
+    b.sick = Some(Sick::Exceptions);
+    b.run_for(2 * SECOND, None);
+    assert_eq!(b.core.backoff(), Some(BACKOFF_MAX));
+    // Just after a bad reply: the next request waits a second, STOP does not.
+    assert!(b.run_until(2 * SECOND, |b| b.core.awaits_bytes()));
+    b.run_until(SECOND, |b| !b.core.awaits_bytes());
+    let asked = b.now;
+    b.request(RmcRequest::StopAll);
+    b.run_for(Duration::from_millis(5), None);
+    let stop_at = b.wire.iter().find_map(|(at, r)| match r {
+        crate::rmc::modbus::Request::Write { address, words }
+            if *at >= asked
+                && *address == axis(0).command_block()
+                && matches!(Command::from_block(words), Ok((Command::Stop { .. }, _))) =>
+        {
+            Some(*at)
+        }
+        _ => None,
+    });
+    assert_eq!(stop_at, Some(asked), "Stop (6) written at once");
 }

@@ -36,7 +36,7 @@ pub struct RmcGuardianCore {
     /// Motion was written to the axis and no Stop (6) since.
     may_move: [bool; MAX_AXES],
     /// The guardian's own Stops not yet answered, and when it gives up on them.
-    own_out: Vec<u16>,
+    own_out: Vec<(u16, AxisId)>,
     own_deadline: Option<Instant>,
     transaction: u16,
     last_heard: Instant,
@@ -122,7 +122,7 @@ impl RmcGuardianCore {
                     words: block,
                 },
             ));
-            self.own_out.push(self.transaction);
+            self.own_out.push((self.transaction, axis));
             names.push(axis.to_string());
         }
         self.own_deadline = Some(now + REPLY_WAIT);
@@ -169,10 +169,15 @@ impl Guard for RmcGuardianCore {
                 continue;
             };
             let transaction = u16::from_be_bytes([frame[0], frame[1]]);
-            if let Some(at) = self.own_out.iter().position(|t| *t == transaction) {
-                self.own_out.remove(at);
+            if let Some(at) = self.own_out.iter().position(|(t, _)| *t == transaction) {
+                let (_, axis) = self.own_out.remove(at);
+                // Byte 7 is the function code; its top bit marks an exception reply.
+                let how = match frame.get(7) {
+                    Some(f) if f & 0x80 != 0 => "refused (a Modbus exception)",
+                    _ => "answered",
+                };
                 self.log.push_back(format!(
-                    "the RMC answered the guardian's Stop {transaction}"
+                    "the RMC {how} the guardian's Stop (6) to {axis} (Modbus transaction {transaction})"
                 ));
             } else {
                 self.to_window.push_back(FromGuardian::Bytes(frame));
