@@ -54,11 +54,12 @@ pub enum Next {
 }
 
 /// The share of the line's time spare requests may take from the polls when these leave
-/// no slack (a slow line): credit builds up at 1/25 of the time passing, a spare request
+/// no slack (a slow line): credit builds up at 1/30 of the time passing, a spare request
 /// goes between two cycles when the credit covers its expected line time, and each is
 /// charged what it really took. With slack, a spare request goes only when it ends
-/// before the next poll is due. The status poll rate stays within 4 % of its rate without them.
-pub const SPARE_SHARE: u32 = 25;
+/// before the next poll is due. The status poll rate stays within 5 % of its rate without them (each request costs a
+/// little more than its share: its turnaround and the gap after it).
+pub const SPARE_SHARE: u32 = 30;
 /// The most line time spare requests may save up while the line has slack.
 const SPARE_SAVINGS: Duration = Duration::from_secs(1);
 /// A controller's reply delay as spare requests are sized: the real one is a parameter
