@@ -57,8 +57,9 @@ pub enum Next {
 /// no slack (a slow line): credit builds up at 1/30 of the time passing, a spare request
 /// goes between two cycles when the credit covers its expected line time, and each is
 /// charged what it really took. With slack, a spare request goes only when it ends
-/// before the next poll is due. The status poll rate stays within 5 % of its rate without them (each request costs a
-/// little more than its share: its turnaround and the gap after it).
+/// before the next poll is due. The status poll rate stays within 5 % of its rate
+/// without them (a request costs a little more than its share: its turnaround and the
+/// gap after it).
 pub const SPARE_SHARE: u32 = 30;
 /// The most line time spare requests may save up while the line has slack.
 const SPARE_SAVINGS: Duration = Duration::from_secs(1);
