@@ -119,6 +119,7 @@ pub struct PendantApp {
     simulator: SimulatorPanel,
     coords: CoordsPanel,
     positions: super::positions::PositionsPanel,
+    signals: super::signals::SignalsPanel,
     /// The teach list and the coordinate drafts in files of their own.
     work_files: WorkFiles,
     arm: ArmView,
@@ -227,6 +228,7 @@ impl PendantApp {
             simulator: SimulatorPanel::default(),
             coords: CoordsPanel::default(),
             positions: super::positions::PositionsPanel::default(),
+            signals: super::signals::SignalsPanel::default(),
             work_files,
             arm: ArmView::default(),
             frame_log: FrameLogPanel::default(),
@@ -710,6 +712,7 @@ impl eframe::App for PendantApp {
                 teach: &mut self.teach,
                 coords: &mut self.coords,
                 positions: &mut self.positions,
+                signals: &mut self.signals,
                 frame_log: &mut self.frame_log,
                 plots: &mut self.plots,
                 simulator: &mut self.simulator,
@@ -728,6 +731,13 @@ impl eframe::App for PendantApp {
             let centre = ui.max_rect();
             self.positions
                 .preview_window(ui.ctx(), centre, &self.pendant, &mut intents);
+            self.signals.after_panes(
+                ui.ctx(),
+                centre,
+                &self.pendant,
+                &mut self.plots,
+                &mut intents,
+            );
         });
         self.live_log_shown.store(
             self.frame_log.live_in_sight,

@@ -1,6 +1,6 @@
 //! The rearrangeable centre of the window (egui_tiles): the arm view, position, status,
-//! teach list, the controller's positions, coordinate tables, messages and frame log as
-//! panes the operator can drag into tabs, rows and columns.
+//! teach list, the controller's positions and signals, coordinate tables, messages and
+//! frame log as panes the operator can drag into tabs, rows and columns.
 //! The layout is saved with the settings.
 //!
 //! egui_tiles rather than egui_dock: egui_tiles 0.18 is built on egui 0.37 (egui_dock's
@@ -20,6 +20,7 @@ use super::arm_view::ArmView;
 use super::coords::CoordsPanel;
 use super::frame_log::FrameLogPanel;
 use super::positions::PositionsPanel;
+use super::signals::SignalsPanel;
 use super::simulator::SimulatorPanel;
 use super::teach::TeachPanel;
 use super::{messages, readout, status};
@@ -33,6 +34,7 @@ pub enum Tab {
     Status,
     Teach,
     Positions,
+    Signals,
     Messages,
     Coords,
     FrameLog,
@@ -49,6 +51,7 @@ impl Tab {
             Tab::Status => "Status",
             Tab::Teach => "Teach list",
             Tab::Positions => "Positions",
+            Tab::Signals => "Signals",
             Tab::Messages => "Messages",
             Tab::Coords => "Coordinate tables",
             Tab::FrameLog => "Frame log",
@@ -59,12 +62,13 @@ impl Tab {
     }
 }
 
-const ALL: [Tab; 11] = [
+const ALL: [Tab; 12] = [
     Tab::Arm,
     Tab::Position,
     Tab::Status,
     Tab::Teach,
     Tab::Positions,
+    Tab::Signals,
     Tab::Messages,
     Tab::Coords,
     Tab::FrameLog,
@@ -75,7 +79,7 @@ const ALL: [Tab; 11] = [
 
 /// The first layout: the arm view large on the left over the messages, the frame log and
 /// the plots (tabs); on the right the position over the status (servo, home), teach list,
-/// the controller's positions and coordinate tables as tabs.
+/// the controller's positions, coordinate tables and signals as tabs.
 pub fn default_layout() -> Tree<Tab> {
     let mut tiles = Tiles::default();
     let tabs = |tiles: &mut Tiles<Tab>, panes: &[Tab]| {
@@ -92,6 +96,7 @@ pub fn default_layout() -> Tree<Tab> {
             Tab::Teach,
             Tab::Positions,
             Tab::Coords,
+            Tab::Signals,
             Tab::Simulator,
         ],
     );
@@ -130,6 +135,7 @@ pub struct Tabs<'a> {
     pub teach: &'a mut TeachPanel,
     pub coords: &'a mut CoordsPanel,
     pub positions: &'a mut PositionsPanel,
+    pub signals: &'a mut SignalsPanel,
     pub frame_log: &'a mut FrameLogPanel,
     pub plots: &'a mut super::plots::PlotsPanel,
     pub simulator: &'a mut SimulatorPanel,
@@ -175,6 +181,10 @@ impl Behavior<Tab> for Tabs<'_> {
             }
             Tab::Positions => {
                 self.positions
+                    .show(ui, self.pendant, self.folder, self.now, self.intents)
+            }
+            Tab::Signals => {
+                self.signals
                     .show(ui, self.pendant, self.folder, self.now, self.intents)
             }
             Tab::Messages => messages::show(ui, self.pendant, self.started),

@@ -25,6 +25,7 @@ mod readout;
 mod rmc_connection;
 mod run;
 mod safety_band;
+pub mod signals;
 mod simulator;
 mod status;
 mod teach;

@@ -19,6 +19,7 @@ mod main_window;
 mod plots;
 mod positions;
 mod sessions;
+mod signals;
 mod simulator;
 mod sizes;
 #[cfg(feature = "wgpu")]

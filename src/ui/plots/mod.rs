@@ -100,6 +100,32 @@ impl PlotsPanel {
         self.traces.iter().flatten().cloned().collect()
     }
 
+    /// A watched signal's trace (its series `series`, channel "state" for a bit, "value"
+    /// for a number, as the samples name them) put into the first free slot, unless a
+    /// slot shows it already; false when every slot is taken.
+    pub fn show_signal(&mut self, series: &str, bit: bool) -> bool {
+        let choice = TraceChoice::new(series, if bit { "state" } else { "value" });
+        if self.traces.iter().flatten().any(|c| *c == choice) {
+            return true;
+        }
+        match self.traces.iter_mut().find(|t| t.is_none()) {
+            Some(slot) => {
+                *slot = Some(choice);
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// A watched signal's trace (series `series`) taken out of its slot.
+    pub fn hide_signal(&mut self, series: &str) {
+        for slot in &mut self.traces {
+            if slot.as_ref().is_some_and(|c| c.series == series) {
+                *slot = None;
+            }
+        }
+    }
+
     /// Places the next cursor (A, then B, then A again) at `x`.
     pub fn place_cursor(&mut self, x: f64) {
         self.cursors[self.next_cursor] = Some(x);
