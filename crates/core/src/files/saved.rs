@@ -5,6 +5,7 @@
 //! and an unreadable file is moved aside, never overwritten.
 
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant, SystemTime};
 
 use super::job::Job;
@@ -30,6 +31,9 @@ pub struct Restored<T> {
     pub notes: Vec<String>,
 }
 
+/// What a write job ends with: how many tries failed before it wrote, or why it stopped.
+type WriteResult = Result<u64, String>;
+
 /// One file of operator work and how its writing goes.
 #[derive(Debug)]
 pub struct SavedFile {
@@ -38,12 +42,18 @@ pub struct SavedFile {
     what: &'static str,
     /// The revision last written (or read back).
     written: Option<u64>,
+    /// The last write failed (said once, until one works again).
     failing: bool,
-    retry_at: Option<Instant>,
-    /// The write under way: the revision it writes.
-    writing: Option<Job<std::io::Result<()>>>,
+    /// The write under way: it tries again every [`RETRY_EVERY`] by itself until it
+    /// works or a newer revision replaces it, whatever the window is doing.
+    writing: Option<Job<WriteResult>>,
     /// The revision the write under way writes.
     writing_revision: u64,
+    /// Held by whoever writes the file: a write replaced by a newer one checks, under it,
+    /// that it was not cancelled, so it never lands after the newer one.
+    lock: Arc<Mutex<()>>,
+    /// Why the write under way last failed.
+    last_error: Arc<Mutex<String>>,
 }
 
 impl SavedFile {
@@ -53,9 +63,10 @@ impl SavedFile {
             what,
             written: None,
             failing: false,
-            retry_at: None,
             writing: None,
             writing_revision: 0,
+            lock: Arc::default(),
+            last_error: Arc::default(),
         }
     }
 
@@ -126,8 +137,8 @@ impl SavedFile {
         self.written = Some(revision);
     }
 
-    /// Starts writing `contents()` when `revision` was not written yet (after a
-    /// failure, not before the retry time); one write at a time, off the calling thread.
+    /// Starts writing `contents()` when `revision` was not written yet; one write at a
+    /// time, off the calling thread (a failing write of an older revision is replaced).
     /// Says what the operator should hear of the last write.
     pub fn save(
         &mut self,
@@ -136,25 +147,34 @@ impl SavedFile {
         contents: impl FnOnce() -> Vec<u8>,
     ) -> Option<SaveNews> {
         let news = self.poll_write(now);
-        if self.writing.is_some()
-            || self.written == Some(revision)
-            || self.retry_at.is_some_and(|t| now < t)
-        {
+        if self.written == Some(revision) {
             return news;
         }
-        let path = self.path.clone();
+        if let Some(job) = &self.writing {
+            if self.writing_revision == revision || !self.failing {
+                // It writes this revision, or an older one that will soon be done.
+                return news;
+            }
+            // An older revision that keeps failing: this one takes its place.
+            job.cancel();
+            self.writing = None;
+        }
         let bytes = contents();
-        let what = format!("save the {} to {}", self.what, path.display());
+        let what = format!("save the {} to {}", self.what, self.path.display());
+        let (path, lock, last_error) = (
+            self.path.clone(),
+            self.lock.clone(),
+            self.last_error.clone(),
+        );
         match Job::spawn_opening(what, now, move |ctl| {
-            let written = write_atomic(&path, &bytes);
             ctl.opened();
-            written
+            write_retrying(&path, &bytes, &lock, ctl, &last_error)
         }) {
             Ok(job) => {
                 self.writing = Some(job);
                 self.writing_revision = revision;
             }
-            Err(e) => return news.or(self.failed(&e, now)),
+            Err(e) => return news.or(self.failed(&e)),
         }
         news
     }
@@ -168,28 +188,50 @@ impl SavedFile {
         limit: std::time::Duration,
         contents: impl FnOnce() -> Vec<u8>,
     ) -> Option<SaveNews> {
+        if self.failing
+            && let Some(job) = &self.writing
+        {
+            // It is waiting to try again: this write goes now instead.
+            job.cancel();
+        }
         let _ = self.settle(limit, Instant::now());
         if self.written == Some(revision) && !self.failing {
             return None;
         }
-        match write_atomic(&self.path, &contents()) {
+        let written = {
+            let _held = self.lock.lock().unwrap_or_else(|e| e.into_inner());
+            write_atomic(&self.path, &contents())
+        };
+        match written {
             Ok(()) => {
                 self.written = Some(revision);
                 self.failing = false;
                 None
             }
-            Err(e) => self.failed(&e.to_string(), Instant::now()),
+            Err(e) => self.failed(&e.to_string()),
         }
     }
 
-    /// Takes the result of a write that finished.
+    /// Takes the result of a write that finished, or notices that the one under way
+    /// has failed (it goes on trying by itself).
     fn poll_write(&mut self, now: Instant) -> Option<SaveNews> {
+        if let Some(job) = &self.writing
+            && job.progress().done > 0
+            && !self.failing
+        {
+            let why = self
+                .last_error
+                .lock()
+                .map(|e| e.clone())
+                .unwrap_or_default();
+            return self.failed(&why);
+        }
         let done = Job::take(&mut self.writing, now)?;
         let result = match done {
-            Ok(written) => written.map_err(|e| e.to_string()),
+            Ok(written) => written,
             Err(lost) => Err(lost.to_string()),
         };
-        self.finish(self.writing_revision, result, now)
+        self.finish(self.writing_revision, result)
     }
 
     /// Waits at most `limit` for the write under way and takes its result (at exit; in
@@ -199,22 +241,17 @@ impl SavedFile {
         let revision = self.writing_revision;
         let result = job
             .wait(limit)
-            .unwrap_or_else(|| Err(std::io::Error::other("not done in time")))
-            .map_err(|e| e.to_string());
-        self.finish(revision, result, now)
+            .unwrap_or_else(|| Err("not done in time".to_owned()));
+        let _ = now;
+        self.finish(revision, result)
     }
 
-    fn finish(
-        &mut self,
-        revision: u64,
-        result: Result<(), String>,
-        now: Instant,
-    ) -> Option<SaveNews> {
+    fn finish(&mut self, revision: u64, result: WriteResult) -> Option<SaveNews> {
         match result {
-            Ok(()) => {
+            Ok(failures) => {
                 self.written = Some(revision);
-                self.retry_at = None;
-                std::mem::take(&mut self.failing).then(|| {
+                let was_failing = std::mem::take(&mut self.failing);
+                (was_failing || failures > 0).then(|| {
                     SaveNews::Recovered(format!(
                         "the {} is saved again to {}",
                         self.what,
@@ -222,12 +259,12 @@ impl SavedFile {
                     ))
                 })
             }
-            Err(e) => self.failed(&e, now),
+            Err(e) if e == SUPERSEDED => None,
+            Err(e) => self.failed(&e),
         }
     }
 
-    fn failed(&mut self, why: &str, now: Instant) -> Option<SaveNews> {
-        self.retry_at = Some(now + RETRY_EVERY);
+    fn failed(&mut self, why: &str) -> Option<SaveNews> {
         let first = !std::mem::replace(&mut self.failing, true);
         first.then(|| {
             SaveNews::Failed(format!(
@@ -243,6 +280,49 @@ impl SavedFile {
     /// Whether a write is under way.
     pub fn is_writing(&self) -> bool {
         self.writing.is_some()
+    }
+}
+
+/// Why a write job stopped when a newer one (or the flush at exit) took its place.
+const SUPERSEDED: &str = "replaced by a newer write";
+
+/// Writes `bytes` to `path`, and after a failure (a full disk, a share gone away) tries
+/// again every [`RETRY_EVERY`] until it works or the job is cancelled; each failure is
+/// counted in the job's progress and its reason kept in `last_error`.
+fn write_retrying(
+    path: &Path,
+    bytes: &[u8],
+    lock: &Mutex<()>,
+    ctl: &super::job::Ctl,
+    last_error: &Mutex<String>,
+) -> WriteResult {
+    let mut failures = 0;
+    loop {
+        let written = {
+            let _held = lock.lock().unwrap_or_else(|e| e.into_inner());
+            if ctl.cancelled() {
+                return Err(SUPERSEDED.to_owned());
+            }
+            write_atomic(path, bytes)
+        };
+        match written {
+            Ok(()) => return Ok(failures),
+            Err(e) => {
+                if let Ok(mut last) = last_error.lock() {
+                    *last = e.to_string();
+                }
+                failures += 1;
+                ctl.advance(1);
+            }
+        }
+        // Waits out the retry time, in slices, so a cancel ends it at once.
+        let until = Instant::now() + RETRY_EVERY;
+        while Instant::now() < until {
+            if ctl.cancelled() {
+                return Err(SUPERSEDED.to_owned());
+            }
+            std::thread::sleep(Duration::from_millis(50));
+        }
     }
 }
 
@@ -370,35 +450,64 @@ mod tests {
         assert_eq!(std::fs::read(aside.path()).unwrap(), b"garbage");
     }
 
+    /// A failed write (a folder where its new file should go, as a full disk) is said
+    /// once, and the job writes by itself within [`RETRY_EVERY`] of the way clearing,
+    /// however seldom the window calls (no frame between).
     #[test]
-    fn a_failed_write_is_said_once_retried_later_and_its_recovery_said() {
+    fn a_failed_write_reaches_the_disk_within_the_retry_time_of_space_coming_back() {
         let d = dir("fail");
         std::fs::create_dir_all(&d).unwrap();
-        // A folder where the new file should go: every write fails, as on a full disk.
         let path = d.join("drafts.json");
-        std::fs::create_dir_all(with_suffix(&path, ".new")).unwrap();
+        let blocker = with_suffix(&path, ".new");
+        std::fs::create_dir_all(&blocker).unwrap();
         let mut f = SavedFile::new(path.clone(), "drafts");
         let t0 = Instant::now();
-        assert!(matches!(
-            saved(&mut f, 1, t0, || b"ok".to_vec()),
-            Some(SaveNews::Failed(_))
-        ));
+        assert_eq!(f.save(1, t0, || b"ok".to_vec()), None);
+        let deadline = Instant::now() + LIMIT;
+        let news = loop {
+            if let Some(n) = f.save(1, Instant::now(), || panic!("written twice")) {
+                break n;
+            }
+            assert!(Instant::now() < deadline, "the failure is never said");
+            std::thread::sleep(Duration::from_millis(10));
+        };
+        assert!(matches!(news, SaveNews::Failed(_)), "{news:?}");
         assert!(!f.is_saved());
-        assert_eq!(
-            saved(&mut f, 2, t0 + Duration::from_secs(1), || panic!("not yet")),
-            None
-        );
-        assert_eq!(
-            saved(&mut f, 2, t0 + RETRY_EVERY, || b"ok".to_vec()),
-            None,
-            "said twice"
-        );
-        std::fs::remove_dir(with_suffix(&path, ".new")).unwrap();
-        let later = t0 + RETRY_EVERY * 2;
-        assert!(matches!(
-            saved(&mut f, 2, later, || b"ok 2".to_vec()),
-            Some(SaveNews::Recovered(_))
-        ));
-        assert_eq!(std::fs::read(&path).unwrap(), b"ok 2");
+        // Said once, however often asked.
+        assert_eq!(f.save(1, Instant::now(), || panic!("written twice")), None);
+        std::fs::remove_dir(&blocker).unwrap();
+        let cleared = Instant::now();
+        let deadline = cleared + RETRY_EVERY + LIMIT;
+        while std::fs::read(&path).ok().as_deref() != Some(&b"ok"[..]) {
+            assert!(Instant::now() < deadline, "never written");
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        let took = cleared.elapsed();
+        assert!(took <= RETRY_EVERY + Duration::from_secs(1), "{took:?}");
+        let news = f.settle(LIMIT, Instant::now());
+        assert!(matches!(news, Some(SaveNews::Recovered(_))), "{news:?}");
+        assert!(f.is_saved());
+    }
+
+    /// A newer change replaces a write that keeps failing; the old bytes never land
+    /// after the new ones.
+    #[test]
+    fn a_newer_change_replaces_a_failing_write() {
+        let d = dir("newer");
+        std::fs::create_dir_all(&d).unwrap();
+        let path = d.join("teach.json");
+        let blocker = with_suffix(&path, ".new");
+        std::fs::create_dir_all(&blocker).unwrap();
+        let mut f = SavedFile::new(path.clone(), "teach list");
+        f.save(1, Instant::now(), || b"ok old".to_vec());
+        let deadline = Instant::now() + LIMIT;
+        while f.save(1, Instant::now(), Vec::new).is_none() {
+            assert!(Instant::now() < deadline, "the failure is never said");
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        std::fs::remove_dir(&blocker).unwrap();
+        assert_eq!(f.flush(2, LIMIT, || b"ok new".to_vec()), None);
+        assert_eq!(std::fs::read(&path).unwrap(), b"ok new");
+        assert!(f.is_saved() && !f.is_writing());
     }
 }
