@@ -1,6 +1,7 @@
 //! The pendant binary: the window (`ui::run_window`), or text mode with `--headless` /
 //! `--watch` (`headless::run`), or the arm view or a saved capture to a PNG with
-//! `--render-png` / `--plot-png` (`render_cli::run`). Flags and line set-up live in `cli`, shared by both.
+//! `--render-png` / `--plot-png` (`render_cli::run`). Flags, their checks and line set-up
+//! live in `cli`, shared by all.
 
 use std::io::Write;
 use std::process::ExitCode;
@@ -17,7 +18,9 @@ fn main() -> ExitCode {
     {
         return session::guardian::run();
     }
-    let args: cli::Args = xsel_pendant::flags::parse_or_exit("xsel-pendant");
+    // Every flag checked whole before any mode starts (values, addresses, output
+    // folders, flags that do nothing in the mode chosen): exit code 2 and one line.
+    let args = cli::parse_or_exit();
     if args.render_png.is_some() || args.plot_png.is_some() {
         return render_cli::run(&args);
     }

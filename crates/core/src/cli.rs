@@ -1,6 +1,10 @@
-//! The pendant's command line: its flags, their checks, and the line they open.
+//! The pendant's command line: its flags, their checks (values, addresses, output folders,
+//! flags that do nothing in the mode chosen), and the line they open.
 
-use clap::Parser;
+use std::ffi::OsString;
+use std::path::Path;
+
+use clap::{ArgMatches, CommandFactory, FromArgMatches, Parser};
 
 use crate::line::{LineSettings, LineSettingsError, Parity};
 use crate::pendant::{ConnectionSettings, LineKind};
@@ -12,16 +16,18 @@ use crate::session::load_model;
 /// Teach pendant for IAI SCARA robots on X-SEL controllers (serial protocol Format B).
 /// With no --port or --tcp it talks to the built-in simulated controller.
 ///
-/// Every flag is checked the same way whatever the line: a bad value ends the program
-/// with exit code 2 and one line on stderr naming the flag.
+/// Every flag is checked the same way whatever the line: a bad value, or a flag that does
+/// nothing in the mode chosen, ends the program with exit code 2 and one line on stderr
+/// naming the flag.
 #[derive(Parser, Debug, Clone)]
 #[command(name = "xsel-pendant", version)]
 pub struct Args {
     /// Serial port of the controller, e.g. /dev/ttyUSB0 or COM3.
     #[arg(long, conflicts_with = "tcp")]
     pub port: Option<String>,
-    /// A serial-to-Ethernet bridge or `xsel-sim --tcp`, as HOST:PORT.
-    #[arg(long, value_name = "ADDR")]
+    /// A serial-to-Ethernet bridge or `xsel-sim --tcp`, as HOST:PORT (port 1-65535; an
+    /// IPv6 address in brackets, [::1]:5099).
+    #[arg(long, value_name = "ADDR", value_parser = parse_tcp)]
     pub tcp: Option<String>,
     /// Baud rate (9600-230400). The built-in simulator is paced at it.
     #[arg(long, default_value_t = 115_200, value_parser = parse_baud)]
@@ -53,21 +59,26 @@ pub struct Args {
     /// switch and E-stop in the controller's safety circuit.
     #[arg(long)]
     pub no_guardian: bool,
-    /// A Delta RMC151 beside the robot, as HOST[:PORT] (port 502 when none is given), or
-    /// `sim` for the built-in simulated RMC151 (the default, or the saved address).
+    /// A Delta RMC151 beside the robot, as HOST[:PORT] (port 502 when none is given, else
+    /// 1-65535), or `sim` for the built-in simulated RMC151 (the default, or the saved
+    /// address). The window only: the text mode and the pictures never connect it.
     #[arg(long, value_name = "ADDR", value_parser = parse_rmc, conflicts_with = "no_rmc")]
     pub rmc: Option<String>,
-    /// No RMC151: its axes tab stays disconnected.
+    /// No RMC151: its axes tab stays disconnected (the window only).
     #[arg(long)]
     pub no_rmc: bool,
-    /// Text mode: no window; print the controller's state once (see --watch).
+    /// Text mode: no window; print the X-SEL controller's state once (see --watch). It
+    /// reads the X-SEL only: the RMC151's axes are shown in the window alone (--rmc is
+    /// refused here).
     #[arg(long)]
     pub headless: bool,
-    /// Text mode, printing the controller and the arm until Ctrl-C (implies --headless).
+    /// Text mode, printing the X-SEL controller and the arm until Ctrl-C (implies
+    /// --headless); the RMC151's axes are not shown (the window shows them).
     #[arg(long)]
     pub watch: bool,
     /// Draw the arm view into this PNG file and exit: no window, no GPU, no line. The pose
     /// comes from --joints or --pose (default: the model's home), the robot from --robot.
+    /// Its folder must exist (none is created).
     #[arg(long, value_name = "FILE")]
     pub render_png: Option<std::path::PathBuf>,
     /// For --render-png: the joints J1,J2,Z,J4 (deg, deg, mm, deg).
@@ -109,7 +120,8 @@ pub struct Args {
     pub light: bool,
     /// Paint a saved capture (the Plots pane's "Save capture", --capture) into this PNG
     /// file and exit: its positions on one axis, velocities on another, bits and phases
-    /// beneath; no window, no GPU, no line. 1600x900 unless --size names another.
+    /// beneath; no window, no GPU, no line. 1600x900 unless --size names another. Its
+    /// folder must exist (none is created).
     #[arg(
         long,
         value_name = "FILE",
@@ -125,6 +137,142 @@ pub struct Args {
     /// graphics driver that fails with one.
     #[arg(long, value_enum, default_value_t = Renderer::Glow)]
     pub renderer: Renderer,
+    /// The flags given on the command line (not defaulted), as `--name`, in order.
+    #[arg(skip)]
+    pub given: Vec<String>,
+}
+
+/// What the pendant does with its flags: one of four modes, chosen by them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// `--plot-png`: a saved capture painted into a PNG.
+    Plot,
+    /// `--render-png`: the arm view drawn into a PNG.
+    Render,
+    /// `--headless` / `--watch`: the X-SEL's state printed.
+    Text,
+    /// The window.
+    Window,
+}
+
+impl Mode {
+    /// "with --plot-png", as the refusal of a flag says it.
+    fn phrase(self) -> &'static str {
+        match self {
+            Mode::Plot => "with --plot-png",
+            Mode::Render => "with --render-png",
+            Mode::Text => "in the text mode (--headless, --watch)",
+            Mode::Window => "in the window",
+        }
+    }
+}
+
+/// Each flag that does something in some modes only: the modes it serves, and what it
+/// is for (said when it is refused elsewhere). Flags not listed serve every mode.
+const SERVES: &[(&str, &[Mode], &str)] = {
+    use Mode::*;
+    const LINE: &str = "it sets the X-SEL's line, which only the window and the text mode open";
+    const RENDER: &str = "it is for --render-png only";
+    const PICTURE: &str = "it is for --render-png and --plot-png only";
+    const RMC: &str = "only the window connects the RMC151 (the text mode reads the X-SEL alone)";
+    &[
+        ("--port", &[Text, Window], LINE),
+        ("--tcp", &[Text, Window], LINE),
+        ("--baud", &[Text, Window], LINE),
+        ("--data-bits", &[Text, Window], LINE),
+        ("--parity", &[Text, Window], LINE),
+        ("--stop-bits", &[Text, Window], LINE),
+        ("--station", &[Text, Window], LINE),
+        ("--sim", &[Text, Window], LINE),
+        (
+            "--robot",
+            &[Text, Window, Render],
+            "it names the robot of the window, the text mode and --render-png",
+        ),
+        (
+            "--no-guardian",
+            &[Window],
+            "only the window starts a guardian process (the text mode's own link owns its line)",
+        ),
+        ("--rmc", &[Window], RMC),
+        ("--no-rmc", &[Window], RMC),
+        ("--headless", &[Text], "it chooses the text mode"),
+        ("--watch", &[Text], "it chooses the text mode"),
+        ("--joints", &[Render], RENDER),
+        ("--pose", &[Render], RENDER),
+        ("--arm", &[Render], RENDER),
+        ("--target", &[Render], RENDER),
+        ("--size", &[Render, Plot], PICTURE),
+        ("--light", &[Render, Plot], PICTURE),
+        ("--renderer", &[Window], "it is for the window only"),
+    ]
+};
+
+/// Parses the pendant's command line and checks it whole before anything starts: a bad
+/// value, an address out of range, a missing output folder or a flag that does nothing
+/// in the mode chosen ends the program with exit code 2 and one line naming the flag
+/// (`--help` and `--version` print as usual).
+pub fn parse_or_exit() -> Args {
+    match try_parse_from(std::env::args_os()) {
+        Ok(args) => args,
+        Err(e) => crate::flags::exit_on_clap_error("xsel-pendant", &e),
+    }
+}
+
+/// [`parse_or_exit`] without the exit: the program's name first, then its flags.
+pub fn try_parse_from<I, T>(argv: I) -> Result<Args, clap::Error>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<OsString> + Clone,
+{
+    let matches = Args::command().try_get_matches_from(argv)?;
+    let mut args = Args::from_arg_matches(&matches)?;
+    args.given = given(&matches);
+    args.check()
+        .map_err(|e| clap::Error::raw(clap::error::ErrorKind::ArgumentConflict, e))?;
+    Ok(args)
+}
+
+/// The flags given on the command line, as `--name`, in the order given.
+fn given(matches: &ArgMatches) -> Vec<String> {
+    let command = Args::command();
+    let mut given: Vec<(usize, String)> = matches
+        .ids()
+        .filter(|id| {
+            matches.value_source(id.as_str()) == Some(clap::parser::ValueSource::CommandLine)
+        })
+        .filter_map(|id| {
+            let arg = command.get_arguments().find(|a| a.get_id() == id)?;
+            let at = matches.index_of(id.as_str()).unwrap_or(usize::MAX);
+            Some((at, format!("--{}", arg.get_long()?)))
+        })
+        .collect();
+    given.sort();
+    given.into_iter().map(|(_, name)| name).collect()
+}
+
+/// Why an output file cannot be written where it is named: its folder is missing (none
+/// is created) or is not a folder.
+fn output_folder(flag: &str, path: &Path) -> Result<(), String> {
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    if dir.is_dir() {
+        Ok(())
+    } else if dir.exists() {
+        Err(format!(
+            "{flag} {}: {} is not a folder",
+            path.display(),
+            dir.display()
+        ))
+    } else {
+        Err(format!(
+            "{flag} {}: the folder {} does not exist (no folder is created)",
+            path.display(),
+            dir.display()
+        ))
+    }
 }
 
 /// The window's renderer (`--renderer`).
@@ -210,6 +358,39 @@ impl Args {
         self.headless || self.watch
     }
 
+    /// The mode the flags choose (as `main` runs them: a picture first, then text).
+    pub fn mode(&self) -> Mode {
+        if self.plot_png.is_some() {
+            Mode::Plot
+        } else if self.render_png.is_some() {
+            Mode::Render
+        } else if self.is_headless() {
+            Mode::Text
+        } else {
+            Mode::Window
+        }
+    }
+
+    /// The checks clap cannot make: every flag given does something in the mode chosen,
+    /// and an output file's folder exists. One sentence naming the flag, or `Ok`.
+    pub fn check(&self) -> Result<(), String> {
+        let mode = self.mode();
+        for flag in &self.given {
+            if let Some((_, modes, what)) = SERVES.iter().find(|(f, ..)| f == flag)
+                && !modes.contains(&mode)
+            {
+                return Err(format!("{flag} does nothing {}: {what}", mode.phrase()));
+            }
+        }
+        if let Some(path) = &self.render_png {
+            output_folder("--render-png", path)?;
+        }
+        if let Some(path) = &self.plot_png {
+            output_folder("--plot-png", path)?;
+        }
+        Ok(())
+    }
+
     /// The robot model named by `--robot`.
     pub fn model(&self) -> Result<RobotModel, CliError> {
         load_model(&self.robot).map_err(|reason| CliError::Robot {
@@ -284,12 +465,80 @@ fn parse_parity(s: &str) -> Result<Parity, String> {
     }
 }
 
-/// `--rmc`: `sim` (the built-in RMC151, kept as an empty address) or HOST[:PORT].
+/// `--rmc`: `sim` (the built-in RMC151, kept as an empty address) or HOST[:PORT] (502
+/// when none is given).
 fn parse_rmc(s: &str) -> Result<String, String> {
     if s.trim().eq_ignore_ascii_case("sim") {
         return Ok(String::new());
     }
-    crate::session::rmc::rmc_address(s)
+    address(s, Some(crate::session::rmc::MODBUS_PORT))
+}
+
+/// `--tcp`: HOST:PORT.
+fn parse_tcp(s: &str) -> Result<String, String> {
+    address(s, None)
+}
+
+/// A TCP address to connect to, as HOST:PORT: a host name or IPv4 address, or an IPv6
+/// address in brackets; the port 1-65535, or `default_port` when none is given (else
+/// one is required). Nothing is resolved: a name that does not resolve fails when the
+/// line opens.
+pub fn address(typed: &str, default_port: Option<u16>) -> Result<String, String> {
+    let typed = typed.trim();
+    let form = if default_port.is_some() {
+        "HOST[:PORT]"
+    } else {
+        "HOST:PORT"
+    };
+    if typed.is_empty() {
+        return Err(format!("no address: name {form}"));
+    }
+    let (host, port, v6) = if let Some(rest) = typed.strip_prefix('[') {
+        let (host, after) = rest
+            .split_once(']')
+            .ok_or_else(|| format!("`{typed}`: an IPv6 address ends with ]"))?;
+        if host.parse::<std::net::Ipv6Addr>().is_err() {
+            return Err(format!("`{host}` is not an IPv6 address"));
+        }
+        let port = match after {
+            "" => None,
+            p => Some(
+                p.strip_prefix(':')
+                    .ok_or_else(|| format!("`{typed}`: expected {form}"))?,
+            ),
+        };
+        (host, port, true)
+    } else if typed.matches(':').count() > 1 {
+        return Err(if typed.parse::<std::net::Ipv6Addr>().is_ok() {
+            format!("`{typed}`: put an IPv6 address in brackets, [{typed}]:PORT")
+        } else {
+            format!("`{typed}` is not an address: expected {form}")
+        });
+    } else {
+        match typed.split_once(':') {
+            Some((host, port)) => (host, Some(port), false),
+            None => (typed, None, false),
+        }
+    };
+    let name_ok = |c: char| c.is_ascii_alphanumeric() || matches!(c, '.' | '-' | '_');
+    if !v6 && (host.is_empty() || !host.chars().all(name_ok)) {
+        return Err(format!(
+            "`{typed}` is not an address: expected {form} (a host name or IP address)"
+        ));
+    }
+    let port = match port {
+        Some(p) => match p.parse::<u32>() {
+            Ok(n) if (1..=65535).contains(&n) => n as u16,
+            Ok(n) => return Err(format!("`{typed}`: port {n} is out of range (1-65535)")),
+            Err(_) => return Err(format!("`{typed}`: `{p}` is not a port number (1-65535)")),
+        },
+        None => default_port.ok_or_else(|| format!("`{typed}` names no port: expected {form}"))?,
+    };
+    Ok(if v6 {
+        format!("[{host}]:{port}")
+    } else {
+        format!("{host}:{port}")
+    })
 }
 
 #[cfg(test)]
@@ -297,8 +546,181 @@ mod tests {
     use super::*;
 
     fn parses(args: &[&str]) -> Result<Args, String> {
-        Args::try_parse_from(std::iter::once("xsel-pendant").chain(args.iter().copied()))
+        try_parse_from(std::iter::once("xsel-pendant").chain(args.iter().copied()))
             .map_err(|e| crate::flags::one_line(&e))
+    }
+
+    #[test]
+    fn addresses_are_checked_whole_with_the_port_in_range() {
+        for (typed, default, want) in [
+            ("10.0.0.5", Some(502), "10.0.0.5:502"),
+            ("10.0.0.5:1502", Some(502), "10.0.0.5:1502"),
+            ("rmc.local", Some(502), "rmc.local:502"),
+            ("[::1]", Some(502), "[::1]:502"),
+            ("[::1]:5099", None, "[::1]:5099"),
+            ("localhost:65535", None, "localhost:65535"),
+        ] {
+            assert_eq!(address(typed, default).as_deref(), Ok(want), "{typed}");
+        }
+        for (typed, default, says) in [
+            ("127.0.0.1:99999", Some(502), "port 99999 is out of range"),
+            ("127.0.0.1:0", None, "port 0 is out of range"),
+            ("127.0.0.1:99999:502", Some(502), "not an address"),
+            ("127.0.0.1:http", None, "not a port number"),
+            ("127.0.0.1:", None, "not a port number"),
+            ("127.0.0.1", None, "names no port"),
+            ("::1", Some(502), "in brackets"),
+            ("[::1", Some(502), "ends with ]"),
+            ("[nope]:1", None, "not an IPv6 address"),
+            ("a b:1", None, "not an address"),
+            (":502", None, "not an address"),
+            ("", None, "no address"),
+        ] {
+            let e = address(typed, default).unwrap_err();
+            assert!(e.contains(says), "{typed}: {e}");
+        }
+    }
+
+    #[test]
+    fn a_flag_that_does_nothing_in_the_mode_chosen_is_refused_with_the_reason() {
+        let capture = ["--plot-png", "out.png", "--capture", "c.csv"];
+        let render = ["--render-png", "out.png"];
+        for (mode, extra, flag, says) in [
+            (
+                &capture[..],
+                &["--arm", "left"][..],
+                "--arm",
+                "for --render-png only",
+            ),
+            (
+                &capture,
+                &["--joints", "1,2,3,4"],
+                "--joints",
+                "for --render-png only",
+            ),
+            (
+                &capture,
+                &["--robot", "scara-250"],
+                "--robot",
+                "names the robot",
+            ),
+            (
+                &capture,
+                &["--headless"],
+                "--headless",
+                "chooses the text mode",
+            ),
+            (
+                &render,
+                &["--tcp", "127.0.0.1:5099"],
+                "--tcp",
+                "X-SEL's line",
+            ),
+            (&render, &["--rmc", "sim"], "--rmc", "only the window"),
+            (
+                &["--headless"],
+                &["--rmc", "10.0.0.5"],
+                "--rmc",
+                "only the window",
+            ),
+            (&["--watch"], &["--no-rmc"], "--no-rmc", "only the window"),
+            (
+                &["--headless"],
+                &["--no-guardian"],
+                "--no-guardian",
+                "only the window",
+            ),
+            (
+                &["--headless"],
+                &["--size", "100x100"],
+                "--size",
+                "--plot-png only",
+            ),
+            (
+                &["--watch"],
+                &["--renderer", "wgpu"],
+                "--renderer",
+                "window only",
+            ),
+            (&[], &["--light"], "--light", "--plot-png only"),
+        ] {
+            let mut argv = mode.to_vec();
+            argv.extend(extra);
+            let e = parses(&argv).err().unwrap_or_default();
+            assert!(
+                e.starts_with(&format!("{flag} does nothing")) && e.contains(says),
+                "{argv:?}: {e}"
+            );
+            assert_eq!(e.lines().count(), 1, "{e}");
+        }
+        // What a mode uses is taken.
+        let dir = std::env::temp_dir();
+        let png = dir.join("x.png");
+        let png = png.to_str().unwrap();
+        for argv in [
+            vec![
+                "--plot-png",
+                png,
+                "--capture",
+                "c.csv",
+                "--size",
+                "800x600",
+                "--light",
+            ],
+            vec![
+                "--render-png",
+                png,
+                "--arm",
+                "left",
+                "--robot",
+                "scara-250",
+                "--size",
+                "64x64",
+            ],
+            vec![
+                "--headless",
+                "--tcp",
+                "127.0.0.1:5099",
+                "--baud",
+                "9600",
+                "--robot",
+                "scara-250",
+            ],
+            vec![
+                "--rmc",
+                "sim",
+                "--no-guardian",
+                "--renderer",
+                "wgpu",
+                "--sim",
+            ],
+        ] {
+            parses(&argv).unwrap();
+        }
+    }
+
+    #[test]
+    fn an_output_file_in_a_missing_folder_is_refused_naming_it() {
+        let missing = std::env::temp_dir()
+            .join("xsel-pendant-no-such-folder")
+            .join("a.png");
+        let missing = missing.to_str().unwrap();
+        for argv in [
+            vec!["--render-png", missing],
+            vec!["--plot-png", missing, "--capture", "c.csv"],
+        ] {
+            let e = parses(&argv).err().unwrap_or_default();
+            assert!(
+                e.starts_with(argv[0])
+                    && e.contains("xsel-pendant-no-such-folder")
+                    && e.contains("does not exist"),
+                "{argv:?}: {e}"
+            );
+        }
+        assert!(
+            parses(&["--render-png", "here.png"]).is_ok(),
+            "the working folder"
+        );
     }
 
     #[test]

@@ -162,6 +162,10 @@ impl Session {
         }
         let mut out = io::stdout().lock();
         writeln!(out, "xsel-pendant {}", env!("CARGO_PKG_VERSION"))?;
+        writeln!(
+            out,
+            "text mode: the X-SEL controller only; the RMC151's axes are shown in the window"
+        )?;
         Ok(Session {
             watch: args.watch,
             link,
@@ -294,9 +298,10 @@ impl Session {
         }
         writeln!(
             self.out,
-            "\nText mode: the controller's state once. The window (run without --headless) jogs,\n\
-             edits coordinate tables and shows the arm and the traffic; `--watch` keeps\n\
-             polling; `cargo run --bin xsel-sim -- --help` serves the simulator on its own."
+            "\nText mode: the X-SEL controller's state once. The window (run without --headless)\n\
+             jogs, edits coordinate tables and shows the arm, the traffic and the RMC151's axes;\n\
+             `--watch` keeps polling; `xsel-sim --help` serves the simulator on its own\n\
+             (`cargo run --bin xsel-sim -- --help` from the source tree)."
         )?;
         self.out.flush()?;
         drop(self.link);
