@@ -80,7 +80,10 @@ impl SafetyStop {
 /// What the core reports.
 #[derive(Clone, Debug, PartialEq)]
 pub enum RmcEvent {
-    /// The connection is open.
+    /// The connection is open; sent again, with the back-off said after the name, when
+    /// the link starts backing off from a device that keeps answering badly, and with
+    /// the bare name once a whole round answered well again (the connection's health
+    /// line).
     LineUp { name: String, at: Instant },
     /// The connection is down, and why.
     LineDown { reason: String, at: Instant },
