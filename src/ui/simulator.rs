@@ -7,7 +7,7 @@
 
 use egui::{RichText, Ui};
 
-use super::widgets::{AMBER, GREEN, RED, lamp, reserved_line};
+use super::widgets::{AMBER, GREEN, GREY, RED, lamp, reserved_line};
 use crate::session::simulator::{Mode, OperatorAction, PanelState, parse_code};
 
 /// The panel's own input: the alarm code being typed and what was last done.
@@ -148,13 +148,12 @@ fn signals(ui: &mut Ui, state: &PanelState) -> Option<OperatorAction> {
     ui.horizontal_wrapped(|ui| {
         ui.label("Outputs")
             .on_hover_text("The first output ports (24AH switches them; 20CH reads them)");
+        // Each lamp laid out in the wrapping row itself (a nested row would not wrap).
         for (i, &on) in state.outputs.iter().enumerate() {
-            lamp(
-                ui,
-                on,
-                GREEN,
-                &format!("Out {}", PanelState::output_number(i)),
-            );
+            let (rect, _) = ui.allocate_exact_size(egui::vec2(12.0, 12.0), egui::Sense::hover());
+            let fill = if on { GREEN } else { GREY.gamma_multiply(0.4) };
+            ui.painter().circle_filled(rect.center(), 5.5, fill);
+            ui.label(format!("Out {}", PanelState::output_number(i)));
         }
     });
     ui.horizontal(|ui| {
