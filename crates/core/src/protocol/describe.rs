@@ -440,9 +440,9 @@ mod tests {
 
     #[test]
     fn unknown_messages_are_described_not_rejected() {
-        let d = describe(b"!9920B00100001B9\r\n");
+        let d = describe(b"!992FF00100001D3\r\n");
         assert!(d.is_ok(), "{d}");
-        assert!(d.title.contains("20BH unknown message"));
+        assert!(d.title.contains("2FFH unknown message"));
         let data = d
             .fields
             .iter()
