@@ -153,15 +153,20 @@ fn s6_2_test_call_alarm_and_software_reset() {
     assert_eq!(at_at_vector("!9925B@@", "3C"), Command::SoftwareReset);
 }
 
+/// The observed host's constant (PROTOCOL.md 3.34: start port 10h = 16, one port): known
+/// since the signal messages, it decodes and is described field by field.
 #[test]
-fn s6_2_input_port_query_is_unknown_but_described() {
+fn s6_2_input_port_query_of_an_observed_host_decodes() {
     let f = frame("!9920B00100001@@");
     assert_eq!(f.id(), Some(MessageId(0x20B)));
-    let e = Command::decode(&f).unwrap_err();
-    assert_eq!(e.kind, MessageErrorKind::UnknownMessage);
     assert_eq!(
-        e.to_string(),
-        "20BH command: unknown message ID: no layout is known for it"
+        Command::decode(&f).unwrap(),
+        Command::BitQuery(BitQuery {
+            space: BitSpace::Input,
+            program: 0,
+            start: 16,
+            count: 1,
+        })
     );
     let d = describe(&wire("!9920B00100001@@"));
     assert!(d.is_ok(), "{d}");
@@ -169,7 +174,7 @@ fn s6_2_input_port_query_is_unknown_but_described() {
     assert!(
         d.fields
             .iter()
-            .any(|f| f.name == "data (unknown message)" && f.raw == "00100001")
+            .any(|f| f.name == "query start number" && f.value == "16")
     );
 }
 
