@@ -11,11 +11,18 @@ use std::time::{Duration, Instant};
 use clap::Parser;
 use xsel_pendant_core::flags::parse_or_exit;
 use xsel_pendant_core::rmc::AxisId;
-use xsel_pendant_core::sim::rmc::{RmcAction, RmcConfig, RmcController, RmcServer, ServerEvent};
+use xsel_pendant_core::sim::rmc::{
+    DEFAULT_IDLE_TIMEOUT, RmcAction, RmcConfig, RmcController, RmcServer, ServeOptions, ServerEvent,
+};
 
 const AFTER_HELP: &str = "\
-Modbus/TCP, function codes 3, 16 and 23, any unit ID (echoed). Per axis n (0-based):
-status file (116 registers, Status Bits through Command Velocity) at 4096 + 512n,
+Modbus/TCP, function codes 3, 4, 6, 8, 16 and 23, any unit ID (echoed). FC4 reads
+the same map as FC3; reads take up to 125 registers, any address and count (each
+16-bit register is its half of a 32-bit one); FC6 writes one half of Position Scale,
+Offset or In Position Tolerance (the Command Area takes whole FC16 blocks only:
+exception 02); FC8 sub-function 0 echoes the request. Per axis n (0-based): status
+file at 4096 + 512n (elements 0-57, Status Bits through Command Velocity, modelled;
+the rest of the file reads 0),
 Command Area at 20480 + 20n (and its low copy at 1024 + 20n), Position Scale at
 12288 + 512n, In Position Tolerance at 12400 + 512n; CPU Module ID (17) at 3588,
 Controller Status Bits at 22542. Commands: 0 No-op, 1 Closed Loop Halt, 4 Clear
@@ -25,6 +32,10 @@ connection. Axes start disabled at position 0, soft travel limits -1000 to 1000 
 
 The first line of stdout is `listening on ADDR` (the bound address, so --tcp
 127.0.0.1:0 picks a free port). Connections opened and closed are logged on stderr.
+Up to 64 connections; a connection that sends nothing for --idle-timeout seconds is
+dropped (logged), so clients that vanished do not hold the places. One more client
+while 64 are open is refused: its first request gets exception 06 (Server Device
+Busy), then it is closed (logged).
 Runs until Ctrl-C (or `quit` on the console). A bad option ends it with exit code 2
 and one line on stderr.
 
@@ -47,6 +58,11 @@ struct Args {
     /// Axes, 1 to 8.
     #[arg(long, value_name = "N", default_value_t = 2, value_parser = clap::value_parser!(u8).range(1..=8))]
     axes: u8,
+    /// Drop a connection that sends nothing for this many seconds (0: never), 0 to
+    /// 86400.
+    #[arg(long, value_name = "SECONDS", default_value_t = DEFAULT_IDLE_TIMEOUT.as_secs(),
+          value_parser = clap::value_parser!(u64).range(0..=86_400))]
+    idle_timeout: u64,
     /// No operator console on stdin.
     #[arg(long)]
     no_console: bool,
@@ -77,15 +93,24 @@ fn main() -> ExitCode {
         axes: usize::from(args.axes),
         ..RmcConfig::default()
     };
-    let log = Arc::new(|event: ServerEvent| match event {
+    let idle = if args.idle_timeout == 0 {
+        "idle ones are kept: --idle-timeout 0".to_owned()
+    } else {
+        format!("idle ones are dropped after {} s", args.idle_timeout)
+    };
+    let options = ServeOptions {
+        idle_timeout: (args.idle_timeout > 0).then(|| Duration::from_secs(args.idle_timeout)),
+    };
+    let log = Arc::new(move |event: ServerEvent| match event {
         ServerEvent::Opened(peer) => say(&format!("rmc-sim: {peer} connected")),
         ServerEvent::Refused(peer) => say(&format!(
-            "rmc-sim: {peer} refused: {} connections are open",
-            xsel_pendant_core::sim::rmc::MAX_CONNECTIONS
+            "rmc-sim: {peer} refused: {} connections are open ({idle}); its first request \
+             is answered with exception 06 (Server Device Busy)",
+            xsel_pendant_core::sim::rmc::MAX_CONNECTIONS,
         )),
         ServerEvent::Closed(peer, why) => say(&format!("rmc-sim: {peer} closed: {why}")),
     });
-    let server = match RmcServer::start_logged(listener, config, Some(log)) {
+    let server = match RmcServer::start_with(listener, config, Some(log), options) {
         Ok(s) => s,
         Err(e) => {
             say(&format!("rmc-sim: cannot serve {}: {e}", args.tcp));

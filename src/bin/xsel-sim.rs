@@ -26,14 +26,20 @@ Every frame in and out is logged to stderr with the time since start, e.g.
   [  1.234567] rx !992120189\\r\\n  command 212H axis status
 A frame that gets no reply (also a run without '!' header, logged at its LF) says why:
   [  1.240000] rx !99215FF\\r\\n  ...  [silent: wrong checksum]
-Under a flood of garbage at most 10 dropped runs a second are logged, each cut at 80
-bytes; one line counts the rest.
-If stderr is closed (e.g. `2>&1 | head`), the simulator keeps serving with logging off.
+Frames answered and replies are logged whole. Under a flood of garbage at most 10
+dropped runs a second are logged, each cut at 80 bytes with \"… (N more bytes)\"; one
+line counts the rest.
+The log is written by a thread of its own: if stderr is closed (e.g. `2>&1 | head`),
+the simulator keeps serving with logging off; if nobody reads it (a full pipe), the
+simulator keeps serving and counts the log lines it could not write, said once stderr
+takes lines again.
 A bad option ends it with exit code 2 and one line on stderr naming the option.
 
 One client at a time: on TCP a second client is refused at once (its connection is
-closed) with a log line, and served once the first has left. A pty client that does not
-read slows the simulator down; no input is ever dropped (a line that fails mid-reply is
+closed) with a log line, and served once the first has left. A TCP client that sends
+nothing for --idle-timeout seconds (default 60) is dropped with a log line, so one that
+vanished without closing (a PC that lost its network) does not lock the port (TCP
+keepalive is not set). A pty client that does not read slows the simulator down; no input is ever dropped (a line that fails mid-reply is
 logged with what was lost). With --baud, TCP replies go out whole, each when its last
 byte would have left a serial line (one segment a reply); a pty gets them byte by byte.
 
@@ -136,6 +142,11 @@ struct Args {
     /// received is then 2051 or 1023 bytes).
     #[arg(long, default_value_t = xsel_pendant_core::protocol::REPLY_BUFFER, value_parser = parse_reply_buffer)]
     reply_buffer: usize,
+    /// TCP: drop a client that sends nothing for this many seconds (0: never), 0 to
+    /// 86400.
+    #[arg(long, value_name = "SECONDS", default_value_t = 60,
+          value_parser = clap::value_parser!(u64).range(0..=86_400))]
+    idle_timeout: u64,
     /// Do not log frames to stderr.
     #[arg(long)]
     quiet: bool,
@@ -199,6 +210,84 @@ fn say(line: &str) -> bool {
     writeln!(std::io::stderr(), "{line}").is_ok()
 }
 
+/// Log lines waiting for stderr; beyond these, lines are counted, not kept.
+const LOG_QUEUE: usize = 1024;
+
+/// The traffic log's writer: lines are queued (bounded) for a thread that writes them to
+/// stderr, so a stderr nobody reads (a full pipe) never stops the simulator serving;
+/// lines that find the queue full are counted and the count is said when stderr takes
+/// lines again. A closed stderr turns logging off.
+#[derive(Clone)]
+struct Logger {
+    queue: std::sync::mpsc::SyncSender<String>,
+    /// Logging is on (off for --quiet or once stderr is closed).
+    on: Arc<AtomicBool>,
+    lost: Arc<std::sync::atomic::AtomicU64>,
+    done: Arc<std::sync::Mutex<Option<std::sync::mpsc::Receiver<()>>>>,
+}
+
+impl Logger {
+    fn start() -> Logger {
+        let (queue, lines) = std::sync::mpsc::sync_channel::<String>(LOG_QUEUE);
+        let (done_tx, done) = std::sync::mpsc::channel();
+        let on = Arc::new(AtomicBool::new(true));
+        let lost = Arc::new(std::sync::atomic::AtomicU64::new(0));
+        let (writer_on, writer_lost) = (on.clone(), lost.clone());
+        let spawned = std::thread::Builder::new()
+            .name("xsel-sim-log".into())
+            .spawn(move || {
+                use std::sync::mpsc::RecvTimeoutError;
+                loop {
+                    // A pause in the traffic says the count too, not only the next line.
+                    let line = match lines.recv_timeout(Duration::from_millis(500)) {
+                        Ok(line) => Some(line),
+                        Err(RecvTimeoutError::Timeout) => None,
+                        Err(RecvTimeoutError::Disconnected) => break,
+                    };
+                    let missed = writer_lost.swap(0, Ordering::Relaxed);
+                    let ok = (missed == 0
+                        || say(&format!(
+                            "xsel-sim: {missed} log lines not written: stderr was not being \
+                             read (the simulator kept serving)"
+                        )))
+                        && line.is_none_or(|l| say(&l));
+                    if !ok {
+                        writer_on.store(false, Ordering::Relaxed);
+                    }
+                }
+                let _ = done_tx.send(());
+            });
+        if spawned.is_err() {
+            on.store(false, Ordering::Relaxed);
+        }
+        Logger {
+            queue,
+            on,
+            lost,
+            done: Arc::new(std::sync::Mutex::new(Some(done))),
+        }
+    }
+
+    /// Queues one line; counts it when the queue is full.
+    fn line(&self, line: String) {
+        if !self.on.load(Ordering::Relaxed) {
+            return;
+        }
+        if let Err(std::sync::mpsc::TrySendError::Full(_)) = self.queue.try_send(line) {
+            self.lost.fetch_add(1, Ordering::Relaxed);
+        }
+    }
+
+    /// Lets the writer empty the queue (at most a second: stderr may never take it).
+    fn finish(self) {
+        let done = self.done.lock().ok().and_then(|mut d| d.take());
+        drop(self);
+        if let Some(done) = done {
+            let _ = done.recv_timeout(Duration::from_secs(1));
+        }
+    }
+}
+
 fn run(args: Args) -> Result<(), Failure> {
     if args.codes {
         // A closed stdout (`--codes | head`) is not an error.
@@ -236,29 +325,32 @@ fn run(args: Args) -> Result<(), Failure> {
         action.apply(&mut controller);
     }
     let core = SimCore::new(controller, args.faults.clone().unwrap_or_default());
-    // Logging stops for good when stderr is closed; serving goes on.
-    let logging = Arc::new(AtomicBool::new(!args.quiet));
-    let log_on = logging.clone();
+    // The serving thread never writes stderr itself: a pipe nobody reads would stop it.
+    let logger = Logger::start();
+    let logging = logger.on.clone();
+    if args.quiet {
+        logging.store(false, Ordering::Relaxed);
+    }
     let opts = RunOptions {
         pacing: args.baud.map(byte_time_8n1),
         log: Some(Box::new({
             // Garbage floods are cut and counted, as in the pendant's frame log.
             let mut limiter = LogLimiter::default();
+            let logger = logger.clone();
             move |entry| {
-                if !log_on.load(Ordering::Relaxed) {
-                    return;
-                }
-                for line in limiter.lines(entry) {
-                    if !say(&line) {
-                        log_on.store(false, Ordering::Relaxed);
-                        return;
-                    }
+                if logger.on.load(Ordering::Relaxed) {
+                    limiter
+                        .lines(entry)
+                        .into_iter()
+                        .for_each(|l| logger.line(l));
                 }
             }
         })),
-        notice: Some(Arc::new(|line: &str| {
-            say(&format!("xsel-sim: {line}"));
+        notice: Some(Arc::new({
+            let logger = logger.clone();
+            move |line: &str| logger.line(format!("xsel-sim: {line}"))
         })),
+        idle_timeout: (args.idle_timeout > 0).then(|| Duration::from_secs(args.idle_timeout)),
         ..RunOptions::default()
     };
     let stop = Arc::new(AtomicBool::new(false));
@@ -306,6 +398,7 @@ fn run(args: Args) -> Result<(), Failure> {
     let counters = handle.counters();
     let faults = handle.fault_counts();
     handle.join();
+    logger.finish();
     say(&format!(
         "xsel-sim: stopped; {} frames, {} replies, {} errors, {} silent; motion {} received / {} started; faults injected {}",
         counters.frames,

@@ -14,5 +14,7 @@ mod lines;
 mod long_run;
 mod positions;
 mod rmc;
+mod rmc_abuse;
 mod signals;
+mod sim_abuse;
 mod stand_in;

@@ -1,14 +1,15 @@
 //! The simulator's traffic log kept readable and bounded under garbage, as the pendant's
-//! frame log is: a dropped run shows at most its first bytes, and at most a few dropped
-//! runs are logged a second, the rest counted in one line (random input of 138 MB once
-//! grew the log to 568 MB).
+//! frame log is: a dropped run shows at most its first bytes (and says how many more it
+//! had), at most a few dropped runs are logged a second, the rest counted in one line
+//! (random input of 138 MB once grew the log to 568 MB). Frames answered and replies sent
+//! are logged whole: they are bounded by the receive limit and the reply buffer.
 
 use std::time::Duration;
 
 use super::framing::Silence;
-use super::runner::{Dir, TrafficEntry, format_entry};
+use super::runner::{Dir, TrafficEntry, format_entry, format_entry_cut};
 
-/// Bytes of a logged run shown before it is cut.
+/// Bytes of a logged dropped run shown before it is cut.
 pub const SHOWN_BYTES: usize = 80;
 /// Dropped runs logged in one second; the rest are counted.
 pub const RUNS_A_SECOND: u32 = 10;
@@ -43,7 +44,11 @@ impl LogLimiter {
         } else {
             out.extend(self.summary(entry.at));
         }
-        out.push(cut(entry));
+        out.push(if is_garbage(entry) {
+            format_entry_cut(entry, SHOWN_BYTES)
+        } else {
+            format_entry(entry)
+        });
         out
     }
 
@@ -81,24 +86,6 @@ fn is_garbage(entry: &TrafficEntry) -> bool {
         )
 }
 
-fn cut(entry: &TrafficEntry) -> String {
-    if entry.bytes.len() <= SHOWN_BYTES {
-        return format_entry(entry);
-    }
-    let head = TrafficEntry {
-        at: entry.at,
-        dir: entry.dir,
-        bytes: entry.bytes[..SHOWN_BYTES].to_vec(),
-        fault: entry.fault,
-        silence: entry.silence,
-    };
-    format!(
-        "{}  [+{} more bytes not shown]",
-        format_entry(&head),
-        entry.bytes.len() - SHOWN_BYTES
-    )
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -134,7 +121,30 @@ mod tests {
         let mut l = LogLimiter::default();
         let line = l.lines(&garbage(0, 1_000_000)).remove(0);
         assert!(line.len() < 1000, "{} bytes", line.len());
-        assert!(line.contains("[+999920 more bytes not shown]"), "{line}");
+        assert!(line.contains("… (999920 more bytes)"), "{line}");
+        assert!(!line.contains("CR LF"), "no reason from the cut: {line}");
+    }
+
+    /// A long reply (2A1H answers are hundreds of bytes) is logged whole, with no reason
+    /// made up from a cut head.
+    #[test]
+    fn a_long_reply_is_logged_whole() {
+        let mut l = LogLimiter::default();
+        let mut bytes = b"#992A1".to_vec();
+        bytes.extend([b'0'; 300]);
+        bytes.extend(b"@@\r\n");
+        let reply = TrafficEntry {
+            at: Duration::ZERO,
+            dir: Dir::Out,
+            bytes,
+            fault: None,
+            silence: None,
+        };
+        let line = l.lines(&reply).remove(0);
+        assert!(line.contains(&"0".repeat(300)), "{line}");
+        assert!(line.contains("@@\\r\\n"), "{line}");
+        assert!(!line.contains("more bytes"), "{line}");
+        assert!(!line.contains("does not end with CR LF"), "{line}");
     }
 
     #[test]

@@ -109,6 +109,9 @@ pub struct RunOptions {
     pub coalesce: bool,
     /// The front panel's desk, served between frames (the window's Simulator pane).
     pub panel: Option<super::panel::PanelDesk>,
+    /// TCP: a client that sends nothing for this long is dropped (logged) and the port
+    /// serves the next one; `None`: never (the library's default; `xsel-sim` sets 60 s).
+    pub idle_timeout: Option<Duration>,
 }
 
 /// The tick while the world is at rest: it only looks for a stop and serves the front
@@ -126,6 +129,7 @@ impl Default for RunOptions {
             notice: None,
             coalesce: false,
             panel: None,
+            idle_timeout: None,
         }
     }
 }
@@ -313,12 +317,23 @@ fn answer(
 
 /// Formats a traffic entry as one log line: time, direction, bytes, decoded summary.
 pub fn format_entry(entry: &TrafficEntry) -> String {
+    format_entry_cut(entry, usize::MAX)
+}
+
+/// As [`format_entry`], showing at most the first `shown` bytes followed by
+/// "… (N more bytes)"; the summary is always of the whole entry, so a cut never makes up
+/// a reason (such as a missing CR LF).
+pub fn format_entry_cut(entry: &TrafficEntry, shown: usize) -> String {
     let arrow = match entry.dir {
         Dir::In => "rx",
         Dir::Out => "tx",
     };
-    let text: String = entry
-        .bytes
+    let head = entry.bytes.get(..shown).unwrap_or(&entry.bytes);
+    let more = match entry.bytes.len() - head.len() {
+        0 => String::new(),
+        n => format!("… ({n} more bytes)"),
+    };
+    let text: String = head
         .iter()
         .map(|&b| match b {
             b'\r' => "\\r".to_owned(),
@@ -336,7 +351,7 @@ pub fn format_entry(entry: &TrafficEntry) -> String {
         .map(|s| format!("  [silent: {}]", s.text()))
         .unwrap_or_default();
     format!(
-        "[{:>10.6}] {arrow} {text}  {}{fault}{silence}",
+        "[{:>10.6}] {arrow} {text}{more}  {}{fault}{silence}",
         entry.at.as_secs_f64(),
         describe_frame(&entry.bytes)
     )

@@ -1,5 +1,10 @@
 //! The standalone simulator's lines: a pseudo-terminal (Unix) and a TCP port serving one
-//! client at a time (a second one is refused at once, with a log line).
+//! client at a time (a second one is refused at once, with a log line; one silent for
+//! [`RunOptions::idle_timeout`] is dropped, with a log line, so a client that vanished
+//! without a FIN does not lock the port).
+//!
+//! TCP keepalive is not set on accepted sockets: std has no setter for it and `socket2`
+//! is not in the dependency tree; the idle timeout covers the vanished client instead.
 
 use std::io::{self, Write};
 use std::net::{SocketAddr, TcpListener, TcpStream};
@@ -7,7 +12,6 @@ use std::net::{SocketAddr, TcpListener, TcpStream};
 use std::sync::atomic::AtomicBool;
 use std::sync::atomic::Ordering;
 use std::time::Duration;
-#[cfg(unix)]
 use std::time::Instant;
 
 use super::runner::{RunOptions, ServeEnd, SimCore, SimHandle, lock, serve};
@@ -191,6 +195,12 @@ struct TcpClient<'a> {
     peer: SocketAddr,
     listener: &'a TcpListener,
     opts_notice: Option<super::runner::NoticeFn>,
+    /// The last byte received from the client or sent to it.
+    heard: Instant,
+    /// Drop the client after this long without a byte from it.
+    idle: Option<Duration>,
+    /// It was dropped for its silence.
+    dropped_idle: bool,
 }
 
 impl TcpClient<'_> {
@@ -235,15 +245,32 @@ impl Line for TcpClient<'_> {
         let got = Line::read_timeout(&mut self.stream, buf, timeout);
         match &got {
             Ok(0) => {}
-            Ok(_) => self.refuse_newcomers(),
-            Err(e) if crate::line::is_timeout(e) => self.refuse_newcomers(),
+            Ok(_) => {
+                self.heard = Instant::now();
+                self.refuse_newcomers();
+            }
+            Err(e) if crate::line::is_timeout(e) => {
+                if let Some(idle) = self.idle
+                    && self.heard.elapsed() >= idle
+                {
+                    self.dropped_idle = true;
+                    let _ = self.stream.shutdown(std::net::Shutdown::Both);
+                    return Err(io::Error::other(format!(
+                        "silent for {} s (the idle timeout)",
+                        idle.as_secs_f64()
+                    )));
+                }
+                self.refuse_newcomers();
+            }
             Err(_) => {}
         }
         got
     }
 
     fn write_all_bytes(&mut self, bytes: &[u8]) -> io::Result<()> {
-        self.stream.write_all(bytes)
+        self.stream.write_all(bytes)?;
+        self.heard = Instant::now();
+        Ok(())
     }
 }
 
@@ -267,9 +294,17 @@ pub fn start_tcp(core: SimCore, addr: &str, mut opts: RunOptions) -> io::Result<
                         peer,
                         listener: &listener,
                         opts_notice: opts.notice.clone(),
+                        heard: Instant::now(),
+                        idle: opts.idle_timeout,
+                        dropped_idle: false,
                     };
                     let end = serve(&mut client, shared, stop, &mut opts);
                     match end {
+                        ServeEnd::Failed(e) if client.dropped_idle => {
+                            opts.notify(&format!(
+                                "client {peer} dropped: {e}; serving the next client"
+                            ));
+                        }
                         ServeEnd::Failed(e) => {
                             opts.notify(&format!("client {peer} lost: {e}"));
                         }

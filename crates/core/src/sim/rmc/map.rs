@@ -3,9 +3,7 @@
 
 use super::controller::RmcController;
 use crate::rmc::modbus::{ExceptionCode, Request, Response};
-use crate::rmc::registers::{
-    CONTROLLER_STATUS, CPU_MODULE_ID, MAX_READ, MAX_WRITE, RMC151E_ID, STATUS_REGISTERS,
-};
+use crate::rmc::registers::{CONTROLLER_STATUS, CPU_MODULE_ID, MAX_READ, MAX_WRITE, RMC151E_ID};
 use crate::rmc::words::{dword_to_words, real_to_words, words_to_real};
 use crate::rmc::{AxisId, Command, MAX_AXES, StatusBits};
 
@@ -14,9 +12,13 @@ pub type Acks = [bool; MAX_AXES];
 
 /// Registers in one axis's block of the Command Area: %MD40.(10n..10n+9).
 const COMMAND_REGISTERS: u16 = 20;
-/// Elements of the axis parameter file %MD(24+n) the map covers: 0 (Position Scale)
-/// through 56 (In Position Tolerance); those not modelled read 0.
-const PARAMETER_ELEMENTS: u16 = 57;
+/// Registers of one axis's status file %MD(8+n) and parameter file %MD(24+n): the whole
+/// file, 256 elements (PDU address = 2 x (256 x file + element), RMC.md section 1), so
+/// that a read of up to 125 registers anywhere in them succeeds, as a Modbus client
+/// expects. Elements the simulator does not model (beyond Command Velocity, 57, in the
+/// status file; all but Position Scale 0, Offset 1 and In Position Tolerance 56 in the
+/// parameter file) read 0. RMC.md gives no file lengths [U]: the simulator's choice.
+const FILE_REGISTERS: u16 = 512;
 const SCALE: u16 = 0;
 const OFFSET: u16 = 1;
 const TOLERANCE: u16 = 56;
@@ -68,9 +70,9 @@ impl RmcController {
     fn place(&self, address: u16) -> Option<Place> {
         let within = |base: u16, len: u16| address.checked_sub(base).filter(|off| *off < len);
         AxisId::first(self.axis_count()).find_map(|axis| {
-            if let Some(off) = within(axis.status_block(), STATUS_REGISTERS) {
+            if let Some(off) = within(axis.status_block(), FILE_REGISTERS) {
                 Some(Place::Status(axis, off / 2))
-            } else if let Some(off) = within(axis.position_scale(), 2 * PARAMETER_ELEMENTS) {
+            } else if let Some(off) = within(axis.position_scale(), FILE_REGISTERS) {
                 Some(Place::Parameter(axis, off / 2))
             } else if within(axis.command_block(), COMMAND_REGISTERS).is_some()
                 || within(axis.command_block_low(), COMMAND_REGISTERS).is_some()
@@ -97,7 +99,11 @@ impl RmcController {
                 status.bits = status.bits.with(StatusBits::ACK, ack);
                 let regs = status.encode();
                 let at = 2 * usize::from(element);
-                [*regs.get(at)?, *regs.get(at + 1)?]
+                match (regs.get(at), regs.get(at + 1)) {
+                    (Some(&lo), Some(&hi)) => [lo, hi],
+                    // Beyond what the simulator models (RMC.md lists elements 0-57).
+                    _ => [0, 0],
+                }
             }
             Place::Parameter(id, element) => {
                 let a = axis(id)?;
@@ -113,22 +119,58 @@ impl RmcController {
         })
     }
 
-    /// Registers `address..address + count`, whole 32-bit registers only.
-    fn read(&self, acks: &Acks, address: u16, count: u16) -> Result<Vec<u16>, Refused> {
+    /// Registers `address..address + count` (FC3, FC4 and FC23's read), word by word:
+    /// each 16-bit register is its half of a 32-bit one, so a read may start or end in
+    /// the middle of one, and any count up to 125 succeeds where the map is contiguous.
+    /// RMC.md section 1 asks hosts for whole 32-bit registers [I] but documents no
+    /// exception for a read that is not; the simulator chooses to answer the halves
+    /// (a client reading 125 registers, an odd count, is served).
+    pub(super) fn read(&self, acks: &Acks, address: u16, count: u16) -> Result<Vec<u16>, Refused> {
         if count == 0 || count > MAX_READ {
             return Err(VALUE);
         }
-        // Whole 32-bit registers: even address and count [I: RMC.md section 7 leaves the
-        // code for a misaligned request open].
-        if !address.is_multiple_of(2) || !count.is_multiple_of(2) {
+        let end = u32::from(address) + u32::from(count);
+        if end > u32::from(u16::MAX) + 1 {
             return Err(ADDRESS);
         }
         let mut words = Vec::with_capacity(usize::from(count));
-        for i in (0..count).step_by(2) {
-            let at = address.checked_add(i).ok_or(ADDRESS)?;
-            words.extend(self.read_dword(acks, at).ok_or(ADDRESS)?);
+        let mut at = u32::from(address & !1);
+        while at < end {
+            let pair = u16::try_from(at)
+                .ok()
+                .and_then(|a| self.read_dword(acks, a))
+                .ok_or(ADDRESS)?;
+            if at >= u32::from(address) {
+                words.push(pair[0]);
+            }
+            if at + 1 < end {
+                words.push(pair[1]);
+            }
+            at += 2;
         }
         Ok(words)
+    }
+
+    /// FC6, Write Single Register: one 16-bit half of a writable parameter (Position
+    /// Scale, Position Offset, In Position Tolerance); the other half keeps its value, and
+    /// the 32-bit value that results is checked as an FC16 write's is (exception 03 if it
+    /// is not a finite number). RMC.md lists FC6 but not what it does to a 32-bit
+    /// register: this is the simulator's choice. The Command Area is refused with
+    /// exception 02: a command and its parameters are written in one FC16 (section 4),
+    /// and a half-written block must not run.
+    pub(super) fn write_single(
+        &mut self,
+        acks: &Acks,
+        address: u16,
+        value: u16,
+    ) -> Result<(), Refused> {
+        let even = address & !1;
+        let Some(Place::Parameter(_, SCALE | OFFSET | TOLERANCE)) = self.place(even) else {
+            return Err(ADDRESS);
+        };
+        let mut pair = self.read_dword(acks, even).ok_or(ADDRESS)?;
+        pair[usize::from(address & 1)] = value;
+        self.write_parameters(even, &pair)
     }
 
     /// Writes `words` at `address`: command blocks (each run at once) or axis parameters.

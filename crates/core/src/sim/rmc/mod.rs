@@ -14,6 +14,16 @@
 //! not scaled; the Command Position is not clipped to the travel limits: the Target halts
 //! at the limit instead (Halted, Error Bit 4 or 5), and TG Done stays clear there, since
 //! Target never reached Command.
+//!
+//! Function codes (RMC.md section 1 lists 3, 4, 6, 8, 16, 23; what each does to a 32-bit
+//! register is the simulator's choice): FC4 reads the same map as FC3; reads (FC3, FC4,
+//! FC23) take any address and count up to 125, each 16-bit register being its half of a
+//! 32-bit one, and every element of a configured axis's status and parameter files reads
+//! (0 where not modelled), so 125 registers read wherever the map is contiguous; FC6
+//! writes one half of Position Scale, Offset or In Position Tolerance (the Command Area:
+//! exception 02, a block runs only whole from FC16); FC8 answers sub-function 0 (Return
+//! Query Data) with the request, any other with exception 01. Writes (FC16, FC23) still
+//! take whole 32-bit registers only (exception 02 otherwise) [I].
 
 mod axis;
 mod connection;
@@ -31,4 +41,6 @@ pub use axis::{DEFAULT_TOLERANCE, ERROR_BAD_PARAMETER, ERROR_NOT_ENABLED, ERROR_
 pub use connection::RmcConnection;
 pub use controller::{LOOP, RmcAction, RmcConfig, RmcController};
 pub use map::Acks;
-pub use server::{EventLog, MAX_CONNECTIONS, RmcServer, ServerEvent};
+pub use server::{
+    DEFAULT_IDLE_TIMEOUT, EventLog, MAX_CONNECTIONS, RmcServer, ServeOptions, ServerEvent,
+};

@@ -115,14 +115,14 @@ fn requests_outside_the_map_are_exceptions_that_change_nothing() {
     let axis2 = AxisId::new(2).unwrap(); // beyond the default 2 axes
     let a0 = AxisId::new(0).unwrap();
     assert_eq!(w.exception(&Request::Other { function: 5 }), 1);
-    assert_eq!(w.exception(&Request::Other { function: 4 }), 1);
+    assert_eq!(w.exception(&Request::Other { function: 43 }), 1);
     for request in [
         read(0, 2),
         read(axis2.status_block(), 116),
-        read(a0.status_block() + 1, 2),
-        read(a0.status_block(), 3),
-        read(a0.status_block(), 118),
+        // Axis 1's files end where axis 2's (not configured) begin.
+        read(axis2.status_block() - 124, 125),
         write(a0.status_block(), real_to_words(1.0).to_vec()),
+        write(a0.status_block() + 1, vec![0; 2]),
         write(axis2.command_block(), Command::Enable(true).block(true)),
         write(a0.command_block() + 2, real_to_words(97.0).to_vec()),
         write(CPU_MODULE_ID, vec![16, 0]),
@@ -152,6 +152,84 @@ fn requests_outside_the_map_are_exceptions_that_change_nothing() {
     assert_eq!(r, Response::Exception { function: 23, code });
     let st = w.status(&mut conn, 0);
     assert!(!st.bits.enabled() && !st.bits.ack());
+}
+
+/// Reads of up to 125 registers succeed wherever the map is contiguous, at any address
+/// and count: each 16-bit register is its half of a 32-bit one.
+#[test]
+fn reads_of_up_to_125_registers_and_odd_ones_are_answered() {
+    let mut w = Wire::new();
+    let mut conn = RmcConnection::new();
+    let a0 = AxisId::new(0).unwrap();
+    let whole = match w.ask(&mut conn, &read(a0.status_block(), 116)) {
+        Response::Registers { words, .. } => words,
+        r => panic!("{r:?}"),
+    };
+    for (address, count) in [
+        (a0.status_block(), 125),
+        (a0.status_block() + 1, 3),
+        (a0.status_block() + 3, 124),
+        // Across axis 0's status file into axis 1's.
+        (a0.status_block() + 450, 125),
+        (a0.position_scale(), 125),
+    ] {
+        match w.ask(&mut conn, &read(address, count)) {
+            Response::Registers { words, .. } => {
+                assert_eq!(words.len(), usize::from(count), "{address} {count}");
+                if address >= a0.status_block() && address < a0.status_block() + 116 {
+                    let from = usize::from(address - a0.status_block());
+                    let shared = (116 - from).min(usize::from(count));
+                    assert_eq!(words[..shared], whole[from..from + shared]);
+                }
+            }
+            r => panic!("{address} {count}: {r:?}"),
+        }
+    }
+}
+
+/// FC4, FC6 and FC8 in raw bytes (the project's codec sends none of them).
+#[test]
+fn fc4_fc6_and_fc8_are_answered() {
+    let mut w = Wire::new();
+    let mut conn = RmcConnection::new();
+    fn raw(w: &mut Wire, conn: &mut RmcConnection, pdu: &[u8]) -> Vec<u8> {
+        let mut frame = vec![0, 9, 0, 0];
+        frame.extend((pdu.len() as u16 + 1).to_be_bytes());
+        frame.push(3);
+        frame.extend(pdu);
+        let out = conn.handle_bytes(&mut w.c, w.now, &frame).unwrap();
+        assert_eq!(&out[..4], &[0, 9, 0, 0]);
+        assert_eq!(
+            usize::from(u16::from_be_bytes([out[4], out[5]])),
+            out.len() - 6
+        );
+        assert_eq!(out[6], 3, "unit echoed");
+        out[7..].to_vec()
+    }
+    let mut ask = |w: &mut Wire, pdu: &[u8]| raw(w, &mut conn, pdu);
+    let a1 = AxisId::new(1).unwrap();
+    let [hi, lo] = CPU_MODULE_ID.to_be_bytes();
+    assert_eq!(ask(&mut w, &[4, hi, lo, 0, 2]), [4, 4, 0, 17, 0, 0]);
+    assert_eq!(ask(&mut w, &[4, hi, lo, 0, 0]), [0x84, 3]);
+    assert_eq!(ask(&mut w, &[4, hi, lo, 0]), [0x84, 3], "a short PDU");
+    // Tolerance 0.05: its high word written, its low word kept.
+    let tol = a1.in_position_tolerance() + 1;
+    let [th, tl] = tol.to_be_bytes();
+    assert_eq!(
+        ask(&mut w, &[6, th, tl, 0x3F, 0x00]),
+        [6, th, tl, 0x3F, 0x00]
+    );
+    let expect = f32::from_bits((0x3F00u32 << 16) | u32::from(real_to_words(0.05)[0]));
+    assert_eq!(w.c.axes[1].tolerance, expect);
+    // A negative tolerance is refused and changes nothing.
+    assert_eq!(ask(&mut w, &[6, th, tl, 0xBF, 0x00]), [0x86, 3]);
+    assert_eq!(w.c.axes[1].tolerance, expect);
+    let [ch, cl] = a1.command_block().to_be_bytes();
+    assert_eq!(ask(&mut w, &[6, ch, cl, 0, 0]), [0x86, 2]);
+    assert_eq!(ask(&mut w, &[6, hi, lo, 0, 0]), [0x86, 2]);
+    assert_eq!(ask(&mut w, &[8, 0, 0, 1, 2, 3]), [8, 0, 0, 1, 2, 3]);
+    assert_eq!(ask(&mut w, &[8, 0, 0]), [8, 0, 0]);
+    assert_eq!(ask(&mut w, &[8, 0, 4, 0, 0]), [0x88, 1]);
 }
 
 #[test]
