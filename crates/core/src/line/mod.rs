@@ -4,6 +4,7 @@
 //! Serial ports are handled as `Box<dyn serialport::SerialPort>` so the same code builds
 //! on Linux, macOS and Windows.
 
+mod address;
 pub mod connection;
 mod pace;
 pub mod ports;
@@ -13,6 +14,7 @@ use std::io::{self, Read, Write};
 use std::net::TcpStream;
 use std::time::Duration;
 
+pub use address::address;
 pub use connection::{ConnectionSettings, LineKind};
 pub use pace::{sleep_until, wake_on_time, write_paced};
 pub use settings::{BAUD_RANGE, LineSettings, LineSettingsError, Parity, STANDARD_BAUDS};

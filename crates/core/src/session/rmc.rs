@@ -36,18 +36,9 @@ pub fn rmc_address(typed: &str) -> Result<String, String> {
     if typed.is_empty() {
         return Err("no address: name host:port, or leave it empty for the built-in RMC".into());
     }
-    if typed.contains(char::is_whitespace) {
-        return Err(format!("`{typed}` is not an address (it has spaces)"));
-    }
-    // An IPv6 address in brackets, or a host with a port.
-    let has_port = typed.rsplit_once(':').is_some_and(|(host, port)| {
-        !host.is_empty() && port.parse::<u16>().is_ok() && !host.ends_with(':')
-    });
-    Ok(if has_port {
-        typed.to_string()
-    } else {
-        format!("{typed}:{MODBUS_PORT}")
-    })
+    // Checked as the command line's `--rmc` is: a port out of range is refused here,
+    // never taken as part of the host.
+    crate::line::address(typed, Some(MODBUS_PORT))
 }
 
 impl RmcSession {
@@ -124,5 +115,10 @@ mod tests {
         assert_eq!(rmc_address(" rmc.local:5020 ").unwrap(), "rmc.local:5020");
         assert!(rmc_address("").is_err());
         assert!(rmc_address("a b").is_err());
+        assert!(
+            rmc_address("127.0.0.1:99999")
+                .unwrap_err()
+                .contains("out of range")
+        );
     }
 }
