@@ -22,13 +22,12 @@ the same map as FC3; reads take up to 125 registers, any address and count (each
 Offset or In Position Tolerance (the Command Area takes whole FC16 blocks only:
 exception 02); FC8 sub-function 0 echoes the request. Per axis n (0-based): status
 file at 4096 + 512n (elements 0-57, Status Bits through Command Velocity, modelled;
-the rest of the file reads 0),
-Command Area at 20480 + 20n (and its low copy at 1024 + 20n), Position Scale at
-12288 + 512n, In Position Tolerance at 12400 + 512n; CPU Module ID (17) at 3588,
-Controller Status Bits at 22542. Commands: 0 No-op, 1 Closed Loop Halt, 4 Clear
-Faults, 5 Hold Current Position, 6 Stop (Closed Loop), 21 Move Relative, 97
-Enable/Disable Axis; +256 sets REQ, echoed in ACK (Status Bits bit 31) on the same
-connection. Axes start disabled at position 0, soft travel limits -1000 to 1000 pu.
+the rest of the file reads 0), Command Area at 20480 + 20n (and its low copy at
+1024 + 20n), Position Scale at 12288 + 512n, In Position Tolerance at 12400 + 512n;
+CPU Module ID (17) at 3588, Controller Status Bits at 22542. Commands: 0 No-op,
+1 Closed Loop Halt, 4 Clear Faults, 5 Hold Current Position, 6 Stop (Closed Loop),
+21 Move Relative, 97 Enable/Disable Axis; +256 sets REQ, echoed in ACK (Status Bits
+bit 31) on the same connection. Axes start disabled at position 0, soft travel limits -1000 to 1000 pu.
 
 The first line of stdout is `listening on ADDR` (the bound address, so --tcp
 127.0.0.1:0 picks a free port). Connections opened and closed are logged on stderr.
