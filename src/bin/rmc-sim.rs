@@ -27,7 +27,8 @@ the rest of the file reads 0), Command Area at 20480 + 20n (and its low copy at
 CPU Module ID (17) at 3588, Controller Status Bits at 22542. Commands: 0 No-op,
 1 Closed Loop Halt, 4 Clear Faults, 5 Hold Current Position, 6 Stop (Closed Loop),
 21 Move Relative, 97 Enable/Disable Axis; +256 sets REQ, echoed in ACK (Status Bits
-bit 31) on the same connection. Axes start disabled at position 0, soft travel limits -1000 to 1000 pu.
+bit 31) on the same connection. Axes start disabled at position 0, soft travel limits
+-1000 to 1000 pu.
 
 The first line of stdout is `listening on ADDR` (the bound address, so --tcp
 127.0.0.1:0 picks a free port). Connections opened and closed are logged on stderr.
