@@ -39,6 +39,10 @@ const LAYOUT_KEY: &str = "layout";
 /// Most time spent applying link events in one frame (about 5 us each: one frame takes
 /// in what 25 s of idle polling of both links brings).
 const EVENT_BUDGET: Duration = Duration::from_millis(16);
+/// Set when the process is asked to end (SIGTERM, SIGHUP, SIGINT; on Windows the console's
+/// close and logoff events): the next frame closes the window as Ctrl+Q does.
+pub static END_ASKED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
 /// How often the window looks whether a closing line has closed.
 const CLOSE_CHECK: Duration = Duration::from_millis(20);
 /// The simulator's thread answers the front panel within a tick (20 ms); the window looks
@@ -649,7 +653,9 @@ impl eframe::App for PendantApp {
         if (zoom - self.pendant.settings.ui_scale.unwrap_or(1.0)).abs() > 1e-3 {
             intents.push(Intent::UiScale(zoom));
         }
-        if keys.quit {
+        // Ctrl+Q, or the process asked to end (SIGTERM, a desktop logout, Ctrl-C in its
+        // terminal): the same way out, STOPs first and every file written.
+        if keys.quit || END_ASKED.swap(false, std::sync::atomic::Ordering::Relaxed) {
             ctx.send_viewport_cmd(egui::ViewportCommand::Close);
         }
         if keys.toggle_help {

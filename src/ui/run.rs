@@ -1,6 +1,6 @@
 //! Opening the native window, with a plain one-line error where there is no display.
 
-use super::app::{APP_ID, PendantApp, StartOptions};
+use super::app::{APP_ID, END_ASKED, PendantApp, StartOptions};
 use crate::cli::Renderer;
 
 /// Opens the window and runs until it closes, drawn by `renderer`.
@@ -21,7 +21,17 @@ pub fn run_window(options: StartOptions, renderer: Renderer) -> Result<(), Strin
     eframe::run_native(
         APP_ID,
         native,
-        Box::new(move |cc| Ok(Box::new(PendantApp::new(cc, options)))),
+        Box::new(move |cc| {
+            // Asked to end from outside: the window closes as on Ctrl+Q (STOP, files).
+            let ctx = cc.egui_ctx.clone();
+            if let Err(e) = ctrlc::set_handler(move || {
+                END_ASKED.store(true, std::sync::atomic::Ordering::Relaxed);
+                ctx.request_repaint();
+            }) {
+                eprintln!("xsel-pendant: a request to end (SIGTERM) will not close cleanly: {e}");
+            }
+            Ok(Box::new(PendantApp::new(cc, options)))
+        }),
     )
     .map_err(|e| {
         let other = if renderer == eframe::Renderer::Glow {
