@@ -800,12 +800,12 @@ impl Signals {
                 (Command::BitQuery(_), Reply::Bits(d)) => {
                     self.read_done(command);
                     self.take_bits(d, now);
-                    self.check_back(&cx, &mut said);
+                    self.check_back(command, &cx, &mut said);
                 }
                 (Command::VarQuery(_), Reply::Vars(d)) => {
                     self.read_done(command);
                     self.take_vars(d, now);
-                    self.check_back(&cx, &mut said);
+                    self.check_back(command, &cx, &mut said);
                 }
                 (Command::BitChange(_) | Command::VarWrite(_), _) => {
                     if let Some(c) = self.change.as_mut() {
@@ -958,12 +958,16 @@ impl Signals {
         }
     }
 
-    /// After a read: the change awaiting its read-back is judged.
-    fn check_back(&mut self, cx: &SignalsCx, said: &mut Vec<(Level, String)>) {
+    /// After a read that carries it: the change awaiting its read-back is judged.
+    fn check_back(&mut self, read: &Command, cx: &SignalsCx, said: &mut Vec<(Level, String)>) {
         let Some(c) = self.change.as_ref().filter(|c| c.acknowledged) else {
             return;
         };
         let p = &c.proposal;
+        // Only a read that carries the changed signal says what it holds now.
+        if !plan::covers(read, &WatchRow::new(p.signal, "")) {
+            return;
+        }
         let Some(now) = self.states.get(&p.signal).and_then(|s| s.value.clone()) else {
             return;
         };

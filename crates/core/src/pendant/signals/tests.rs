@@ -643,3 +643,102 @@ fn a_read_the_link_sends_again_keeps_its_round_open() {
             .starts_with("no valid reply")
     );
 }
+
+/// A read of another group between a change's reply and its read-back says nothing of
+/// the change: only the read that carries it does.
+#[test]
+fn only_the_read_that_carries_a_changed_signal_judges_the_change() {
+    use crate::link::{LinkEvent, Origin, RequestId};
+    use crate::protocol::{BitData, Reply};
+    let cx = SignalsCx {
+        ready: Ok(()),
+        program_running: Some(false),
+        io_interlock: false,
+    };
+    let t0 = std::time::Instant::now();
+    let mut s = Signals::default();
+    let reply = |command: Command, reply: Reply| LinkEvent::Reply {
+        id: RequestId(1),
+        origin: Origin::User,
+        command,
+        reply,
+        round_trip: Duration::from_millis(5),
+    };
+    let out = sig(SignalKind::Output, 300);
+    // The output was read OFF.
+    let outputs = BitQuery {
+        space: BitSpace::Output,
+        program: 0,
+        start: 300,
+        count: 32,
+    };
+    s.handle_event(
+        &reply(
+            Command::BitQuery(outputs),
+            Reply::Bits(BitData::from_fn(BitSpace::Output, 0, 300, 32, |_| false)),
+        ),
+        cx.clone(),
+        t0,
+    );
+    assert_eq!(s.state(&out).unwrap().value, Some(Value::Bit(false)));
+    s.apply(
+        SignalsIntent::Propose {
+            signal: out,
+            text: "on".into(),
+        },
+        cx.clone(),
+        t0,
+    );
+    s.apply(
+        SignalsIntent::Confirm {
+            take_the_risk: false,
+        },
+        cx.clone(),
+        t0,
+    );
+    let (change, _) = s.take_commands().remove(0);
+    s.handle_event(
+        &reply(change.clone(), Reply::Ack(change.id())),
+        cx.clone(),
+        t0,
+    );
+    let (back, _) = s.take_commands().remove(0);
+    // An inputs read answers first: the change is not judged by it.
+    let inputs = BitQuery {
+        space: BitSpace::Input,
+        program: 0,
+        start: 0,
+        count: 32,
+    };
+    let said = s.handle_event(
+        &reply(
+            Command::BitQuery(inputs),
+            Reply::Bits(BitData::from_fn(BitSpace::Input, 0, 0, 32, |_| false)),
+        ),
+        cx.clone(),
+        t0,
+    );
+    assert!(said.is_empty(), "{said:?}");
+    assert!(s.change_pending());
+    let Command::BitQuery(q) = back.clone() else {
+        panic!("{back:?}")
+    };
+    let said = s.handle_event(
+        &reply(
+            back,
+            Reply::Bits(BitData::from_fn(
+                BitSpace::Output,
+                0,
+                q.start,
+                q.count,
+                |n| n == 300,
+            )),
+        ),
+        cx,
+        t0,
+    );
+    assert_eq!(
+        said,
+        vec![(Level::Info, "Output 300 is ON (read back)".to_owned())]
+    );
+}
