@@ -206,13 +206,8 @@ fn an_output_forced_through_the_confirmation_is_read_back_on() {
     step_until_shown(&mut h, "Set OFF: Output 300");
 }
 
-/// The read-back's verdict in the view's words. Ignored while the model judges a change
-/// on the next reply of any read (a round's input group answered between the change's
-/// acknowledgement and its read-back finds the output's old value and says "something
-/// else drives it"): run with `-- --ignored` once the judgement waits for a read that
-/// covers the changed signal.
+/// The read-back's verdict in the view's words.
 #[test]
-#[ignore = "the model judges a read-back on any read's reply (see the Signals model)"]
 fn the_read_back_of_a_forced_output_is_said_under_the_toolbar() {
     let mut h = on_the_simulator();
     force_output_300(&mut h);
@@ -269,6 +264,9 @@ fn an_integer_variable_is_edited_and_read_back_and_a_typo_is_refused_at_its_row(
         .unwrap();
     assert_eq!(held, 1234, "the simulator's variable");
     step_until_shown(&mut h, "Integer 250 value: 1234");
+    step_until(&mut h, "the read-back said", |a| {
+        said(a, "Integer 250 'count' is 1234 (read back)")
+    });
 }
 
 #[test]
