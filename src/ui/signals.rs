@@ -726,7 +726,9 @@ impl SignalsPanel {
                                 if c.changed() {
                                     ask.push(SignalsIntent::Plot(s, on));
                                     if on {
-                                        self.to_place.push((s, r.label(), s.kind.is_bit()));
+                                        // The series is named by the signal alone (a
+                                        // rename leaves the trace where it is).
+                                        self.to_place.push((s, s.to_string(), s.kind.is_bit()));
                                     }
                                 }
                             });

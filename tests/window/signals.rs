@@ -114,7 +114,8 @@ fn the_tab_shows_the_default_rows_filters_renames_and_plots_offline() {
 
     // Plot ticked: the row plotted and its trace in a free slot of the Plots pane;
     // unticked: both gone.
-    let trace = TraceChoice::new("Output 300 'gripper close'", "state");
+    // The trace is named by the signal alone: a rename leaves it where it is.
+    let trace = TraceChoice::new("Output 300", "state");
     press(&mut h, "Plot: Output 300");
     step_until(&mut h, "the row plotted", |a| {
         a.pendant()

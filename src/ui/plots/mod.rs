@@ -426,7 +426,10 @@ fn overlay_traces(p: &mut PlotsPanel, captures: &[&Capture]) -> Vec<(usize, Trac
         for (i, choice) in p.traces.iter().enumerate() {
             let Some(choice) = choice else { continue };
             let label = format!("#{} {}", c.number, choice.channel);
-            if let Some(t) = capture_trace(c, &choice.channel, label) {
+            // A plotted signal rides along in a capture as `series channel`.
+            let found = capture_trace(c, &choice.channel, label.clone())
+                .or_else(|| capture_trace(c, &choice.label(), label));
+            if let Some(t) = found {
                 lo = lo.min(c.times.first().copied().unwrap_or(0.0));
                 hi = hi.max(c.times.last().copied().unwrap_or(0.0));
                 out.push((i + k * TRACES, t));

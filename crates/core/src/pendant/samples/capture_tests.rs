@@ -207,7 +207,7 @@ fn a_plotted_signal_is_held_beside_a_captured_move_and_saved_with_it() {
     let sensor = |at, on: bool| SignalSample {
         at,
         signal: Signal::new(SignalKind::Input, 0, 4),
-        label: "Input 4 'part here'".into(),
+        label: "Input 4".into(),
         value: f64::from(u8::from(on)),
         bit: true,
     };
@@ -227,7 +227,7 @@ fn a_plotted_signal_is_held_beside_a_captured_move_and_saved_with_it() {
     polled.poll_captures(ms(6_000));
     let c = polled.captures.list.front().expect("a capture");
     let i = c
-        .channel_named("Input 4 'part here' state")
+        .channel_named("Input 4 state")
         .expect("the signal's channel");
     let at = |t: f64| c.times.iter().position(|x| (*x - t).abs() < 1e-6).unwrap();
     assert_eq!(c.values[i][at(0.5)], 0.0);

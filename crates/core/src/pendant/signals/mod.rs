@@ -320,7 +320,7 @@ struct Change {
 pub struct SignalSample {
     pub at: Instant,
     pub signal: Signal,
-    /// The row's label: the trace's name.
+    /// The trace's name: the signal ("Output 305"), which a rename does not change.
     pub label: String,
     pub value: f64,
     /// A port or flag (a lane), not a number.
@@ -908,7 +908,7 @@ impl Signals {
             self.samples.push(SignalSample {
                 at: now,
                 signal: r.signal,
-                label: r.label(),
+                label: r.signal.to_string(),
                 value: v,
                 bit: r.signal.kind.is_bit(),
             });
