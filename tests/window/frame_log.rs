@@ -152,20 +152,26 @@ fn a_corrupted_reply_is_flagged_with_its_raw_bytes() {
     click(&mut h, "Frame log");
     let spec = FaultSpec::none().with(Fault::Corrupt, 1.0).seeded(3);
     h.state().sim().unwrap().set_faults(spec);
+    // A whole corrupted reply: from its header to its CR LF (a corrupted byte may also
+    // cut a reply into fragments, which are garbage of their own).
+    let whole_bad = |r: &xsel_pendant::pendant::frame_log::Row<'_>| {
+        r.dir() == Dir::Garbage
+            && r.verdict() == Verdict::Bad
+            && r.bytes().first() == Some(&b'#')
+            && r.bytes().ends_with(b"\r\n")
+    };
     step_until(&mut h, "a corrupted reply in the log", |a| {
         let log = log(a);
-        (0..log.len()).filter_map(|i| log.nth(i)).any(|r| {
-            r.dir() == Dir::Garbage
-                && r.verdict() == Verdict::Bad
-                && r.bytes().first() == Some(&b'#')
-        })
+        (0..log.len())
+            .filter_map(|i| log.nth(i))
+            .any(|r| whole_bad(&r))
     });
     h.state().sim().unwrap().set_faults(FaultSpec::none());
     let a = h.state();
     let log = log(a);
     let bad = (0..log.len())
         .filter_map(|i| log.nth(i))
-        .find(|r| r.dir() == Dir::Garbage && r.verdict() == Verdict::Bad)
+        .find(|r| whole_bad(r))
         .unwrap();
     assert!(bad.is_problem());
     assert!(!bad.note().is_empty());
