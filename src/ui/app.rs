@@ -169,10 +169,14 @@ impl PendantApp {
         } else {
             from_file.or_else(|| cc.storage.and_then(|s| eframe::get_value(s, SETTINGS_KEY)))
         };
+        // The layout's own file; the copy earlier versions kept in eframe's file is read
+        // once when there is none.
+        let (layout_file, layout_notes) = work_files.restore_layout();
+        notes.extend(layout_notes);
         let saved_layout = if options.fresh {
             None
         } else {
-            cc.storage.and_then(|s| eframe::get_value(s, LAYOUT_KEY))
+            layout_file.or_else(|| cc.storage.and_then(|s| eframe::get_value(s, LAYOUT_KEY)))
         };
         let mut settings = saved.unwrap_or_default();
         match options.connection {
@@ -782,7 +786,7 @@ impl eframe::App for PendantApp {
             ctx.request_repaint_after(PANEL_ANSWER);
         }
         self.run_requests(&ctx, now);
-        self.work_files.autosave(&mut self.pendant, now);
+        self.work_files.autosave(&mut self.pendant, &self.dock, now);
         first_frame_probe(&ctx, self.started);
     }
 
@@ -792,7 +796,11 @@ impl eframe::App for PendantApp {
         if self.work_files.all_saved() {
             storage.remove_string(SETTINGS_KEY);
         }
-        eframe::set_value(storage, LAYOUT_KEY, &self.dock);
+        // So is the layout, which its own file keeps (written whole, set aside when
+        // unreadable): eframe's file, written in place, keeps the window's place only.
+        if self.work_files.layout_saved() {
+            storage.remove_string(LAYOUT_KEY);
+        }
     }
 
     fn on_exit(&mut self, _gl: Option<&eframe::glow::Context>) {
@@ -806,7 +814,7 @@ impl Drop for PendantApp {
     /// However the app ends (the window closed, a test's harness dropped), writes under
     /// way finish and what is still unsaved is written.
     fn drop(&mut self) {
-        self.work_files.flush(&self.pendant);
+        self.work_files.flush(&self.pendant, &self.dock);
     }
 }
 

@@ -119,11 +119,37 @@ pub fn default_layout() -> Tree<Tab> {
     Tree::new(egui::Id::unique("centre-layout"), root, tiles)
 }
 
-/// A saved layout, or the default when it lacks a pane (one saved by an older version).
+/// A saved layout with any pane it lacks (one saved by an older version) added as a tab
+/// beside the position table (or beside any pane it has); the default when none fits.
 pub fn checked_layout(saved: Option<Tree<Tab>>) -> Tree<Tab> {
-    saved
-        .filter(|t| ALL.iter().all(|p| t.tiles.find_pane(p).is_some()))
-        .unwrap_or_else(default_layout)
+    let Some(mut tree) = saved else {
+        return default_layout();
+    };
+    for pane in ALL {
+        if tree.tiles.find_pane(&pane).is_some() {
+            continue;
+        }
+        let beside = [Tab::Positions, Tab::Coords, Tab::Teach, Tab::Status]
+            .iter()
+            .chain(ALL.iter())
+            .filter_map(|p| tree.tiles.find_pane(p))
+            .find_map(|id| {
+                let parent = tree.tiles.parent_of(id)?;
+                matches!(
+                    tree.tiles.get(parent),
+                    Some(egui_tiles::Tile::Container(egui_tiles::Container::Tabs(_)))
+                )
+                .then_some(parent)
+            });
+        let Some(parent) = beside else {
+            return default_layout();
+        };
+        let id = tree.tiles.insert_pane(pane);
+        if let Some(egui_tiles::Tile::Container(c)) = tree.tiles.get_mut(parent) {
+            c.add_child(id);
+        }
+    }
+    tree
 }
 
 /// What the panes draw with.
@@ -236,4 +262,36 @@ impl Behavior<Tab> for Tabs<'_> {
 /// Draws the layout in `ui`.
 pub fn show(ui: &mut Ui, tree: &mut Tree<Tab>, tabs: &mut Tabs<'_>) {
     tree.ui(tabs, ui);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A layout saved before a pane existed keeps its arrangement and gains the pane as a
+    /// tab beside the position table.
+    #[test]
+    fn an_older_layout_gains_the_new_panes_beside_the_position_table() {
+        let mut old = default_layout();
+        for pane in [Tab::Signals, Tab::Plots] {
+            let id = old.tiles.find_pane(&pane).unwrap();
+            old.remove_recursively(id);
+        }
+        let containers = |t: &Tree<Tab>| t.tiles.tiles().filter(|t| t.is_container()).count();
+        let before = containers(&old);
+        let tree = checked_layout(Some(old));
+        for pane in ALL {
+            assert!(tree.tiles.find_pane(&pane).is_some(), "{pane:?}");
+        }
+        let parent = |t: &Tree<Tab>, p: Tab| t.tiles.parent_of(t.tiles.find_pane(&p).unwrap());
+        assert_eq!(parent(&tree, Tab::Signals), parent(&tree, Tab::Positions));
+        assert_eq!(parent(&tree, Tab::Plots), parent(&tree, Tab::Positions));
+        assert_eq!(containers(&tree), before, "the arrangement is kept");
+        assert!(
+            checked_layout(None)
+                .tiles
+                .find_pane(&Tab::Signals)
+                .is_some()
+        );
+    }
 }

@@ -1,6 +1,6 @@
-//! The settings and the operator's work in files of their own: the settings, the teach
-//! list, the coordinate-table drafts, the position table's draft and names and the
-//! signals' watch list, read back at start and written after every
+//! The settings and the operator's work in files of their own: the settings, the window's
+//! layout, the teach list, the coordinate-table drafts, the position table's draft and
+//! names and the signals' watch list, read back at start and written after every
 //! change as jobs off the UI thread (see `files::saved`), and flushed at exit; what
 //! happens is said in Messages.
 
@@ -21,6 +21,8 @@ const TEACH_FILE: &str = "teach-list.json";
 const POSITIONS_FILE: &str = "positions-work.json";
 /// The signals' watch list (and the controller's real encoding).
 const SIGNALS_FILE: &str = "signals-watch.json";
+/// The panes' arrangement (eframe's own file keeps only the window's place and size).
+const LAYOUT_FILE: &str = "layout.json";
 /// The settings (connection, jog choices, theme, frame log size).
 const SETTINGS_FILE: &str = "settings.json";
 
@@ -32,7 +34,11 @@ pub struct WorkFiles {
     positions: Option<SavedFile>,
     signals: Option<SavedFile>,
     settings: Option<SavedFile>,
+    layout: Option<SavedFile>,
 }
+
+/// The panes' arrangement as the window keeps it.
+pub type Layout = egui_tiles::Tree<super::layout::Tab>;
 
 impl WorkFiles {
     /// The files in `dir`; the settings' file only `with_settings`.
@@ -47,6 +53,9 @@ impl WorkFiles {
             settings: dir
                 .filter(|_| with_settings)
                 .map(|d| SavedFile::new(d.join(SETTINGS_FILE), "settings")),
+            layout: dir
+                .filter(|_| with_settings)
+                .map(|d| SavedFile::new(d.join(LAYOUT_FILE), "window layout")),
         }
     }
 
@@ -59,9 +68,28 @@ impl WorkFiles {
         let restored =
             file.restore(|b| serde_json::from_slice::<Settings>(b).map_err(|e| e.to_string()));
         if let Some(s) = &restored.value {
-            file.mark_written(settings_revision(s));
+            file.mark_written(revision_of(s));
         }
         (restored.value, restored.notes)
+    }
+
+    /// The layout saved last time, if its file is there and readable, and what to say
+    /// about it (an unreadable file is kept aside, the backup read).
+    pub fn restore_layout(&mut self) -> (Option<Layout>, Vec<String>) {
+        let Some(file) = &mut self.layout else {
+            return (None, Vec::new());
+        };
+        let restored =
+            file.restore(|b| serde_json::from_slice::<Layout>(b).map_err(|e| e.to_string()));
+        if let Some(l) = &restored.value {
+            file.mark_written(revision_of(l));
+        }
+        (restored.value, restored.notes)
+    }
+
+    /// Whether the layout's file holds the layout (eframe's copy may then go).
+    pub fn layout_saved(&self) -> bool {
+        self.layout.as_ref().is_some_and(SavedFile::is_saved)
     }
 
     /// Every file is written up to date (the settings and the teach list at least once).
@@ -158,10 +186,11 @@ impl WorkFiles {
         }
     }
 
-    /// Writes what changed since it was last written (or retries a failed write).
-    pub fn autosave(&mut self, pendant: &mut Pendant, now: Instant) {
+    /// Writes what changed since it was last written (a failed write tries again by
+    /// itself).
+    pub fn autosave(&mut self, pendant: &mut Pendant, layout: &Layout, now: Instant) {
         let mut news = Vec::new();
-        for (file, revision, contents) in self.with_contents(pendant) {
+        for (file, revision, contents) in self.with_contents(pendant, layout) {
             news.extend(file.save(revision, now, contents));
         }
         for n in news {
@@ -174,9 +203,9 @@ impl WorkFiles {
 
     /// At exit: waits a moment for writes under way and writes what is still unsaved,
     /// so nothing the operator did is left in memory only.
-    pub fn flush(&mut self, pendant: &Pendant) {
+    pub fn flush(&mut self, pendant: &Pendant, layout: &Layout) {
         const LIMIT: std::time::Duration = std::time::Duration::from_secs(2);
-        for (file, revision, contents) in self.with_contents(pendant) {
+        for (file, revision, contents) in self.with_contents(pendant, layout) {
             file.flush(revision, LIMIT, contents);
         }
     }
@@ -185,6 +214,7 @@ impl WorkFiles {
     fn with_contents<'a>(
         &'a mut self,
         pendant: &'a Pendant,
+        layout: &'a Layout,
     ) -> impl Iterator<Item = (&'a mut SavedFile, u64, Contents<'a>)> {
         let coords = &pendant.coords;
         let teach = &pendant.teach;
@@ -198,6 +228,7 @@ impl WorkFiles {
         let watch: Contents<'a> = Box::new(move || signals.saved());
         let prefs: Contents<'a> =
             Box::new(move || serde_json::to_vec_pretty(settings).unwrap_or_default());
+        let panes: Contents<'a> = Box::new(move || serde_json::to_vec(layout).unwrap_or_default());
         [
             self.drafts.as_mut().map(|f| (f, coords.revision(), drafts)),
             self.teach.as_mut().map(|f| (f, teach.revision(), list)),
@@ -209,7 +240,10 @@ impl WorkFiles {
                 .map(|f| (f, signals.revision(), watch)),
             self.settings
                 .as_mut()
-                .map(|f| (f, settings_revision(settings), prefs)),
+                .map(|f| (f, revision_of(settings), prefs)),
+            self.layout
+                .as_mut()
+                .map(|f| (f, revision_of(layout), panes)),
         ]
         .into_iter()
         .flatten()
@@ -219,11 +253,11 @@ impl WorkFiles {
 /// How to put a file's contents together (only when it is to be written).
 type Contents<'a> = Box<dyn FnOnce() -> Vec<u8> + 'a>;
 
-/// The settings' revision: a hash of their saved form (they are small; a change of any
-/// field changes it).
-fn settings_revision(settings: &Settings) -> u64 {
+/// The revision of something small kept whole (the settings, the layout): a hash of its
+/// saved form (a change of any field changes it).
+fn revision_of(value: &impl serde::Serialize) -> u64 {
     use std::hash::{Hash, Hasher};
-    let bytes = serde_json::to_vec(settings).unwrap_or_default();
+    let bytes = serde_json::to_vec(value).unwrap_or_default();
     let mut h = std::collections::hash_map::DefaultHasher::new();
     bytes.hash(&mut h);
     h.finish()

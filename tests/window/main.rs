@@ -12,6 +12,7 @@ mod coords;
 mod frame_log;
 mod frame_log_replay;
 mod jog_panel;
+mod layout_file;
 // Image snapshots render with wgpu: `cargo test --features wgpu` (CI runs them).
 #[cfg(feature = "wgpu")]
 mod frame_log_snapshot;
