@@ -265,23 +265,7 @@ pub fn to_json(rows: &[(PositionRecord, Option<String>)]) -> String {
 /// The rows of a position table file (CSV or JSON, told apart by the first character),
 /// or of a teach-list file; the first thing wrong with it, naming line and field.
 pub fn parse(bytes: &[u8]) -> Result<Vec<(PositionRecord, Option<String>)>, FileError> {
-    if bytes.len() as u64 > MAX_FILE_BYTES {
-        return Err(FileError {
-            line: None,
-            field: None,
-            message: format!(
-                "the file is {} bytes; a position table file holds at most {} MB",
-                bytes.len(),
-                MAX_FILE_BYTES / (1024 * 1024)
-            ),
-        });
-    }
-    // A NUL near the start: a binary file, even where its bytes happen to be UTF-8.
-    if let Some(nul) = bytes.iter().take(8192).position(|&b| b == 0) {
-        return Err(not_text(bytes, nul));
-    }
-    let text = std::str::from_utf8(bytes).map_err(|e| not_text(bytes, e.valid_up_to()))?;
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let text = text_of(bytes, MAX_FILE_BYTES, "a position table file")?;
     match text.trim_start().chars().next() {
         None => Err(FileError::at(
             1,
@@ -293,15 +277,37 @@ pub fn parse(bytes: &[u8]) -> Result<Vec<(PositionRecord, Option<String>)>, File
     }
 }
 
+/// The text of a file of the pendant's (`what`, at most `max` bytes): UTF-8 with or
+/// without a byte order mark, refused when too big or binary.
+pub(crate) fn text_of<'a>(bytes: &'a [u8], max: u64, what: &str) -> Result<&'a str, FileError> {
+    if bytes.len() as u64 > max {
+        return Err(FileError {
+            line: None,
+            field: None,
+            message: format!(
+                "the file is {} bytes; {what} holds at most {} MB",
+                bytes.len(),
+                max / (1024 * 1024)
+            ),
+        });
+    }
+    // A NUL near the start: a binary file, even where its bytes happen to be UTF-8.
+    if let Some(nul) = bytes.iter().take(8192).position(|&b| b == 0) {
+        return Err(not_text(bytes, nul, what));
+    }
+    let text = std::str::from_utf8(bytes).map_err(|e| not_text(bytes, e.valid_up_to(), what))?;
+    Ok(text.strip_prefix('\u{feff}').unwrap_or(text))
+}
+
 /// Bytes that are not UTF-8: a binary file, or text in another encoding.
-pub(crate) fn not_text(bytes: &[u8], offset: usize) -> FileError {
+fn not_text(bytes: &[u8], offset: usize, what: &str) -> FileError {
     let before = bytes.get(..offset).unwrap_or(bytes);
     let line = 1 + before.iter().filter(|&&b| b == b'\n').count();
     let head = bytes.get(..8192).unwrap_or(bytes);
     let message = if line == 1 || head.contains(&0) {
         format!(
-            "this is not a position table file: it is not text (a binary file, or text in \
-             another encoding: bad byte at offset {offset})"
+            "this is not {what}: it is not text (a binary file, or text in another \
+             encoding: bad byte at offset {offset})"
         )
     } else {
         format!("the file is not UTF-8 text (bad byte at offset {offset}); save it as UTF-8")

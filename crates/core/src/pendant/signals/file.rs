@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 
 use super::{MAX_ROWS, MAX_TEXT_CHARS, Signal, SignalKind, WatchRow, check_name};
 use crate::files::csv_style::{BOM, EOL};
-use crate::pendant::positions::file::{FileError, not_text, split_line};
+use crate::pendant::positions::file::{FileError, split_line, text_of};
 use crate::protocol::RealEncoding;
 
 /// The most a watch-list file may hold.
@@ -73,22 +73,7 @@ pub fn to_csv(rows: &[WatchRow]) -> String {
 /// A watch-list file's rows (CSV or JSON, told apart by the first character) and the
 /// encoding a JSON file names; the first thing wrong, naming line and field.
 pub fn parse(bytes: &[u8]) -> Result<(Vec<WatchRow>, Option<RealEncoding>), FileError> {
-    if bytes.len() as u64 > MAX_FILE_BYTES {
-        return Err(FileError {
-            line: None,
-            field: None,
-            message: format!(
-                "the file is {} bytes; a watch-list file holds at most {} MB",
-                bytes.len(),
-                MAX_FILE_BYTES / (1024 * 1024)
-            ),
-        });
-    }
-    if let Some(nul) = bytes.iter().take(8192).position(|&b| b == 0) {
-        return Err(not_text(bytes, nul));
-    }
-    let text = std::str::from_utf8(bytes).map_err(|e| not_text(bytes, e.valid_up_to()))?;
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let text = text_of(bytes, MAX_FILE_BYTES, "a watch-list file")?;
     let (rows, encoding) = match text.trim_start().chars().next() {
         None => return Err(FileError::at(1, None, "the file is empty")),
         Some('{') => {
