@@ -16,6 +16,15 @@ fn bench() -> Bench {
     b
 }
 
+/// A line up and a controller ready, no program running.
+fn ready() -> SignalsCx {
+    SignalsCx {
+        ready: Ok(()),
+        program_running: Some(false),
+        io_interlock: false,
+    }
+}
+
 fn sig(kind: SignalKind, number: u16) -> Signal {
     Signal::new(kind, 0, number)
 }
@@ -605,11 +614,7 @@ fn a_lost_line_ends_the_round_and_says_a_change_is_unknown() {
 #[test]
 fn a_read_the_link_sends_again_keeps_its_round_open() {
     use crate::link::{LinkEvent, Origin, RequestId};
-    let cx = SignalsCx {
-        ready: Ok(()),
-        program_running: Some(false),
-        io_interlock: false,
-    };
+    let cx = ready();
     let t0 = std::time::Instant::now();
     let mut s = Signals::default();
     s.apply(SignalsIntent::Watch(true), cx.clone(), t0);
@@ -650,11 +655,7 @@ fn a_read_the_link_sends_again_keeps_its_round_open() {
 fn only_the_read_that_carries_a_changed_signal_judges_the_change() {
     use crate::link::{LinkEvent, Origin, RequestId};
     use crate::protocol::{BitData, Reply};
-    let cx = SignalsCx {
-        ready: Ok(()),
-        program_running: Some(false),
-        io_interlock: false,
-    };
+    let cx = ready();
     let t0 = std::time::Instant::now();
     let mut s = Signals::default();
     let reply = |command: Command, reply: Reply| LinkEvent::Reply {
