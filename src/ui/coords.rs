@@ -8,7 +8,8 @@ use std::time::{Instant, SystemTime};
 use egui::{Button, ProgressBar, RichText, Ui};
 
 use super::coords_table::{CellEdit, table};
-use super::file_field::{Browse, FieldSpec, FileAsk, FileField, Purpose, job_line, take_done};
+use super::file_field::{Browse, FieldSpec, FileAsk, Purpose};
+use super::file_work::FileWork;
 use super::widgets::{AMBER, GREEN, RED, clock_utc, reserved_line};
 use crate::files::job::Job;
 use crate::files::{DOCUMENT_LIMIT, WriteError, read_bounded_in, write_file};
@@ -66,8 +67,7 @@ pub struct CoordsPanel {
     /// How far each table (work, tool) is scrolled down, shared by its frozen No. column
     /// and its values.
     pub(super) rows_offset: [f32; 2],
-    file: FileField<TablesFile>,
-    job: Option<Job<TablesDone>>,
+    file: FileWork<TablesFile, TablesDone>,
     write_note: bool,
     /// The files rows: as the user chose, else shown only when the pane has room for
     /// them and the table (the default layout at 1280x800 has not).
@@ -85,8 +85,7 @@ impl Default for CoordsPanel {
             show_diff: false,
             only_differences: false,
             rows_offset: [0.0; 2],
-            file: FileField::new(&FILE_FIELD, ""),
-            job: None,
+            file: FileWork::new(&FILE_FIELD),
             write_note: false,
             files_open: None,
         }
@@ -285,19 +284,14 @@ impl CoordsPanel {
         now: Instant,
         ask: &mut impl FnMut(Intent),
     ) {
-        let idle = self.job.is_none();
         ui.horizontal_wrapped(|ui| {
-            ui.add_enabled_ui(idle, |ui| self.file.show(ui, folder, now))
-                .response
-                .on_hover_text(
-                    ".csv, .json, or .toml: the simulator's coordinate file (xsel-sim --coords)",
-                );
-            if ui.add_enabled(idle, Button::new("Import")).clicked() {
-                self.file.ask(TablesFile::Import, folder);
-            }
-            if ui.add_enabled(idle, Button::new("Export")).clicked() {
-                self.file.ask(TablesFile::Export, folder);
-            }
+            self.file.field(ui, folder, now).on_hover_text(
+                ".csv, .json, or .toml: the simulator's coordinate file (xsel-sim --coords)",
+            );
+            let import = ("Import", None, TablesFile::Import);
+            self.file.button(ui, import, true, folder);
+            let export = ("Export", None, TablesFile::Export);
+            self.file.button(ui, export, true, folder);
             if ui
                 .button("Try on simulator")
                 .on_hover_text("The built-in simulator answers 2A4H with the draft from now on")
@@ -309,15 +303,12 @@ impl CoordsPanel {
                 self.write_note = !self.write_note;
             }
         });
-        match self.file.take() {
-            Some(Ok(file)) => self.start_job(file, pendant, now, ask),
-            Some(Err(why)) => ask(Intent::Coords(CoordsIntent::FileRefused(why))),
-            None => {}
+        if let Some(file) = self.file.take_ask() {
+            self.start_job(file, pendant, now, ask);
         }
-        self.file.confirm_line(ui);
-        if let Some(said) = job_line(ui, &mut self.job) {
-            ask(Intent::Coords(CoordsIntent::FileRefused(said)));
-        }
+        self.refused(ask);
+        self.file.lines(ui);
+        self.refused(ask);
         if self.write_note {
             ui.label(
                 RichText::new(
@@ -377,18 +368,23 @@ impl CoordsPanel {
                 })
             }
         };
-        match job {
-            Ok(job) => self.job = Some(job),
-            Err(e) => ask(Intent::Coords(CoordsIntent::FileRefused(e))),
+        self.file.started(job);
+    }
+
+    /// What went wrong with a file (the field's word) handed to the pendant, whose line
+    /// says it.
+    fn refused(&mut self, ask: &mut impl FnMut(Intent)) {
+        if let Some((_, why)) = self.file.message.take() {
+            ask(Intent::Coords(CoordsIntent::FileRefused(why)));
         }
     }
 
     /// Hands a finished job to the pendant, or asks before replacing a file.
     fn poll_job(&mut self, now: Instant, ask: &mut impl FnMut(Intent)) {
-        let done = match take_done(&mut self.job, now) {
-            None => return,
-            Some(Ok(done)) => done,
-            Some(Err(why)) => return ask(Intent::Coords(CoordsIntent::FileRefused(why))),
+        let done = self.file.finished(now);
+        self.refused(ask);
+        let Some(done) = done else {
+            return;
         };
         match done {
             TablesDone::Read {

@@ -11,6 +11,7 @@ mod coords;
 mod coords_table;
 mod detect;
 mod file_field;
+mod file_work;
 pub mod frame_log;
 mod inbox;
 mod jog;

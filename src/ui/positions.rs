@@ -2,16 +2,16 @@
 //! ("Teach here"), edited in place into a draft with undo, written after a preview, gone
 //! to (2D6H), and imported from or exported to CSV and JSON files.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
 use egui::{Button, Color32, Key, ProgressBar, RichText, Sense, TextEdit, Ui};
 use egui_extras::{Column as Col, TableBuilder};
 
-use super::file_field::{Browse, FieldSpec, FileAsk, FileField, Purpose, job_line, take_done};
-use super::widgets::{AMBER, GREEN, GREY, RED, clock_utc, level_color, reserved_line};
+use super::file_field::{Browse, FieldSpec, FileAsk, Purpose};
+use super::file_work::{Done, FileButton, FileWork, is_json, read_job, write_job};
+use super::widgets::{AMBER, GREEN, GREY, RED, level_color, reserved_line};
 use crate::files::job::Job;
-use crate::files::{WriteError, read_bounded_in, write_file};
 use crate::pendant::positions::write::Outcome;
 use crate::pendant::positions::{Column, Filter, Positions, PositionsIntent, Preview, Row, file};
 use crate::pendant::{Intent, Interpolation, Pendant};
@@ -47,18 +47,24 @@ static FILE_FIELD: FieldSpec<PositionsFile> = FieldSpec {
     filters: &[("Position table", &["csv", "json"])],
 };
 
-/// A finished file job.
-enum PositionsDone {
-    Read {
-        path: PathBuf,
-        read: Result<Vec<(PositionRecord, Option<String>)>, String>,
-    },
-    Written {
-        path: PathBuf,
-        rows: usize,
-        result: Result<(), WriteError>,
-    },
-}
+static FILE_BUTTONS: [FileButton<PositionsFile>; 2] = [
+    (
+        "Import",
+        Some(
+            "Read a CSV or JSON file into the draft (never the controller); a file with an \
+             error anywhere changes nothing",
+        ),
+        PositionsFile::Import,
+    ),
+    (
+        "Export",
+        Some("Write the used rows the filter shows, as .csv or .json"),
+        PositionsFile::Export,
+    ),
+];
+
+/// A finished file job: the rows read, or the rows written.
+type PositionsDone = Done<Vec<(PositionRecord, Option<String>)>>;
 
 /// The cell being typed: a value of row `number`, or its name.
 #[derive(Clone, Debug, PartialEq)]
@@ -84,9 +90,7 @@ pub struct PositionsPanel {
     edit: Option<CellEdit>,
     /// "I take the risk: write while a program runs", for the preview shown.
     take_the_risk: bool,
-    file: FileField<PositionsFile>,
-    job: Option<Job<PositionsDone>>,
-    file_message: Option<(bool, String)>,
+    file: FileWork<PositionsFile, PositionsDone>,
     /// The record whose move is under the pointer this frame (a Go, a preview row): the
     /// arm view draws its ghost.
     pub hovered: Option<PositionRecord>,
@@ -106,9 +110,7 @@ impl Default for PositionsPanel {
             name: String::new(),
             edit: None,
             take_the_risk: false,
-            file: FileField::new(&FILE_FIELD, ""),
-            job: None,
-            file_message: None,
+            file: FileWork::new(&FILE_FIELD),
             hovered: None,
             visible: None,
         }
@@ -178,6 +180,41 @@ fn go_words(pendant: &Pendant) -> String {
             "2D6H CP at {} mm/s (PTP/CP and speeds come from the jog panel)",
             sent.cp_speed_mm_s
         ),
+    }
+}
+
+/// Starts an import (read and parsed off the UI thread) or an export (the used rows
+/// `filter` shows, written off the UI thread).
+fn start_job(
+    ask: FileAsk<PositionsFile>,
+    pendant: &Pendant,
+    filter: &Filter,
+    now: Instant,
+) -> Result<Job<PositionsDone>, String> {
+    match ask.action {
+        PositionsFile::Import => {
+            read_job(ask.path, file::MAX_FILE_BYTES, now, |_, b| file::parse(b))
+        }
+        PositionsFile::Export => {
+            let positions = &pendant.positions;
+            let rows: Vec<(PositionRecord, Option<String>)> = positions
+                .visible(filter)
+                .into_iter()
+                .filter_map(|n| {
+                    positions
+                        .shown(n)
+                        .map(|rec| (rec, positions.names.get(&n).cloned()))
+                })
+                .collect();
+            let json = is_json(&ask.path);
+            write_job("writing", ask, rows.len(), now, move || {
+                if json {
+                    file::to_json(&rows)
+                } else {
+                    file::to_csv(&rows)
+                }
+            })
+        }
     }
 }
 
@@ -438,134 +475,30 @@ impl PositionsPanel {
         out: &mut Vec<Intent>,
     ) {
         self.poll_job(now, out);
-        let idle = self.job.is_none();
-        ui.horizontal_wrapped(|ui| {
-            ui.add_enabled_ui(idle, |ui| self.file.show(ui, folder, now));
-            if ui
-                .add_enabled(idle, Button::new("Import"))
-                .on_hover_text(
-                    "Read a CSV or JSON file into the draft (never the controller); a file \
-                     with an error anywhere changes nothing",
-                )
-                .clicked()
-            {
-                self.file.ask(PositionsFile::Import, folder);
+        let (filter, edit) = (&self.filter, &mut self.edit);
+        self.file.row(ui, folder, now, &FILE_BUTTONS, |ask| {
+            if ask.action == PositionsFile::Import {
+                *edit = None;
             }
-            if ui
-                .add_enabled(idle, Button::new("Export"))
-                .on_hover_text("Write the used rows the filter shows, as .csv or .json")
-                .clicked()
-            {
-                self.file.ask(PositionsFile::Export, folder);
-            }
+            start_job(ask, pendant, filter, now)
         });
-        match self.file.take() {
-            Some(Ok(ask)) => self.start_job(ask, pendant, now),
-            Some(Err(why)) => self.file_message = Some((false, why)),
-            None => {}
-        }
-        self.file.confirm_line(ui);
-        if let Some(said) = job_line(ui, &mut self.job) {
-            self.file_message = Some((false, said));
-        }
-        let said = self
-            .file_message
-            .as_ref()
-            .map(|(ok, t)| (if *ok { GREEN } else { RED }, t.as_str()));
-        reserved_line(ui, said, said.map(|(_, t)| t));
-    }
-
-    /// Starts an import (read and parsed off the UI thread) or an export (the rows shown
-    /// written off the UI thread).
-    fn start_job(&mut self, ask: FileAsk<PositionsFile>, pendant: &Pendant, now: Instant) {
-        self.file_message = None;
-        let FileAsk {
-            action,
-            path,
-            overwrite,
-        } = ask;
-        let shown = path.display().to_string();
-        let job = match action {
-            PositionsFile::Import => {
-                self.edit = None;
-                Job::spawn_opening(format!("reading {shown}"), now, move |ctl| {
-                    let read = read_bounded_in(&path, file::MAX_FILE_BYTES, ctl).and_then(|b| {
-                        file::parse(&b).map_err(|e| format!("{}: {e}", path.display()))
-                    });
-                    PositionsDone::Read { path, read }
-                })
-            }
-            PositionsFile::Export => {
-                let positions = &pendant.positions;
-                let rows: Vec<(PositionRecord, Option<String>)> = positions
-                    .visible(&self.filter)
-                    .into_iter()
-                    .filter_map(|n| {
-                        positions
-                            .shown(n)
-                            .map(|rec| (rec, positions.names.get(&n).cloned()))
-                    })
-                    .collect();
-                Job::spawn_opening(format!("writing {shown}"), now, move |ctl| {
-                    let json = path
-                        .extension()
-                        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
-                    let text = if json {
-                        file::to_json(&rows)
-                    } else {
-                        file::to_csv(&rows)
-                    };
-                    let result = write_file(&path, text.as_bytes(), overwrite, ctl);
-                    PositionsDone::Written {
-                        path,
-                        rows: rows.len(),
-                        result,
-                    }
-                })
-            }
-        };
-        match job {
-            Ok(job) => self.job = Some(job),
-            Err(e) => self.file_message = Some((false, e)),
-        }
     }
 
     /// A finished job: a read handed to the pendant, a write said (or asked to replace).
     fn poll_job(&mut self, now: Instant, out: &mut Vec<Intent>) {
-        let done = match take_done(&mut self.job, now) {
-            None => return,
-            Some(Ok(done)) => done,
-            Some(Err(why)) => return self.file_message = Some((false, why)),
+        let Some((path, read)) = self.file.poll(
+            now,
+            out,
+            |rows| format!("exported {rows} rows"),
+            |_| PositionsFile::Export,
+        ) else {
+            return;
         };
-        match done {
-            PositionsDone::Read { path, read } => {
-                if read.is_ok() {
-                    out.push(Intent::FileUsed(path.clone()));
-                }
-                self.file_message = None;
-                out.push(Intent::Positions(PositionsIntent::Import {
-                    path: path.display().to_string(),
-                    read,
-                }));
-            }
-            PositionsDone::Written { path, rows, result } => match result {
-                Ok(()) => {
-                    self.file_message = Some((
-                        true,
-                        format!(
-                            "exported {rows} rows to {} at {}",
-                            path.display(),
-                            clock_utc()
-                        ),
-                    ));
-                    out.push(Intent::FileUsed(path));
-                }
-                Err(WriteError::Exists(what)) => {
-                    self.file.exists(PositionsFile::Export, path, what)
-                }
-                Err(e) => self.file_message = Some((false, e.sentence(&path))),
-            },
-        }
+        self.file.message = None;
+        out.push(Intent::Positions(PositionsIntent::Import {
+            path: path.display().to_string(),
+            read,
+        }));
     }
 
     /// The table: only the rows in sight are laid out.

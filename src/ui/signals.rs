@@ -3,17 +3,17 @@
 //! rows plotted, the list imported from and exported to CSV and JSON files.
 
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::{Duration, Instant};
 
 use egui::{Button, ComboBox, Key, RichText, Sense, TextEdit, Ui};
 use egui_extras::{Column as Col, TableBuilder};
 
-use super::file_field::{Browse, FieldSpec, FileAsk, FileField, Purpose, job_line, take_done};
+use super::file_field::{Browse, FieldSpec, FileAsk, Purpose};
+use super::file_work::{Done, FileButton, FileWork, is_json, read_job, write_job};
 use super::plots::PlotsPanel;
-use super::widgets::{AMBER, GREEN, GREY, RED, clock_utc, level_color, reserved_line};
+use super::widgets::{AMBER, GREEN, GREY, RED, level_color, reserved_line};
 use crate::files::job::Job;
-use crate::files::{WriteError, read_bounded_in, write_file};
 use crate::pendant::signals::{
     HIGHLIGHT_FOR, MAX_ROWS, MAX_TEXT_CHARS, Proposal, Signal, SignalKind, Signals, SignalsIntent,
     Value, WatchRow, file,
@@ -64,18 +64,32 @@ static FILE_FIELD: FieldSpec<SignalsFile> = FieldSpec {
     filters: &[("Watch list", &["csv", "json"])],
 };
 
-/// A finished file job.
-enum SignalsDone {
-    Read {
-        path: PathBuf,
-        read: Result<(Vec<WatchRow>, Option<RealEncoding>), String>,
-    },
-    Written {
-        path: PathBuf,
-        rows: usize,
-        result: Result<(), WriteError>,
-    },
-}
+static FILE_BUTTONS: [FileButton<SignalsFile>; 3] = [
+    (
+        "Import",
+        Some(
+            "Replace the watch list with a CSV or JSON file's; a file with an error \
+             anywhere changes nothing",
+        ),
+        SignalsFile::Import,
+    ),
+    (
+        "Export CSV",
+        Some("Write the whole watch list as CSV (.csv added when none is named)"),
+        SignalsFile::ExportCsv,
+    ),
+    (
+        "Export JSON",
+        Some(
+            "Write the whole watch list and the real encoding as JSON (.json added \
+             when none is named)",
+        ),
+        SignalsFile::ExportJson,
+    ),
+];
+
+/// A finished file job: the list (and the real encoding) read, or the rows written.
+type SignalsDone = Done<(Vec<WatchRow>, Option<RealEncoding>)>;
 
 /// The name being typed over a row's.
 #[derive(Clone, Debug, PartialEq)]
@@ -103,9 +117,7 @@ pub struct SignalsPanel {
     proposed: Option<Signal>,
     /// "A program is running: I accept the risk", for the confirmation shown.
     take_the_risk: bool,
-    file: FileField<SignalsFile>,
-    job: Option<Job<SignalsDone>>,
-    file_message: Option<(bool, String)>,
+    file: FileWork<SignalsFile, SignalsDone>,
     /// The rows shown (indices into the list) and what they were filtered from.
     visible: Option<((u64, usize, String), Vec<usize>)>,
     /// Reads a round, worked out for the list's revision.
@@ -134,9 +146,7 @@ impl Default for SignalsPanel {
             edit: None,
             proposed: None,
             take_the_risk: false,
-            file: FileField::new(&FILE_FIELD, ""),
-            job: None,
-            file_message: None,
+            file: FileWork::new(&FILE_FIELD),
             visible: None,
             reads: None,
             drawn: false,
@@ -181,6 +191,31 @@ fn filtered(rows: &[WatchRow], filter: &str) -> Vec<usize> {
         })
         .map(|(i, _)| i)
         .collect()
+}
+
+/// Starts an import (read and parsed off the UI thread) or an export (the list written
+/// off the UI thread, as the button says; a name without an extension gets its own).
+fn start_job(
+    mut ask: FileAsk<SignalsFile>,
+    pendant: &Pendant,
+    now: Instant,
+) -> Result<Job<SignalsDone>, String> {
+    if ask.action == SignalsFile::Import {
+        return read_job(ask.path, file::MAX_FILE_BYTES, now, |_, b| file::parse(b));
+    }
+    let json = ask.action == SignalsFile::ExportJson;
+    if ask.path.extension().is_none() {
+        ask.path.set_extension(if json { "json" } else { "csv" });
+    }
+    let rows = pendant.signals.rows().to_vec();
+    let encoding = pendant.signals.encoding;
+    write_job("writing", ask, rows.len(), now, move || {
+        if json {
+            file::to_json(&rows, encoding)
+        } else {
+            file::to_csv(&rows)
+        }
+    })
 }
 
 impl SignalsPanel {
@@ -460,153 +495,39 @@ impl SignalsPanel {
         out: &mut Vec<Intent>,
     ) {
         self.poll_job(now, out);
-        let idle = self.job.is_none();
-        ui.horizontal_wrapped(|ui| {
-            ui.add_enabled_ui(idle, |ui| self.file.show(ui, folder, now));
-            if ui
-                .add_enabled(idle, Button::new("Import"))
-                .on_hover_text(
-                    "Replace the watch list with a CSV or JSON file's; a file with an error \
-                     anywhere changes nothing",
-                )
-                .clicked()
-            {
-                self.file.ask(SignalsFile::Import, folder);
+        let edit = &mut self.edit;
+        self.file.row(ui, folder, now, &FILE_BUTTONS, |ask| {
+            if ask.action == SignalsFile::Import {
+                *edit = None;
             }
-            if ui
-                .add_enabled(idle, Button::new("Export CSV"))
-                .on_hover_text("Write the whole watch list as CSV (.csv added when none is named)")
-                .clicked()
-            {
-                self.file.ask(SignalsFile::ExportCsv, folder);
-            }
-            if ui
-                .add_enabled(idle, Button::new("Export JSON"))
-                .on_hover_text(
-                    "Write the whole watch list and the real encoding as JSON (.json added \
-                     when none is named)",
-                )
-                .clicked()
-            {
-                self.file.ask(SignalsFile::ExportJson, folder);
-            }
+            start_job(ask, pendant, now)
         });
-        match self.file.take() {
-            Some(Ok(ask)) => self.start_job(ask, pendant, now),
-            Some(Err(why)) => self.file_message = Some((false, why)),
-            None => {}
-        }
-        self.file.confirm_line(ui);
-        if let Some(said) = job_line(ui, &mut self.job) {
-            self.file_message = Some((false, said));
-        }
-        let said = self
-            .file_message
-            .as_ref()
-            .map(|(ok, t)| (if *ok { GREEN } else { RED }, t.as_str()));
-        reserved_line(ui, said, said.map(|(_, t)| t));
-    }
-
-    /// Starts an import (read and parsed off the UI thread) or an export (the list written
-    /// off the UI thread).
-    fn start_job(&mut self, ask: FileAsk<SignalsFile>, pendant: &Pendant, now: Instant) {
-        self.file_message = None;
-        let FileAsk {
-            action,
-            mut path,
-            overwrite,
-        } = ask;
-        let job = match action {
-            SignalsFile::Import => {
-                self.edit = None;
-                let shown = path.display().to_string();
-                Job::spawn_opening(format!("reading {shown}"), now, move |ctl| {
-                    let read = read_bounded_in(&path, file::MAX_FILE_BYTES, ctl).and_then(|b| {
-                        file::parse(&b).map_err(|e| format!("{}: {e}", path.display()))
-                    });
-                    SignalsDone::Read { path, read }
-                })
-            }
-            SignalsFile::ExportCsv | SignalsFile::ExportJson => {
-                let json = action == SignalsFile::ExportJson;
-                if path.extension().is_none() {
-                    path.set_extension(if json { "json" } else { "csv" });
-                }
-                let shown = path.display().to_string();
-                let rows = pendant.signals.rows().to_vec();
-                let encoding = pendant.signals.encoding;
-                Job::spawn_opening(format!("writing {shown}"), now, move |ctl| {
-                    let text = if json {
-                        file::to_json(&rows, encoding)
-                    } else {
-                        file::to_csv(&rows)
-                    };
-                    let result = write_file(&path, text.as_bytes(), overwrite, ctl);
-                    SignalsDone::Written {
-                        path,
-                        rows: rows.len(),
-                        result,
-                    }
-                })
-            }
-        };
-        match job {
-            Ok(job) => self.job = Some(job),
-            Err(e) => self.file_message = Some((false, e)),
-        }
     }
 
     /// A finished job: a read handed to the pendant, a write said (or asked to replace).
     fn poll_job(&mut self, now: Instant, out: &mut Vec<Intent>) {
-        let done = match take_done(&mut self.job, now) {
-            None => return,
-            Some(Ok(done)) => done,
-            Some(Err(why)) => return self.file_message = Some((false, why)),
-        };
-        match done {
-            SignalsDone::Read { path, read } => {
-                self.file_message = None;
-                let read = match read {
-                    Ok((rows, encoding)) => {
-                        out.push(Intent::FileUsed(path.clone()));
-                        if let Some(e) = encoding {
-                            out.push(Intent::Signals(SignalsIntent::RealEncoding(e)));
-                        }
-                        Ok(rows)
-                    }
-                    Err(e) => Err(e),
-                };
-                out.push(Intent::Signals(SignalsIntent::Import {
-                    path: path.display().to_string(),
-                    read,
-                }));
+        let again = |path: &Path| {
+            if is_json(path) {
+                SignalsFile::ExportJson
+            } else {
+                SignalsFile::ExportCsv
             }
-            SignalsDone::Written { path, rows, result } => match result {
-                Ok(()) => {
-                    self.file_message = Some((
-                        true,
-                        format!(
-                            "exported {rows} rows to {} at {}",
-                            path.display(),
-                            clock_utc()
-                        ),
-                    ));
-                    out.push(Intent::FileUsed(path));
-                }
-                Err(WriteError::Exists(what)) => {
-                    let action = if path
-                        .extension()
-                        .is_some_and(|e| e.eq_ignore_ascii_case("json"))
-                    {
-                        SignalsFile::ExportJson
-                    } else {
-                        SignalsFile::ExportCsv
-                    };
-                    self.file.exists(action, path, what)
-                }
-                Err(e) => self.file_message = Some((false, e.sentence(&path))),
-            },
-        }
+        };
+        let words = |rows| format!("exported {rows} rows");
+        let Some((path, read)) = self.file.poll(now, out, words, again) else {
+            return;
+        };
+        self.file.message = None;
+        let read = read.map(|(rows, encoding)| {
+            if let Some(e) = encoding {
+                out.push(Intent::Signals(SignalsIntent::RealEncoding(e)));
+            }
+            rows
+        });
+        out.push(Intent::Signals(SignalsIntent::Import {
+            path: path.display().to_string(),
+            read,
+        }));
     }
 
     /// The table: only the rows in sight are laid out. What a narrow pane shows first:

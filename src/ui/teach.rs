@@ -1,16 +1,17 @@
 //! The teach list: record the current pose under a name, go there (2D4H), rename,
 //! reorder, delete, and save or load the list as CSV or JSON.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
 use egui::{Button, RichText, TextEdit, Ui};
 use egui_extras::{Column as Col, TableBuilder};
 
-use super::file_field::{Browse, FieldSpec, FileAsk, FileField, Purpose, job_line, take_done};
-use super::widgets::{AMBER, RED, clock_utc, reserved_line};
+use super::file_field::{Browse, FieldSpec, FileAsk, Purpose};
+use super::file_work::{Done, FileWork, is_json, read_job, write_job};
+use super::widgets::{AMBER, RED, reserved_line};
+use crate::files::DOCUMENT_LIMIT;
 use crate::files::job::Job;
-use crate::files::{DOCUMENT_LIMIT, WriteError, read_bounded_in, write_file};
 use crate::pendant::teach::{TeachList, arm_word};
 use crate::pendant::{Intent, Level, Pendant};
 
@@ -42,27 +43,15 @@ static FILE_FIELD: FieldSpec<TeachFile> = FieldSpec {
     filters: &[("Teach list", &["csv", "json"])],
 };
 
-/// A finished file job: what was asked and what came of it.
-enum TeachDone {
-    Saved {
-        path: PathBuf,
-        points: usize,
-        result: Result<(), WriteError>,
-    },
-    Read {
-        path: PathBuf,
-        read: Result<TeachList, String>,
-    },
-}
+/// A finished file job: the list read, or the points saved.
+type TeachDone = Done<TeachList>;
 
 /// The panel's own state: the name being typed, the selected row, the file and its job.
 pub struct TeachPanel {
     name: String,
     selected: Option<usize>,
     rename: String,
-    file: FileField<TeachFile>,
-    job: Option<Job<TeachDone>>,
-    file_message: Option<(bool, String)>,
+    file: FileWork<TeachFile, TeachDone>,
     /// The row whose Go is under the pointer (the arm view shows its ghost).
     pub hovered_go: Option<usize>,
 }
@@ -73,9 +62,7 @@ impl Default for TeachPanel {
             name: String::new(),
             selected: None,
             rename: String::new(),
-            file: FileField::new(&FILE_FIELD, ""),
-            job: None,
-            file_message: None,
+            file: FileWork::new(&FILE_FIELD),
             hovered_go: None,
         }
     }
@@ -253,7 +240,7 @@ impl TeachPanel {
                 let mut list = pendant.teach.list().clone();
                 match list.rename(i, &self.rename) {
                     Ok(()) => intents.push(Intent::TeachList(list)),
-                    Err(e) => self.file_message = Some((false, e.to_string())),
+                    Err(e) => self.file.message = Some((false, e.to_string())),
                 }
             }
         });
@@ -268,25 +255,22 @@ impl TeachPanel {
         intents: &mut Vec<Intent>,
     ) {
         self.poll_job(now, intents);
-        let idle = self.job.is_none();
         ui.horizontal_wrapped(|ui| {
-            ui.add_enabled_ui(idle, |ui| self.file.show(ui, folder, now));
+            self.file.field(ui, folder, now);
         });
         ui.horizontal(|ui| {
-            if ui.add_enabled(idle, Button::new("Save")).clicked() {
-                self.file.ask(TeachFile::Save, folder);
-            }
+            self.file
+                .button(ui, ("Save", None, TeachFile::Save), true, folder);
             let waiting = pendant.teach.pending().is_some();
-            if ui
-                .add_enabled(idle && !waiting, Button::new("Load"))
-                .on_hover_text(
+            let load = (
+                "Load",
+                Some(
                     "Reads a list; it replaces this one only when you say so. A file with \
                      an error or no points changes nothing",
-                )
-                .clicked()
-            {
-                self.file.ask(TeachFile::Load, folder);
-            }
+                ),
+                TeachFile::Load,
+            );
+            self.file.button(ui, load, !waiting, folder);
             if let Some((path, n)) = pendant.teach.undoable_load()
                 && ui
                     .button("Undo load")
@@ -299,15 +283,8 @@ impl TeachPanel {
                 self.selected = None;
             }
         });
-        match self.file.take() {
-            Some(Ok(ask)) => self.start_job(ask, pendant, now),
-            Some(Err(why)) => self.file_message = Some((false, why)),
-            None => {}
-        }
-        self.file.confirm_line(ui);
-        if let Some(said) = job_line(ui, &mut self.job) {
-            self.file_message = Some((false, said));
-        }
+        self.file.start(|ask| start_job(ask, pendant, now));
+        self.file.lines(ui);
         if let Some(p) = pendant.teach.pending() {
             ui.label(
                 RichText::new(format!(
@@ -329,7 +306,7 @@ impl TeachPanel {
             });
         }
         // The panel's own word (a save) or the pendant's (a load): one reserved line.
-        let said = match (&self.file_message, &pendant.teach_feedback) {
+        let said = match (&self.file.message, &pendant.teach_feedback) {
             (Some((ok, text)), _) => Some((*ok, text.as_str())),
             (None, Some((level, text))) => Some((*level == Level::Info, text.as_str())),
             (None, None) => None,
@@ -340,96 +317,46 @@ impl TeachPanel {
 }
 
 impl TeachPanel {
-    /// Starts the job a file action asks for: the list written (as CSV or JSON by the
-    /// name's extension) or a file read and parsed, off the UI thread.
-    fn start_job(&mut self, ask: FileAsk<TeachFile>, pendant: &Pendant, now: Instant) {
-        self.file_message = None;
-        let FileAsk {
-            action,
-            path,
-            overwrite,
-        } = ask;
-        let shown = path.display().to_string();
-        let job = match action {
-            TeachFile::Save => {
-                let list = pendant.teach.list().clone();
-                Job::spawn_opening(format!("saving {shown}"), now, move |ctl| {
-                    let text = if is_json(&path) {
-                        list.to_json()
-                    } else {
-                        list.to_csv()
-                    };
-                    let result = write_file(&path, text.as_bytes(), overwrite, ctl);
-                    TeachDone::Saved {
-                        path,
-                        points: list.len(),
-                        result,
-                    }
-                })
-            }
-            TeachFile::Load => Job::spawn_opening(format!("reading {shown}"), now, move |ctl| {
-                let read = read_bounded_in(&path, DOCUMENT_LIMIT, ctl).and_then(|bytes| {
-                    let list = if is_json(&path) {
-                        TeachList::from_json_bytes(&bytes)
-                    } else {
-                        TeachList::from_csv_bytes(&bytes)
-                    };
-                    list.map_err(|e| format!("{}: {e}", path.display()))
-                });
-                TeachDone::Read { path, read }
-            }),
-        };
-        match job {
-            Ok(job) => self.job = Some(job),
-            Err(e) => self.file_message = Some((false, e)),
-        }
-    }
-
     /// Takes a finished job's result: a save said (or asked to replace), a read handed
     /// to the pendant.
     fn poll_job(&mut self, now: Instant, intents: &mut Vec<Intent>) {
-        let done = match take_done(&mut self.job, now) {
-            None => return,
-            Some(Ok(done)) => done,
-            Some(Err(why)) => return self.file_message = Some((false, why)),
+        let words = |points| match points {
+            1 => "saved 1 point".to_owned(),
+            n => format!("saved {n} points"),
         };
-        match done {
-            TeachDone::Saved {
-                path,
-                points,
-                result,
-            } => match result {
-                Ok(()) => {
-                    let points = if points == 1 {
-                        "1 point".to_owned()
-                    } else {
-                        format!("{points} points")
-                    };
-                    self.file_message = Some((
-                        true,
-                        format!("saved {points} to {} at {}", path.display(), clock_utc()),
-                    ));
-                    intents.push(Intent::FileUsed(path));
-                }
-                Err(WriteError::Exists(what)) => self.file.exists(TeachFile::Save, path, what),
-                Err(e) => self.file_message = Some((false, e.sentence(&path))),
-            },
-            TeachDone::Read { path, read } => {
-                if read.is_ok() {
-                    intents.push(Intent::FileUsed(path.clone()));
-                }
-                intents.push(Intent::TeachLoaded {
-                    path: path.display().to_string(),
-                    read,
-                });
-            }
-        }
+        let Some((path, read)) = self.file.poll(now, intents, words, |_| TeachFile::Save) else {
+            return;
+        };
+        intents.push(Intent::TeachLoaded {
+            path: path.display().to_string(),
+            read,
+        });
     }
 }
 
-fn is_json(path: &Path) -> bool {
-    path.extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+/// Starts the job a file action asks for: the list written (as CSV or JSON by the name's
+/// extension) or a file read and parsed, off the UI thread.
+fn start_job(
+    ask: FileAsk<TeachFile>,
+    pendant: &Pendant,
+    now: Instant,
+) -> Result<Job<TeachDone>, String> {
+    match ask.action {
+        TeachFile::Save => {
+            let list = pendant.teach.list().clone();
+            let json = is_json(&ask.path);
+            write_job("saving", ask, list.len(), now, move || {
+                if json { list.to_json() } else { list.to_csv() }
+            })
+        }
+        TeachFile::Load => read_job(ask.path, DOCUMENT_LIMIT, now, |path, bytes| {
+            if is_json(path) {
+                TeachList::from_json_bytes(bytes)
+            } else {
+                TeachList::from_csv_bytes(bytes)
+            }
+        }),
+    }
 }
 
 /// How a Go moves, said before it is pressed: 2D4H, PTP or CP, the speed sent.
