@@ -72,17 +72,17 @@ struct BadInput {
 }
 
 impl BadInput {
-    fn add(&mut self, bytes: &[u8], reason: &dyn std::fmt::Display) {
+    fn add(&mut self, bytes: &[u8], more: usize, reason: &dyn std::fmt::Display) {
         if self.chunks == 0 {
             self.reason = reason.to_string();
             let head = printable(&bytes[..bytes.len().min(BAD_INPUT_SAMPLE)]);
             self.sample = head.chars().take(BAD_INPUT_SAMPLE).collect();
-            if bytes.len() > BAD_INPUT_SAMPLE || self.sample.len() < head.len() {
+            if bytes.len() > BAD_INPUT_SAMPLE || more > 0 || self.sample.len() < head.len() {
                 self.sample.push_str("...");
             }
         }
         self.chunks += 1;
-        self.bytes += bytes.len() as u64;
+        self.bytes += (bytes.len() + more) as u64;
     }
 
     /// The line to print now, if any and if the last one is old enough.
@@ -228,9 +228,10 @@ impl Session {
             LinkEvent::Health(h) => self.health = Some(h),
             LinkEvent::Garbage {
                 ref bytes,
+                more,
                 ref error,
                 ..
-            } => self.bad.add(bytes, error),
+            } => self.bad.add(bytes, more, error),
             LinkEvent::Connected { .. } | LinkEvent::Reconnected { .. } => {
                 self.line_up = true;
                 writeln!(self.out, "link: {}", ev.summary())?;
@@ -377,14 +378,14 @@ mod tests {
         let mut bad = BadInput::default();
         let t0 = Instant::now();
         assert_eq!(bad.due(t0, false), None);
-        bad.add(&[b'x'; 16 * 1024], &"no ! header");
+        bad.add(&[b'x'; 16 * 1024], 0, &"no ! header");
         let first = bad.due(t0, false).unwrap();
         assert!(
             first.contains("16384 bytes, no ! header") && first.len() < 300,
             "{first}"
         );
         for _ in 0..100 {
-            bad.add(&[0xFF; 16 * 1024], &"reply from station 03, not 99");
+            bad.add(&[0xFF; 16 * 1024], 0, &"reply from station 03, not 99");
         }
         assert_eq!(bad.due(t0 + Duration::from_millis(500), false), None);
         let later = bad.due(t0 + BAD_INPUT_EVERY, false).unwrap();

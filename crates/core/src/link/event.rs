@@ -36,7 +36,11 @@ pub enum LinkEvent {
     /// Bytes that did not make a valid frame (garbage, bad checksum, missing LF, cut-off
     /// reply), or a valid frame nobody asked for.
     Garbage {
+        /// The first [`GARBAGE_KEEP`] bytes of the run.
         bytes: Vec<u8>,
+        /// Bytes of the run beyond those (counted, not carried: a flood of junk without
+        /// CR LF would otherwise fill the event queue with 16 KB runs).
+        more: usize,
         error: BadInput,
         at: Instant,
     },
@@ -188,11 +192,60 @@ pub fn printable(bytes: &[u8]) -> String {
     bytes.escape_ascii().to_string()
 }
 
-/// Internal: a decode error with its raw bytes, as the link reports it.
-pub(crate) fn garbage_event(error: &DecodeError, at: Instant) -> LinkEvent {
+/// The most of one run of bad bytes a [`LinkEvent::Garbage`] carries.
+pub const GARBAGE_KEEP: usize = 1024;
+
+/// Internal: bad bytes as the link reports them, the run cut to [`GARBAGE_KEEP`].
+pub(crate) fn garbage(bytes: &[u8], error: BadInput, at: Instant) -> LinkEvent {
+    let keep = bytes.len().min(GARBAGE_KEEP);
     LinkEvent::Garbage {
-        bytes: error.raw().to_vec(),
-        error: BadInput::Malformed(error.clone()),
+        bytes: bytes[..keep].to_vec(),
+        more: bytes.len() - keep,
+        error,
         at,
+    }
+}
+
+/// Internal: a decode error with its raw bytes, as the link reports it (the error's own
+/// copy of the bytes cut as the event's).
+pub(crate) fn garbage_event(error: &DecodeError, at: Instant) -> LinkEvent {
+    let mut kept = error.clone();
+    match &mut kept {
+        DecodeError::Garbage { raw } | DecodeError::Overlong { raw } => raw.truncate(GARBAGE_KEEP),
+        DecodeError::Frame(e) => e.raw.truncate(GARBAGE_KEEP),
+    }
+    garbage(error.raw(), BadInput::Malformed(kept), at)
+}
+
+#[cfg(test)]
+mod garbage_tests {
+    use super::*;
+
+    /// A long run of junk crosses the event queue cut to its first bytes and a count,
+    /// the decode error's own copy of the bytes cut too.
+    #[test]
+    fn a_long_run_of_junk_is_carried_cut_and_counted() {
+        let mut d = crate::protocol::StreamDecoder::new();
+        // A header, then more than a frame's length without LF: dropped as overlong.
+        let mut junk = b"#".to_vec();
+        junk.extend(std::iter::repeat_n(b'x', 40_000));
+        d.push(&junk);
+        let error = std::iter::from_fn(|| d.pull())
+            .find_map(Result::err)
+            .expect("junk is an error");
+        let raw_len = error.raw().len();
+        assert!(raw_len > GARBAGE_KEEP, "{raw_len}");
+        let LinkEvent::Garbage {
+            bytes, more, error, ..
+        } = garbage_event(&error, Instant::now())
+        else {
+            panic!("not garbage")
+        };
+        assert_eq!(bytes.len(), GARBAGE_KEEP);
+        assert_eq!(more, raw_len - GARBAGE_KEEP);
+        let BadInput::Malformed(e) = error else {
+            panic!("{error:?}")
+        };
+        assert_eq!(e.raw().len(), GARBAGE_KEEP);
     }
 }

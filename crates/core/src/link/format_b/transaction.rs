@@ -169,11 +169,7 @@ impl FormatB {
         let out = self.outstanding.as_ref()?;
         let (pending, sent_at) = (out.pending.clone(), out.sent_at);
         let expected = pending.command.id();
-        let unexpected = |why: BadInput| LinkEvent::Garbage {
-            bytes: frame.raw().to_vec(),
-            error: why,
-            at,
-        };
+        let unexpected = |why: BadInput| crate::link::event::garbage(frame.raw(), why, at);
         // Which frame answers the command on the line: the rule the guardian keeps too.
         match judge(frame, self.config.station, Some(expected)) {
             Verdict::Answers(_) => {}
@@ -438,11 +434,11 @@ impl FormatB {
             self.sync.late_reply_arrived(id);
         }
         match item {
-            Ok(frame) => self.emit(LinkEvent::Garbage {
-                bytes: frame.raw().to_vec(),
-                error: BadInput::Late,
-                at: now,
-            }),
+            Ok(frame) => self.emit(crate::link::event::garbage(
+                frame.raw(),
+                BadInput::Late,
+                now,
+            )),
             Err(error) => self.emit(garbage_event(&error, now)),
         }
     }
@@ -465,10 +461,6 @@ impl FormatB {
             self.sync.late_reply_arrived(id);
         }
         self.health.bad_frame();
-        self.emit(LinkEvent::Garbage {
-            bytes: rest,
-            error: BadInput::CutOff,
-            at: now,
-        });
+        self.emit(crate::link::event::garbage(&rest, BadInput::CutOff, now));
     }
 }

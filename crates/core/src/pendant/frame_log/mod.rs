@@ -30,8 +30,9 @@ pub const DEFAULT_CAP: usize = 1_000_000;
 /// when it is passed, whatever the row cap says (a line of junk fills it in bytes, not
 /// rows).
 pub const DEFAULT_BUDGET_BYTES: usize = 64 * 1024 * 1024;
-/// The most of one garbage run a row keeps; the rest is counted in its note.
-pub const GARBAGE_KEEP: usize = 1024;
+/// The most of one garbage run a row keeps (what the link's event carries); the rest is
+/// counted in its note.
+pub use crate::link::event::GARBAGE_KEEP;
 /// The most rows of the other line between a request and its answer for the two to be
 /// paired (each line has one request outstanding; the other line's rows come between).
 const PAIR_REACH: u64 = 1024;

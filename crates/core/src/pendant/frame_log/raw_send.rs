@@ -17,7 +17,15 @@ impl Pendant {
             LinkEvent::FrameReceived {
                 bytes, first_byte, ..
             } => log.received(bytes, *first_byte),
-            LinkEvent::Garbage { bytes, error, at } => log.garbage(bytes, &error.to_string(), *at),
+            LinkEvent::Garbage {
+                bytes,
+                more,
+                error,
+                at,
+            } => match more {
+                0 => log.garbage(bytes, &error.to_string(), *at),
+                n => log.garbage(bytes, &format!("{error} (+{n} bytes not kept)"), *at),
+            },
             LinkEvent::Timeout {
                 command,
                 retrying,
