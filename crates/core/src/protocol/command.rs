@@ -14,8 +14,8 @@ use super::messages::positions::{
     PositionMove, PositionQuery, PositionQueryKind, PositionWrite, PositionWriteKind,
 };
 use super::messages::scara::{ScaraMove, ScaraPositionMove};
-use super::messages::signals::{BitChange, BitQuery, BitSpace, VarData, VarKind, VarQuery};
 use super::messages::scara_status::{ScaraStatusQuery, ScaraStatusQuery2};
+use super::messages::signals::{BitChange, BitQuery, BitSpace, VarData, VarKind, VarQuery};
 use super::writer::{Writer, encode_frame};
 
 /// A command frame's meaning (PROTOCOL.md section 3).

@@ -137,7 +137,10 @@ fn render(show: Show, v: u32, width: usize) -> (String, Vec<BitNote>) {
         Show::Program => (format!("program {v}"), Vec::new()),
         Show::Group(first) => (group_text(first, v as u8), Vec::new()),
         Show::Signed => ((v as i32).to_string(), Vec::new()),
-        Show::Char => (format!("'{}' ({v:02X}H)", (v as u8).escape_ascii()), Vec::new()),
+        Show::Char => (
+            format!("'{}' ({v:02X}H)", (v as u8).escape_ascii()),
+            Vec::new(),
+        ),
         Show::Code(table) => {
             let text = match table.iter().find(|(c, _)| *c == v) {
                 Some((_, t)) => format!("{v} = {t}"),

@@ -58,8 +58,8 @@ pub use messages::scara_status::{
     ScaraUnitStatus,
 };
 pub use messages::signals::{
-    BitChange, BitData, BitQuery, BitSpace, Category, GLOBAL_FLAGS, INPUTS, LOCAL_FLAGS,
-    OUTPUTS, RealEncoding, RealWord, VarData, VarKind, VarQuery, VarValues, VarsWritten,
+    BitChange, BitData, BitQuery, BitSpace, Category, GLOBAL_FLAGS, INPUTS, LOCAL_FLAGS, OUTPUTS,
+    RealEncoding, RealWord, VarData, VarKind, VarQuery, VarValues, VarsWritten,
 };
 pub use messages::status::{
     AxisState, AxisStatus, EncoderStatus, HomeState, SensorInput, SystemMode, SystemStatus,

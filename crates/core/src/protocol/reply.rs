@@ -214,9 +214,7 @@ pub(crate) fn decode_reply_data(
         MessageId::INTEGER_QUERY => Reply::Vars(VarData::read(r, VarKind::Integer)?),
         MessageId::REAL_QUERY => Reply::Vars(VarData::read(r, VarKind::Real)?),
         MessageId::STRING_QUERY => Reply::Vars(VarData::read(r, VarKind::Text)?),
-        MessageId::INTEGER_CHANGE => {
-            Reply::VarsWritten(VarsWritten::read(r, VarKind::Integer)?)
-        }
+        MessageId::INTEGER_CHANGE => Reply::VarsWritten(VarsWritten::read(r, VarKind::Integer)?),
         MessageId::REAL_CHANGE => Reply::VarsWritten(VarsWritten::read(r, VarKind::Real)?),
         _ => {
             return Err(MessageError {
