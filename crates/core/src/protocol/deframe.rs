@@ -163,13 +163,16 @@ impl Deframer {
             return self.pull_noise();
         }
         let from = self.scanned.max(self.start + 1);
-        let tail = self.buf.get(from..).unwrap_or(&[]);
+        let overlong = self.start + self.limit;
+        // Never past the length limit: a long stretch without LF is cut there, and a
+        // search to the end of a large buffer for every cut would take quadratic time.
+        let end = self.buf.len().min(overlong + 1);
+        let tail = self.buf.get(from..end).unwrap_or(&[]);
         let found = if self.cut_at_header {
             tail.iter().position(|&b| b == b'\n' || self.is_header(b))
         } else {
             find_lf(tail)
         };
-        let overlong = self.start + self.limit;
         match found.map(|off| from + off) {
             Some(at) if at >= overlong => self.emit(RunKind::Overlong, overlong, End::Limit),
             Some(at) if self.buf.get(at) == Some(&b'\n') => {
@@ -177,7 +180,7 @@ impl Deframer {
             }
             Some(at) => self.emit(RunKind::Cut, at, End::Header),
             None => {
-                self.scanned = self.buf.len();
+                self.scanned = end.max(from);
                 if self.buf.len() >= overlong {
                     return self.emit(RunKind::Overlong, overlong, End::Limit);
                 }
@@ -188,8 +191,9 @@ impl Deframer {
 
     fn pull_noise(&mut self) -> Option<Run<'_>> {
         let from = self.scanned.max(self.start);
-        let tail = self.buf.get(from..).unwrap_or(&[]);
         let limit = self.start + self.limit;
+        let end = self.buf.len().min(limit + 1);
+        let tail = self.buf.get(from..end).unwrap_or(&[]);
         match tail
             .iter()
             .position(|&b| b == b'\n' || self.is_header(b))
@@ -201,7 +205,7 @@ impl Deframer {
             }
             Some(at) => self.emit(RunKind::Noise, at, End::Header),
             None => {
-                self.scanned = self.buf.len();
+                self.scanned = end.max(from);
                 if self.buf.len() >= limit {
                     return self.emit(RunKind::Noise, limit, End::Limit);
                 }
@@ -289,5 +293,22 @@ mod tests {
             vec![(Noise, b"abcdefgh".to_vec(), Limit)]
         );
         assert!(d.pending() < 8);
+    }
+
+    /// A large batch of headers and junk without one LF (a flood) is cut at the limit
+    /// run after run, every byte accounted for; each cut looks no further than the limit.
+    #[test]
+    fn a_flood_without_lf_is_cut_at_the_limit_every_byte_accounted() {
+        let mut d = Deframer::new(b"!#&", 64, false);
+        let junk: Vec<u8> = (0..100_000u32)
+            .map(|i| b"#abc!&xyz"[(i % 9) as usize])
+            .collect();
+        d.push(&junk);
+        let mut total = 0;
+        while let Some(r) = d.pull() {
+            assert!(r.bytes.len() <= 64);
+            total += r.bytes.len();
+        }
+        assert!(junk.len() - total < 64, "{total} of {}", junk.len());
     }
 }
