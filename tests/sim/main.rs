@@ -17,4 +17,5 @@ mod rmc;
 mod rmc_abuse;
 mod signals;
 mod sim_abuse;
+mod spawn;
 mod stand_in;

@@ -2,43 +2,22 @@
 //! from raw bytes (not the project's codec): enable, Move Relative, poll to In Position
 //! with ACK; ACK per connection; garbage closes only its own connection.
 
-use std::io::{BufRead, BufReader, Read, Write};
+use std::io::{Read, Write};
 use std::net::TcpStream;
-use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
+use crate::spawn::{self, Guard};
 use crate::wait::{LONG, until};
 
-/// Kills the simulator when the test ends, passed or not.
-struct Guard(Child);
-
-impl Drop for Guard {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
-/// Starts `rmc-sim` on a free port; its address from the `listening on` line.
+/// Starts `rmc-sim` on a free port; its address from the `listening on` line (its log
+/// drained on a thread of its own).
 fn start() -> (Guard, String) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_rmc-sim"))
-        .args(["--tcp", "127.0.0.1:0", "--axes", "2"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("rmc-sim starts");
-    let stdout = child.stdout.take().expect("stdout is piped");
-    let guard = Guard(child);
-    let mut line = String::new();
-    BufReader::new(stdout)
-        .read_line(&mut line)
-        .expect("rmc-sim prints its address");
-    let addr = line
-        .trim()
-        .strip_prefix("listening on ")
-        .unwrap_or_else(|| panic!("first line: {line:?}"))
-        .to_owned();
-    (guard, addr)
+    let (guard, first, stderr) = spawn::start(
+        env!("CARGO_BIN_EXE_rmc-sim"),
+        &["--tcp", "127.0.0.1:0", "--axes", "2", "--no-console"],
+    );
+    let _log = spawn::collect(stderr);
+    (guard, spawn::rmc_address(&first))
 }
 
 struct Client {

@@ -3,57 +3,19 @@
 //! dropped after `--idle-timeout`, a full house refused with exception 06 and the next
 //! client served once the idle ones are gone.
 
-use std::io::{BufRead, BufReader, Read, Write};
+use std::io::{Read, Write};
 use std::net::TcpStream;
-use std::process::{Child, ChildStderr, Command, Stdio};
 use std::sync::{Arc, Mutex};
 
+use crate::spawn::{self, Guard};
 use crate::wait::{LONG, PROCESS, until};
-
-/// Kills the simulator when the test ends, passed or not.
-struct Guard(Child);
-
-impl Drop for Guard {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
 
 /// Starts `rmc-sim` on a free port with `extra` flags; its address and its log's lines.
 fn start(extra: &[&str]) -> (Guard, String, Arc<Mutex<Vec<String>>>) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_rmc-sim"))
-        .args(["--tcp", "127.0.0.1:0", "--axes", "2", "--no-console"])
-        .args(extra)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("rmc-sim starts");
-    let stdout = child.stdout.take().expect("stdout is piped");
-    let stderr = child.stderr.take().expect("stderr is piped");
-    let guard = Guard(child);
-    let mut line = String::new();
-    BufReader::new(stdout)
-        .read_line(&mut line)
-        .expect("rmc-sim prints its address");
-    let addr = line
-        .trim()
-        .strip_prefix("listening on ")
-        .unwrap_or_else(|| panic!("first line: {line:?}"))
-        .to_owned();
-    (guard, addr, collect(stderr))
-}
-
-fn collect(stderr: ChildStderr) -> Arc<Mutex<Vec<String>>> {
-    let lines = Arc::new(Mutex::new(Vec::new()));
-    let sink = lines.clone();
-    std::thread::spawn(move || {
-        for line in BufReader::new(stderr).lines().map_while(Result::ok) {
-            sink.lock().unwrap().push(line);
-        }
-    });
-    lines
+    let mut args = vec!["--tcp", "127.0.0.1:0", "--axes", "2", "--no-console"];
+    args.extend_from_slice(extra);
+    let (guard, first, stderr) = spawn::start(env!("CARGO_BIN_EXE_rmc-sim"), &args);
+    (guard, spawn::rmc_address(&first), spawn::collect(stderr))
 }
 
 fn count(log: &Arc<Mutex<Vec<String>>>, what: &str) -> usize {

@@ -3,54 +3,21 @@
 //! of random bytes is followed by an answered frame on the same connection; a stderr
 //! nobody reads does not stop it serving; a long reply is logged whole.
 
-use std::io::{BufRead, BufReader, Read, Write};
+use std::io::{Read, Write};
 use std::net::TcpStream;
-use std::process::{Child, ChildStderr, Command, Stdio};
+use std::process::ChildStderr;
 use std::sync::{Arc, Mutex};
 
+use crate::spawn;
+use crate::spawn::{Guard, collect};
 use crate::wait::{LONG, PROCESS, eventually, until};
 use crate::wire::frame;
 
-/// Kills the simulator when the test ends, passed or not.
-struct Guard(Child);
-
-impl Drop for Guard {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
 /// Starts `xsel-sim --tcp 127.0.0.1:0` with `extra` flags; its address and its stderr.
 fn start(extra: &[&str]) -> (Guard, String, ChildStderr) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_xsel-sim"))
-        .args(["--tcp", "127.0.0.1:0", "--no-console", "--delay-ms", "0"])
-        .args(extra)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("xsel-sim starts");
-    let stdout = child.stdout.take().expect("stdout is piped");
-    let stderr = child.stderr.take().expect("stderr is piped");
-    let guard = Guard(child);
-    let mut line = String::new();
-    BufReader::new(stdout)
-        .read_line(&mut line)
-        .expect("xsel-sim prints its address");
-    (guard, line.trim().to_owned(), stderr)
-}
-
-/// Collects stderr's lines on a thread.
-fn collect(stderr: ChildStderr) -> Arc<Mutex<Vec<String>>> {
-    let lines = Arc::new(Mutex::new(Vec::new()));
-    let sink = lines.clone();
-    std::thread::spawn(move || {
-        for line in BufReader::new(stderr).lines().map_while(Result::ok) {
-            sink.lock().unwrap().push(line);
-        }
-    });
-    lines
+    let mut args = vec!["--tcp", "127.0.0.1:0", "--no-console", "--delay-ms", "0"];
+    args.extend_from_slice(extra);
+    spawn::start(env!("CARGO_BIN_EXE_xsel-sim"), &args)
 }
 
 fn has(lines: &Arc<Mutex<Vec<String>>>, what: &str) -> bool {
