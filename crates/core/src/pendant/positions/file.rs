@@ -277,6 +277,15 @@ pub fn parse(bytes: &[u8]) -> Result<Vec<(PositionRecord, Option<String>)>, File
     }
 }
 
+/// The lines of a CSV text that are not blank, numbered from 1, without CR LF.
+pub(crate) fn csv_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
+    text.split('\n')
+        .map(|l| l.strip_suffix('\r').unwrap_or(l))
+        .enumerate()
+        .map(|(i, l)| (i + 1, l))
+        .filter(|(_, l)| !l.trim().is_empty())
+}
+
 /// The text of a file of the pendant's (`what`, at most `max` bytes): UTF-8 with or
 /// without a byte order mark, refused when too big or binary.
 pub(crate) fn text_of<'a>(bytes: &'a [u8], max: u64, what: &str) -> Result<&'a str, FileError> {
@@ -538,12 +547,7 @@ fn check_header(fields: &[String], n: usize) -> Result<Vec<Cell>, FileError> {
 }
 
 fn parse_csv(text: &str, bytes: &[u8]) -> Result<Vec<(PositionRecord, Option<String>)>, FileError> {
-    let mut lines = text
-        .split('\n')
-        .map(|l| l.strip_suffix('\r').unwrap_or(l))
-        .enumerate()
-        .map(|(i, l)| (i + 1, l))
-        .filter(|(_, l)| !l.trim().is_empty());
+    let mut lines = csv_lines(text);
     let Some((first, header)) = lines.next() else {
         return Err(FileError::at(1, None, "the file is empty"));
     };

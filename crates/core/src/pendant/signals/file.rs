@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 
 use super::{MAX_ROWS, MAX_TEXT_CHARS, Signal, SignalKind, WatchRow, check_name};
 use crate::files::csv_style::{BOM, EOL};
-use crate::pendant::positions::file::{FileError, split_line, text_of};
+use crate::pendant::positions::file::{FileError, csv_lines, split_line, text_of};
 use crate::protocol::RealEncoding;
 
 /// The most a watch-list file may hold.
@@ -96,12 +96,7 @@ pub fn parse(bytes: &[u8]) -> Result<(Vec<WatchRow>, Option<RealEncoding>), File
 }
 
 fn parse_csv(text: &str) -> Result<Vec<WatchRow>, FileError> {
-    let mut lines = text
-        .split('\n')
-        .map(|l| l.strip_suffix('\r').unwrap_or(l))
-        .enumerate()
-        .map(|(i, l)| (i + 1, l))
-        .filter(|(_, l)| !l.trim().is_empty());
+    let mut lines = csv_lines(text);
     let Some((first, header)) = lines.next() else {
         return Err(FileError::at(1, None, "the file is empty"));
     };
