@@ -3,7 +3,11 @@
 //! over 20,000 rows. Plain timing loops; each figure prints median, p99 and max.
 //! Run: `cargo bench --bench positions_view` (`POSITIONS_VIEW_FRAMES`, default 2000).
 
+#[path = "view_frames/mod.rs"]
+mod view_frames;
+
 use std::hint::black_box;
+
 use std::path::Path;
 use std::time::{Duration, Instant};
 
@@ -13,18 +17,6 @@ use xsel_pendant::pendant::{Pendant, Settings};
 use xsel_pendant::protocol::{Command, PositionData, RecordArm, Reply};
 use xsel_pendant::robot::RobotModel;
 use xsel_pendant::ui::positions::PositionsPanel;
-
-fn stats(what: &str, mut d: Vec<Duration>) {
-    d.sort();
-    let at = |p: f64| d[((d.len() as f64 - 1.0) * p).round() as usize];
-    println!(
-        "{what}: {} samples, median {:.3} ms, p99 {:.3} ms, max {:.3} ms",
-        d.len(),
-        at(0.5).as_secs_f64() * 1e3,
-        at(0.99).as_secs_f64() * 1e3,
-        d[d.len() - 1].as_secs_f64() * 1e3
-    );
-}
 
 /// A pendant whose position table holds all 20,000 numbers, read as the link would
 /// deliver them.
@@ -76,40 +68,19 @@ fn main() {
     let ctx = egui::Context::default();
     let mut panel = PositionsPanel::default();
     let now = Instant::now();
-    let screen = egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(1280.0, 800.0));
     let mut run = |scroll: bool| {
-        let mut input = egui::RawInput {
-            screen_rect: Some(screen),
-            ..Default::default()
-        };
-        input
-            .events
-            .push(egui::Event::PointerMoved(egui::pos2(600.0, 500.0)));
-        if scroll {
-            input.events.push(egui::Event::MouseWheel {
-                unit: egui::MouseWheelUnit::Point,
-                delta: egui::vec2(0.0, -220.0),
-                modifiers: egui::Modifiers::NONE,
-                phase: egui::TouchPhase::Move,
-                source: egui::MouseWheelSource::Wheel,
-            });
-        }
-        let started = Instant::now();
         let mut out = Vec::new();
-        let output = ctx.run_ui(input, |ui| {
+        view_frames::frame(&ctx, scroll, |ui| {
             panel.show(ui, &pendant, Path::new("."), now, &mut out);
-        });
-        let shapes = ctx.tessellate(output.shapes, output.pixels_per_point);
-        black_box(shapes);
-        started.elapsed()
+        })
     };
     for _ in 0..50 {
         run(false);
     }
     let still: Vec<Duration> = (0..frames).map(|_| run(false)).collect();
-    stats("Positions view, 20,000 rows, a still frame", still);
+    view_frames::stats("Positions view, 20,000 rows, a still frame", still);
     let scrolling: Vec<Duration> = (0..frames).map(|_| run(true)).collect();
-    stats(
+    view_frames::stats(
         "Positions view, 20,000 rows, scrolling 220 px a frame",
         scrolling,
     );
@@ -137,6 +108,6 @@ fn main() {
                 started.elapsed()
             })
             .collect();
-        stats(&format!("{what} of 20,000"), times);
+        view_frames::stats(&format!("{what} of 20,000"), times);
     }
 }

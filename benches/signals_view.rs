@@ -5,7 +5,9 @@
 //! and max. Target: p99 <= 4 ms.
 //! Run: `cargo bench --bench signals_view` (`SIGNALS_VIEW_FRAMES`, default 2000).
 
-use std::hint::black_box;
+#[path = "view_frames/mod.rs"]
+mod view_frames;
+
 use std::path::Path;
 use std::time::{Duration, Instant};
 
@@ -15,18 +17,6 @@ use xsel_pendant::pendant::{Pendant, Settings};
 use xsel_pendant::protocol::{BitData, Command, Reply, VarData, VarValues};
 use xsel_pendant::robot::RobotModel;
 use xsel_pendant::ui::signals::SignalsPanel;
-
-fn stats(what: &str, mut d: Vec<Duration>) {
-    d.sort();
-    let at = |p: f64| d[((d.len() as f64 - 1.0) * p).round() as usize];
-    println!(
-        "{what}: {} samples, median {:.3} ms, p99 {:.3} ms, max {:.3} ms",
-        d.len(),
-        at(0.5).as_secs_f64() * 1e3,
-        at(0.99).as_secs_f64() * 1e3,
-        d[d.len() - 1].as_secs_f64() * 1e3
-    );
-}
 
 fn cx() -> SignalsCx {
     SignalsCx {
@@ -120,40 +110,19 @@ fn main() {
     let mut panel = SignalsPanel::default();
     // Within the highlight after the second round's changes: highlighted rows drawn too.
     let now = Instant::now() + Duration::from_millis(300);
-    let screen = egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(1280.0, 800.0));
     let run = |panel: &mut SignalsPanel, scroll: bool| {
-        let mut input = egui::RawInput {
-            screen_rect: Some(screen),
-            ..Default::default()
-        };
-        input
-            .events
-            .push(egui::Event::PointerMoved(egui::pos2(600.0, 500.0)));
-        if scroll {
-            input.events.push(egui::Event::MouseWheel {
-                unit: egui::MouseWheelUnit::Point,
-                delta: egui::vec2(0.0, -220.0),
-                modifiers: egui::Modifiers::NONE,
-                phase: egui::TouchPhase::Move,
-                source: egui::MouseWheelSource::Wheel,
-            });
-        }
-        let started = Instant::now();
         let mut out = Vec::new();
-        let output = ctx.run_ui(input, |ui| {
+        view_frames::frame(&ctx, scroll, |ui| {
             panel.show(ui, &pendant, Path::new("."), now, &mut out);
-        });
-        let shapes = ctx.tessellate(output.shapes, output.pixels_per_point);
-        black_box(shapes);
-        started.elapsed()
+        })
     };
     for _ in 0..50 {
         run(&mut panel, false);
     }
     let still: Vec<Duration> = (0..frames).map(|_| run(&mut panel, false)).collect();
-    stats("Signals view, 1,000 rows, a still frame", still);
+    view_frames::stats("Signals view, 1,000 rows, a still frame", still);
     let scrolling: Vec<Duration> = (0..frames).map(|_| run(&mut panel, true)).collect();
-    stats(
+    view_frames::stats(
         "Signals view, 1,000 rows, scrolling 220 px a frame",
         scrolling,
     );
