@@ -34,10 +34,14 @@ fn up_and_polled(a: &PendantApp) -> bool {
 fn reconnect_twice_in_a_row_then_disconnect_leaves_one_line_then_none() {
     let mut h = app();
     step_until(&mut h, "the line up", up_and_polled);
-    // Reconnect (the connection panel's button), and again at once, while the old line
-    // may still be closing: it opens once, after it has closed.
-    connect(&mut h, Intent::Connect);
-    connect(&mut h, Intent::Connect);
+    // Reconnect (the connection panel's button), and again in the same frame, while the
+    // old line is still closing: it opens once, after it has closed. (A second press a
+    // frame later may find the new line already open, and rightly reconnects it.)
+    let now = Instant::now();
+    let pendant = h.state_mut().pendant_mut();
+    pendant.apply(Intent::Connect, now);
+    pendant.apply(Intent::Connect, now);
+    h.step();
     step_until(&mut h, "the line up again, every old line closed", |a| {
         up_and_polled(a) && a.lines_closing() == 0
     });
