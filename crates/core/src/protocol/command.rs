@@ -13,6 +13,7 @@ use super::messages::motion::{AxisMove, Home, Jog, Servo, SpeedChange, Stop};
 use super::messages::positions::{
     PositionMove, PositionQuery, PositionQueryKind, PositionWrite, PositionWriteKind,
 };
+use super::messages::programs::{ProgramAction, ProgramCall, ProgramStatusQuery};
 use super::messages::scara::{ScaraMove, ScaraPositionMove};
 use super::messages::scara_status::{ScaraStatusQuery, ScaraStatusQuery2};
 use super::messages::signals::{BitChange, BitQuery, BitSpace, VarData, VarKind, VarQuery};
@@ -80,6 +81,10 @@ pub enum Command {
     VarQuery(VarQuery),
     /// 24CH / 24DH integer or real variable change (no message changes strings).
     VarWrite(VarData),
+    /// 213H program status query.
+    ProgramStatus(ProgramStatusQuery),
+    /// 253H-257H program run, end, pause, one-step run or resume.
+    Program(ProgramCall),
 }
 
 impl Command {
@@ -118,6 +123,8 @@ impl Command {
                 // Strings have no change message: encoding refuses them.
                 _ => MessageId::INTEGER_CHANGE,
             },
+            Command::ProgramStatus(_) => MessageId::PROGRAM_STATUS,
+            Command::Program(c) => c.action.id(),
         }
     }
 
@@ -137,7 +144,7 @@ impl Command {
                 | Command::ScaraMoveRelative(_)
                 | Command::ScaraMovePosition(_)
                 | Command::PositionMove(_)
-        )
+        ) || matches!(self, Command::Program(c) if c.action.may_move())
     }
 
     /// Whether this command writes the controller's data (positions, outputs, flags,
@@ -197,6 +204,7 @@ impl Command {
             Command::BitQuery(q) => q.max_reply_len(),
             Command::VarQuery(q) => q.max_reply_len(),
             Command::VarWrite(_) => super::VarsWritten::FRAME_LEN,
+            Command::ProgramStatus(_) => super::ProgramStatus::FRAME_LEN,
             _ => 10,
         };
         len.max(10)
@@ -259,6 +267,8 @@ impl Command {
                 "string variables cannot be written (no change message was found)",
             )),
             Command::VarWrite(d) => d.write(w),
+            Command::ProgramStatus(q) => q.write(w),
+            Command::Program(c) => c.write(w),
         }
     }
 
@@ -333,6 +343,12 @@ pub(crate) fn decode_command_data(
         MessageId::STRING_QUERY => Command::VarQuery(VarQuery::read(r, VarKind::Text)?),
         MessageId::INTEGER_CHANGE => Command::VarWrite(VarData::read(r, VarKind::Integer)?),
         MessageId::REAL_CHANGE => Command::VarWrite(VarData::read(r, VarKind::Real)?),
+        MessageId::PROGRAM_STATUS => Command::ProgramStatus(ProgramStatusQuery::read(r)?),
+        MessageId::PROGRAM_RUN => program(r, ProgramAction::Run)?,
+        MessageId::PROGRAM_END => program(r, ProgramAction::End)?,
+        MessageId::PROGRAM_PAUSE => program(r, ProgramAction::Pause)?,
+        MessageId::PROGRAM_STEP => program(r, ProgramAction::Step)?,
+        MessageId::PROGRAM_RESUME => program(r, ProgramAction::Resume)?,
         _ => {
             return Err(MessageError {
                 message: Some(id),
@@ -347,6 +363,10 @@ pub(crate) fn decode_command_data(
 
 fn query(r: &mut Reader<'_, '_>, kind: PositionQueryKind) -> Result<Command, MessageError> {
     Ok(Command::PositionQuery(PositionQuery::read(r, kind)?))
+}
+
+fn program(r: &mut Reader<'_, '_>, action: ProgramAction) -> Result<Command, MessageError> {
+    Ok(Command::Program(ProgramCall::read(r, action)?))
 }
 
 fn write(r: &mut Reader<'_, '_>, kind: PositionWriteKind) -> Result<Command, MessageError> {

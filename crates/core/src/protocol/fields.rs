@@ -107,6 +107,8 @@ pub(crate) enum Show {
     Error,
     /// Program number: 0 = global.
     Program,
+    /// Program number: 0 = every running program (254H, 255H, 257H).
+    ProgramOrAll,
     /// A group of 8 ports or flags from the given number: which are ON.
     Group(u16),
     /// Signed 32-bit two's complement.
@@ -134,7 +136,8 @@ fn render(show: Show, v: u32, width: usize) -> (String, Vec<BitNote>) {
         Show::Pattern => (AxisPattern(v as u8).to_string(), Vec::new()),
         Show::Error => (ErrorCode(v as u16).to_string(), Vec::new()),
         Show::Program if v == 0 => ("0 (global)".to_string(), Vec::new()),
-        Show::Program => (format!("program {v}"), Vec::new()),
+        Show::ProgramOrAll if v == 0 => ("0 (every running program)".to_string(), Vec::new()),
+        Show::Program | Show::ProgramOrAll => (format!("program {v}"), Vec::new()),
         Show::Group(first) => (group_text(first, v as u8), Vec::new()),
         Show::Signed => ((v as i32).to_string(), Vec::new()),
         Show::Char => (

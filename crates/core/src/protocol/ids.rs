@@ -203,9 +203,21 @@ impl MessageId {
     pub const INTEGER_CHANGE: MessageId = MessageId(0x24C);
     /// 24DH real variable change.
     pub const REAL_CHANGE: MessageId = MessageId(0x24D);
+    /// 213H program status query.
+    pub const PROGRAM_STATUS: MessageId = MessageId(0x213);
+    /// 253H program run.
+    pub const PROGRAM_RUN: MessageId = MessageId(0x253);
+    /// 254H program end.
+    pub const PROGRAM_END: MessageId = MessageId(0x254);
+    /// 255H program pause.
+    pub const PROGRAM_PAUSE: MessageId = MessageId(0x255);
+    /// 256H program one-step run.
+    pub const PROGRAM_STEP: MessageId = MessageId(0x256);
+    /// 257H program resume.
+    pub const PROGRAM_RESUME: MessageId = MessageId(0x257);
 
     /// Every message ID this library knows, ascending.
-    pub const ALL: [MessageId; 40] = [
+    pub const ALL: [MessageId; 46] = [
         Self::TEST_CALL,
         Self::VERSION,
         Self::POSITION_QUERY,
@@ -216,6 +228,7 @@ impl MessageId {
         Self::REAL_QUERY,
         Self::STRING_QUERY,
         Self::AXIS_STATUS,
+        Self::PROGRAM_STATUS,
         Self::SYSTEM_STATUS,
         Self::ERROR_DETAIL,
         Self::POSITION_QUERY_2,
@@ -233,6 +246,11 @@ impl MessageId {
         Self::INTEGER_CHANGE,
         Self::REAL_CHANGE,
         Self::ALARM_RESET,
+        Self::PROGRAM_RUN,
+        Self::PROGRAM_END,
+        Self::PROGRAM_PAUSE,
+        Self::PROGRAM_STEP,
+        Self::PROGRAM_RESUME,
         Self::SOFTWARE_RESET,
         Self::SPEED_CHANGE,
         Self::POSITION_MOVE,
@@ -261,6 +279,7 @@ impl MessageId {
             0x20F => "real variable query",
             0x210 => "string variable query",
             0x212 => "axis status query",
+            0x213 => "program status query",
             0x215 => "system status query",
             0x216 => "error detail query",
             0x21F => "effective position data query 2",
@@ -278,6 +297,11 @@ impl MessageId {
             0x24C => "integer variable change",
             0x24D => "real variable change",
             0x252 => "alarm reset",
+            0x253 => "program run",
+            0x254 => "program end",
+            0x255 => "program pause",
+            0x256 => "program one-step run",
+            0x257 => "program resume",
             0x25B => "software reset",
             0x262 => "speed change",
             0x26B => "position-number move 2",
@@ -309,6 +333,11 @@ impl MessageId {
                 | 0x24A
                 | 0x24B
                 | 0x252
+                | 0x253
+                | 0x254
+                | 0x255
+                | 0x256
+                | 0x257
                 | 0x25B
                 | 0x262
                 | 0x26B

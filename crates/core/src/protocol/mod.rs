@@ -52,6 +52,10 @@ pub use messages::positions::{
     PositionQueryKind, PositionRecord, PositionWrite, PositionWriteKind, PositionsWritten,
     RecordArm, RecordArms,
 };
+pub use messages::programs::{
+    ALL_PROGRAMS, PROGRAMS, ProgramAction, ProgramCall, ProgramFlags, ProgramStatus,
+    ProgramStatusQuery,
+};
 pub use messages::scara::{ScaraMotion, ScaraMove, ScaraPositionMove};
 pub use messages::scara_status::{
     CommonStatus, PositionSystem, ScaraStatus, ScaraStatus2, ScaraStatusQuery, ScaraStatusQuery2,

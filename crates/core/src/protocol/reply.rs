@@ -12,6 +12,7 @@ use super::messages::coords::{CoordTable, CoordTable2};
 use super::messages::positions::{
     PositionData, PositionQueryKind, PositionWriteKind, PositionsWritten,
 };
+use super::messages::programs::ProgramStatus;
 use super::messages::scara_status::{ScaraStatus, ScaraStatus2};
 use super::messages::signals::{BitData, BitSpace, VarData, VarKind, VarsWritten};
 use super::messages::status::{AxisState, SystemStatus, read_axis_blocks, write_axis_blocks};
@@ -21,8 +22,8 @@ use super::writer::{Writer, encode_frame};
 /// A reply frame's meaning (PROTOCOL.md sections 2 and 3).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum Reply {
-    /// The plain acknowledge (no data) of 232H, 233H, 234H, 235H, 236H, 238H, 252H, 25BH,
-    /// 262H, 2D4H, 2D5H, 2D6H.
+    /// The plain acknowledge (no data) of 232H, 233H, 234H, 235H, 236H, 238H, 24AH, 24BH,
+    /// 252H, 253H-257H, 25BH, 262H, 26BH, 2D4H, 2D5H, 2D6H.
     Ack(MessageId),
     /// 200H test call echo.
     TestCall(TestData),
@@ -52,6 +53,8 @@ pub enum Reply {
     Vars(VarData),
     /// 24CH / 24DH: how many variables were changed.
     VarsWritten(VarsWritten),
+    /// 213H: one program's status.
+    ProgramStatus(ProgramStatus),
     /// `&` error reply: the command was understood but cannot be executed.
     Error(ErrorCode),
 }
@@ -78,6 +81,7 @@ impl Reply {
                 VarKind::Real => MessageId::REAL_CHANGE,
                 _ => MessageId::INTEGER_CHANGE,
             },
+            Reply::ProgramStatus(_) => MessageId::PROGRAM_STATUS,
             Reply::Error(_) => return None,
         })
     }
@@ -141,6 +145,7 @@ impl Reply {
             Reply::Bits(b) => b.write(w),
             Reply::Vars(v) => v.write(w),
             Reply::VarsWritten(v) => v.write(w),
+            Reply::ProgramStatus(p) => p.write(w),
             Reply::Error(_) => Ok(()),
         }
     }
@@ -216,6 +221,7 @@ pub(crate) fn decode_reply_data(
         MessageId::STRING_QUERY => Reply::Vars(VarData::read(r, VarKind::Text)?),
         MessageId::INTEGER_CHANGE => Reply::VarsWritten(VarsWritten::read(r, VarKind::Integer)?),
         MessageId::REAL_CHANGE => Reply::VarsWritten(VarsWritten::read(r, VarKind::Real)?),
+        MessageId::PROGRAM_STATUS => Reply::ProgramStatus(ProgramStatus::read(r)?),
         _ => {
             return Err(MessageError {
                 message: Some(id),

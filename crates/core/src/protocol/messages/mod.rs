@@ -41,6 +41,7 @@ pub mod basic;
 pub mod coords;
 pub mod motion;
 pub mod positions;
+pub mod programs;
 pub mod scara;
 pub mod scara_status;
 pub mod signals;
