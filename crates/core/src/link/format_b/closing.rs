@@ -12,7 +12,7 @@ use super::transaction::Settled;
 use super::{FormatB, LineState};
 use crate::link::core::Transmit;
 use crate::link::event::LinkEvent;
-use crate::protocol::{AxisPattern, Command, ErrorCode, Stop};
+use crate::protocol::{AxisPattern, Command, ErrorCode, ProgramAction, ProgramCall, Stop};
 
 /// What became of one STOP sent at shutdown.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -171,7 +171,7 @@ impl FormatB {
         let mut stops = VecDeque::new();
         let mut abandoned = Vec::new();
         for pending in self.sched.drain_queued() {
-            if pending.command.is_stop() {
+            if pending.command.is_stop() || ends_programs(&pending.command) {
                 stops.push_back(pending);
             } else if !matches!(pending.origin, Origin::Poll | Origin::Table { .. }) {
                 abandoned.push(pending);
@@ -186,7 +186,7 @@ impl FormatB {
         let covered = stops
             .iter()
             .any(|p| matches!(p.command, Command::Stop(s) if s.axes == AxisPattern::ALL));
-        if self.motion_may_run && !covered {
+        if (self.motion_may_run || self.program_may_run) && !covered {
             stops.push_back(Pending::new(
                 self.new_id(),
                 Command::Stop(Stop {
@@ -196,6 +196,26 @@ impl FormatB {
                 Origin::SafetyStop,
                 Priority::Stop,
             ));
+        }
+        // A program that may run is ended on the way out, then the arm stopped again.
+        let programs_covered = stops
+            .iter()
+            .any(|p| p.command == Command::Program(ProgramCall::END_ALL));
+        if self.program_may_run && !programs_covered {
+            for command in [
+                Command::Program(ProgramCall::END_ALL),
+                Command::Stop(Stop {
+                    axes: AxisPattern::ALL,
+                    cancel_held_outputs: false,
+                }),
+            ] {
+                stops.push_back(Pending::new(
+                    self.new_id(),
+                    command,
+                    Origin::SafetyStop,
+                    Priority::Stop,
+                ));
+            }
         }
         let closing = self.closing.get_or_insert_with(Closing::default);
         closing.started = true;
@@ -217,7 +237,7 @@ impl FormatB {
                 .stops
                 .push((pending.id, StopOutcome::NotSent(NotSentReason::LineDown)));
         }
-        closing.report.motion_may_run = self.motion_may_run;
+        closing.report.motion_may_run = self.motion_may_run || self.program_may_run;
         let report = closing.report.clone();
         for pending in &unsent {
             self.not_sent(pending, NotSentReason::LineDown);
@@ -228,4 +248,10 @@ impl FormatB {
         self.line = LineState::Down { next_open: None };
         was_up.then_some(Transmit::Close)
     }
+}
+
+/// 254H or 255H for every program: part of a STOP while a program may run.
+fn ends_programs(command: &Command) -> bool {
+    matches!(command, Command::Program(c)
+        if c.is_all() && matches!(c.action, ProgramAction::End | ProgramAction::Pause))
 }

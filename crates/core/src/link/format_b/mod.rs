@@ -31,7 +31,7 @@ use super::request::{Origin, Pending, RequestId};
 use super::schedule::{Next, Polling, Scheduler};
 use super::sync::LineSync;
 use super::table::{TableJob, TableRequest};
-use crate::protocol::StreamDecoder;
+use crate::protocol::{ProgramAction, StreamDecoder};
 
 use closing::Closing;
 pub use closing::{ShutdownReport, StopOutcome};
@@ -85,6 +85,9 @@ pub struct FormatB {
     /// A motion command went out and no STOP of all axes has been acknowledged since
     /// (the link cannot tell when a move has ended; a STOP of a still arm is harmless).
     motion_may_run: bool,
+    /// A program run, step or resume went out, or 215H said a program runs, and no
+    /// 254H with `00` was acknowledged since: STOPs end programs too.
+    program_may_run: bool,
     lease: JogLease,
     /// The continuous jog awaiting its reply took the lease (none was held before it): if
     /// the controller refuses it, nothing runs on the lease any more.
@@ -130,6 +133,7 @@ impl FormatB {
             sync: LineSync::default(),
             jog_may_run: false,
             motion_may_run: false,
+            program_may_run: false,
             jog_took_lease: false,
             reader_behind: false,
             events_dropped: 0,
@@ -223,6 +227,9 @@ impl FormatB {
         }
         if ends_motion(&pending.command) {
             self.stop_ends_queued_motion(pending.id);
+            let origin = pending.origin;
+            self.sched.push(pending);
+            return self.follow_stop(origin, ProgramAction::End);
         } else if stopped_by(&pending.command)
             && self.stopped_through.is_some_and(|stop| pending.id < stop)
         {
@@ -268,8 +275,9 @@ impl FormatB {
         self.open_failure_reported = false;
         // A jog or move started before the loss may still be running: stop it first
         // (a STOP of a still arm is harmless).
-        if self.motion_may_run || self.jog_may_run {
-            self.queue_stop(Origin::SafetyStop);
+        // A program is paused rather than ended: the operator may resume it.
+        if self.motion_may_run || self.jog_may_run || self.program_may_run {
+            self.queue_stop_then(Origin::SafetyStop, ProgramAction::Pause);
         }
     }
 
@@ -526,6 +534,12 @@ fn stopped_by(command: &crate::protocol::Command) -> bool {
     command.moves_arm()
         || command.writes_data()
         || matches!(command, crate::protocol::Command::Home(_))
+        || starts_program(command)
+}
+
+/// A program run, one step or resume (253H, 256H, 257H): the program may move the arm.
+pub(super) fn starts_program(command: &crate::protocol::Command) -> bool {
+    matches!(command, crate::protocol::Command::Program(c) if c.action.may_move())
 }
 
 impl CoreEvent for LinkEvent {

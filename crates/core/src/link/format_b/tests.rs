@@ -1219,3 +1219,87 @@ fn a_standing_arm_is_polled_at_the_idle_interval_and_a_moving_one_at_the_fast_on
         cycles(&bench)
     );
 }
+
+/// A bench whose link sent program 1 a run (253H): a program may run from then on.
+fn program_started() -> Bench {
+    let mut bench = Bench::new(
+        ready_setup(Duration::from_millis(1)),
+        FaultSpec::none(),
+        quiet_config(),
+    );
+    bench.settle();
+    let run = bench.submit(Command::Program(crate::protocol::ProgramCall {
+        action: crate::protocol::ProgramAction::Run,
+        program: 1,
+    }));
+    bench
+        .run_until(LONG, |e| {
+            matches!(e, LinkEvent::Reply { id, .. } | LinkEvent::ErrorReply { id, .. } if *id == run)
+        })
+        .expect("run answered");
+    bench
+}
+
+/// The IDs the simulator received from the first 253H on, polls left out.
+fn after_run(bench: &Bench) -> Vec<String> {
+    let ids = bench.sim.ids_received();
+    let from = ids
+        .iter()
+        .position(|id| id == "253")
+        .expect("253H went out");
+    ids[from..]
+        .iter()
+        .filter(|id| !matches!(id.as_str(), "215" | "2A1" | "2A3" | "212"))
+        .cloned()
+        .collect()
+}
+
+#[test]
+fn a_stop_while_a_program_may_run_ends_every_program_between_two_stops() {
+    let mut bench = program_started();
+    let stop = bench.submit(Command::Stop(crate::link::format_b::safety::stop_all()));
+    bench
+        .run_until(LONG, is_reply_to(stop))
+        .expect("STOP answered");
+    bench.run_for(Duration::from_millis(200));
+    assert_eq!(after_run(&bench), ["253", "238", "254", "238"]);
+    assert!(
+        bench
+            .sim
+            .received
+            .iter()
+            .any(|(_, f)| f.starts_with(b"!99254008E")),
+        "254H with 00: every running program"
+    );
+}
+
+#[test]
+fn a_run_queued_before_a_stop_never_goes_out() {
+    let mut bench = Bench::new(
+        ready_setup(Duration::from_millis(1)),
+        FaultSpec::none(),
+        quiet_config(),
+    );
+    bench.settle();
+    // A query first, so the run and the STOP both wait in the queue.
+    bench.submit(Command::SystemStatus);
+    let run = bench.submit(Command::Program(crate::protocol::ProgramCall {
+        action: crate::protocol::ProgramAction::Run,
+        program: 1,
+    }));
+    bench.submit(Command::Stop(crate::link::format_b::safety::stop_all()));
+    bench.run_for(Duration::from_millis(300));
+    assert!(bench.events.iter().any(|e| matches!(e,
+        LinkEvent::NotSent { id, reason: NotSentReason::StopCameFirst, .. } if *id == run)));
+    assert!(!bench.sim.ids_received().contains(&"253".to_string()));
+}
+
+#[test]
+fn a_close_while_a_program_may_run_ends_it_and_stops_the_arm_again() {
+    let mut bench = program_started();
+    bench.close();
+    bench.run_for(LONG);
+    let report = report(&bench).expect("report");
+    assert_eq!(report.stops.len(), 3, "{report:?}");
+    assert_eq!(after_run(&bench), ["253", "238", "254", "238"]);
+}

@@ -6,12 +6,13 @@ use std::time::Instant;
 
 use super::FormatB;
 use super::safety::{self, Kind, Verdict, is_stop_all, judge};
+use super::starts_program;
 use crate::link::driver::later;
 use crate::link::event::{LinkEvent, garbage_event};
 use crate::link::reason::{BadInput, LineDownReason, NotSentReason};
 use crate::link::request::{Origin, Pending, Priority};
 use crate::protocol::peek::reply_id;
-use crate::protocol::{Command, ErrorCode, Frame, Reply};
+use crate::protocol::{ALL_PROGRAMS, Command, ErrorCode, Frame, ProgramAction, ProgramCall, Reply};
 
 /// Proving queries tried for one motion command before it is refused.
 const MAX_PROOFS: u8 = 6;
@@ -74,6 +75,9 @@ impl FormatB {
         }
         if Kind::of(&pending.command) == Kind::Motion {
             self.motion_may_run = true;
+        }
+        if starts_program(&pending.command) {
+            self.program_may_run = true;
         }
         self.jog_took_lease = pending.command.is_continuous_jog() && self.lease.hold(now);
         self.emit(LinkEvent::FrameSent {
@@ -234,6 +238,10 @@ impl FormatB {
                 self.sync.reply_seen(expected, at);
                 match pending.command {
                     Command::Jog(_) => self.jog_may_run = true,
+                    // Every running program ended: none may start motion any more.
+                    Command::Program(call) if call == ProgramCall::END_ALL => {
+                        self.program_may_run = false;
+                    }
                     // Only a STOP of every axis ends what the link may have started.
                     ref stop if is_stop_all(stop) => {
                         self.jog_may_run = false;
@@ -241,6 +249,10 @@ impl FormatB {
                         self.lease.release();
                     }
                     _ => {}
+                }
+                if let Reply::SystemStatus(status) = &reply {
+                    // The controller's own word: a program started elsewhere counts too.
+                    self.program_may_run = status.status2.program_running();
                 }
                 self.store_table_chunk(&pending, &reply);
                 self.emit(LinkEvent::Reply {
@@ -402,11 +414,38 @@ impl FormatB {
 
     /// Queues a STOP of all axes of the link's own, unless a STOP already waits.
     pub(super) fn queue_stop(&mut self, origin: Origin) {
+        self.queue_stop_then(origin, ProgramAction::End);
+    }
+
+    /// As [`Self::queue_stop`]; while a program may run, the STOP is followed by `then`
+    /// (end or pause) for every program and a second STOP (see [`Self::follow_stop`]).
+    pub(super) fn queue_stop_then(&mut self, origin: Origin, then: ProgramAction) {
         if !self.sched.stop_queued() {
             let id = self.new_id();
             self.stop_ends_queued_motion(id);
             self.sched
                 .push(Pending::new(id, stop_all(), origin, Priority::Stop));
+            self.follow_stop(origin, then);
+        }
+    }
+
+    /// A STOP of all axes was just queued. While a program may run, it is followed at the
+    /// same priority by `then` (254H end or 255H pause) with `00`, every running program,
+    /// and by a second STOP of all axes: the first STOP halts the arm without waiting, the
+    /// program operation keeps the program from commanding the next move, and the second
+    /// STOP halts a move it commanded in between (README: "STOP ends programs").
+    pub(super) fn follow_stop(&mut self, origin: Origin, then: ProgramAction) {
+        if !self.program_may_run {
+            return;
+        }
+        let call = Command::Program(ProgramCall {
+            action: then,
+            program: ALL_PROGRAMS,
+        });
+        for command in [call, stop_all()] {
+            let id = self.new_id();
+            self.sched
+                .push(Pending::new(id, command, origin, Priority::Stop));
         }
     }
 
