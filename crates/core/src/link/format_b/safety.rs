@@ -6,7 +6,8 @@ use std::time::Instant;
 
 use crate::link::timing::Timing;
 use crate::protocol::{
-    AxisPattern, Command, ErrorCode, Frame, Header, MessageId, Reply, ScMode, Station, Stop,
+    AxisPattern, Command, ErrorCode, Frame, Header, MessageId, ProgramCall, Reply, ScMode, Station,
+    Stop,
 };
 
 /// A STOP of every axis (238H, pattern `FF`).
@@ -100,6 +101,33 @@ pub struct Classified {
     pub kind: Kind,
     /// Its longest answer, for the reply deadline.
     pub max_reply_len: usize,
+    /// What it does to programs.
+    pub programs: Programs,
+}
+
+/// What a command does to the controller's programs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Programs {
+    /// A run, one step or resume (253H, 256H, 257H): a program may move the arm.
+    Start,
+    /// 254H with `00`: its `#` answer ends every program.
+    EndAll,
+    /// 215H: its `#` answer says whether a program runs.
+    Status,
+    /// Nothing.
+    Untouched,
+}
+
+impl Programs {
+    /// What `command` does to programs.
+    pub fn of(command: &Command) -> Programs {
+        match command {
+            Command::Program(c) if c.action.may_move() => Programs::Start,
+            Command::Program(c) if *c == ProgramCall::END_ALL => Programs::EndAll,
+            Command::SystemStatus => Programs::Status,
+            _ => Programs::Untouched,
+        }
+    }
 }
 
 /// Reads the bytes a host sends as a command. Bytes the codec cannot read may still move
@@ -114,16 +142,20 @@ pub fn classify(frame: &[u8]) -> Classified {
             expected: Some(c.id()),
             kind: Kind::of(&c),
             max_reply_len: c.max_reply_len(),
+            programs: Programs::of(&c),
         },
+        // Unreadable: it may start anything, a program too.
         Some((id, Err(_))) => Classified {
             expected: id,
             kind: Kind::Motion,
             max_reply_len: crate::protocol::MAX_FRAME_LEN,
+            programs: Programs::Start,
         },
         None => Classified {
             expected: None,
             kind: Kind::Motion,
             max_reply_len: crate::protocol::MAX_FRAME_LEN,
+            programs: Programs::Start,
         },
     }
 }
@@ -136,6 +168,7 @@ pub struct InFlight<T> {
     /// The message ID its `#` answer carries (`None`: unreadable, any `#` answers it).
     pub expected: Option<MessageId>,
     pub kind: Kind,
+    pub programs: Programs,
     pub sent_at: Instant,
     /// Its answer is complete by then, or it will not come.
     pub deadline: Instant,
@@ -149,6 +182,8 @@ pub struct Safety<T> {
     timing: Timing,
     in_flight: Option<InFlight<T>>,
     motion_may_run: bool,
+    /// A program was started (or 215H said one runs) and no `#` to 254H `00` came since.
+    program_may_run: bool,
     /// A STOP of every axis owed as soon as the line is free, and why.
     stop_owed: Option<String>,
 }
@@ -160,6 +195,7 @@ impl<T> Safety<T> {
             timing,
             in_flight: None,
             motion_may_run: false,
+            program_may_run: false,
             stop_owed: None,
         }
     }
@@ -183,6 +219,12 @@ impl<T> Safety<T> {
         self.motion_may_run
     }
 
+    /// A program may run: a run, step or resume went out (or 215H said a program runs)
+    /// and no `#` answer to 254H `00` came since.
+    pub fn program_may_run(&self) -> bool {
+        self.program_may_run
+    }
+
     /// Why a STOP is owed, if one is.
     pub fn stop_owed(&self) -> Option<&str> {
         self.stop_owed.as_deref()
@@ -198,7 +240,7 @@ impl<T> Safety<T> {
     pub fn sent_bytes(&mut self, now: Instant, frame: &[u8], tag: T) -> &InFlight<T> {
         let c = classify(frame);
         let wait = self.timing.reply_timeout(frame.len(), c.max_reply_len);
-        self.start(now, c.expected, c.kind, wait, tag)
+        self.start(now, c.expected, (c.kind, c.programs), wait, tag)
     }
 
     /// `command`, `frame_len` bytes of it, went on the line at `now`.
@@ -212,24 +254,29 @@ impl<T> Safety<T> {
         let wait = self
             .timing
             .reply_timeout(frame_len, command.max_reply_len());
-        self.start(now, Some(command.id()), Kind::of(command), wait, tag)
+        let what = (Kind::of(command), Programs::of(command));
+        self.start(now, Some(command.id()), what, wait, tag)
     }
 
     fn start(
         &mut self,
         now: Instant,
         expected: Option<MessageId>,
-        kind: Kind,
+        (kind, programs): (Kind, Programs),
         wait: std::time::Duration,
         tag: T,
     ) -> &InFlight<T> {
         if kind == Kind::Motion {
             self.motion_may_run = true;
         }
+        if programs == Programs::Start {
+            self.program_may_run = true;
+        }
         self.in_flight.insert(InFlight {
             tag,
             expected,
             kind,
+            programs,
             sent_at: now,
             deadline: now.checked_add(wait).unwrap_or(now),
         })
@@ -247,8 +294,17 @@ impl<T> Safety<T> {
         match judge(frame, self.station, expected) {
             Verdict::Answers(answer) => {
                 let done = self.in_flight.take().ok_or(Verdict::OtherReply(None))?;
-                if done.kind == Kind::StopAll && answer == Answer::Reply {
-                    self.motion_may_run = false;
+                if answer == Answer::Reply {
+                    match (done.kind, done.programs) {
+                        (Kind::StopAll, _) => self.motion_may_run = false,
+                        (_, Programs::EndAll) => self.program_may_run = false,
+                        (_, Programs::Status) => {
+                            if let Ok(Reply::SystemStatus(s)) = Reply::decode(frame) {
+                                self.program_may_run = s.status2.program_running();
+                            }
+                        }
+                        _ => {}
+                    }
                 }
                 Ok((done, answer))
             }
@@ -282,6 +338,20 @@ impl<T> Safety<T> {
     /// The owed STOP is no longer wanted.
     pub fn forgive_stop(&mut self) -> Option<String> {
         self.stop_owed.take()
+    }
+
+    /// 254H `00`, ending every program, when the line is free for it (it is then the
+    /// outstanding command, tagged `tag`).
+    pub fn take_program_end(&mut self, now: Instant, tag: T) -> Option<Vec<u8>> {
+        if self.in_flight.is_some() {
+            return None;
+        }
+        let command = Command::Program(ProgramCall::END_ALL);
+        let frame = command
+            .to_bytes(self.station, ScMode::Computed)
+            .unwrap_or_default();
+        self.sent_command(now, &command, frame.len(), tag);
+        Some(frame)
     }
 
     /// The owed STOP's frame and why, when the line is free for it (it is then the

@@ -34,7 +34,10 @@ const LOG_MAX: usize = 256;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Sender {
     Window,
+    /// The guardian's 238H.
     Guardian,
+    /// The guardian's 254H `00`, ending every program between its two 238H.
+    GuardianPrograms,
 }
 
 /// What the guardian knows and owes.
@@ -61,6 +64,10 @@ pub struct GuardianCore {
     stop_tries: u8,
     /// The guardian's STOP is owed or on the line: the window's motion is not sent.
     stopping: bool,
+    /// After the guardian's 238H, a 254H `00` is owed: a program may run.
+    programs_owed: bool,
+    /// This STOP's 254H went out already (one per STOP, whatever its answer).
+    programs_tried: bool,
     last_heard: Instant,
     /// This silence already cost a STOP (one per silence).
     silence_stopped: bool,
@@ -82,6 +89,8 @@ impl GuardianCore {
             log: VecDeque::new(),
             stop_tries: 0,
             stopping: false,
+            programs_owed: false,
+            programs_tried: false,
             last_heard: now,
             silence_stopped: false,
             window_closed: false,
@@ -146,13 +155,17 @@ impl GuardianCore {
     /// Deadlines: a reply that did not come, the guardian's STOP unanswered, the window's
     /// silence while motion may run.
     pub fn handle_timeout(&mut self, now: Instant) {
-        if let Some(done) = self.safety.timed_out(now)
-            && done.tag == Sender::Guardian
-        {
-            self.own_stop_failed(
-                "no reply to the guardian's 238H",
-                "238H sent again after no reply",
-            );
+        if let Some(done) = self.safety.timed_out(now) {
+            match done.tag {
+                Sender::Guardian => self.own_stop_failed(
+                    "no reply to the guardian's 238H",
+                    "238H sent again after no reply",
+                ),
+                Sender::GuardianPrograms => {
+                    self.programs_answered("no reply to the guardian's 254H 00")
+                }
+                Sender::Window => {}
+            }
         }
         if let Some(silent_until) = self.silence_deadline()
             && now >= silent_until
@@ -187,6 +200,14 @@ impl GuardianCore {
         if let Some((frame, why)) = self.safety.take_owed_stop(now, Sender::Guardian) {
             self.stop_tries += 1;
             self.push_to_window(FromGuardian::Stopped(why));
+            return Some(frame);
+        }
+        if self.programs_owed
+            && let Some(frame) = self.safety.take_program_end(now, Sender::GuardianPrograms)
+        {
+            self.programs_owed = false;
+            self.programs_tried = true;
+            self.say("a program may run: sending 254H 00 (end every program), then 238H again");
             return Some(frame);
         }
         let frame = self.held.pop_front()?;
@@ -269,9 +290,11 @@ impl GuardianCore {
     }
 
     fn own_stop_out(&self) -> bool {
-        self.safety
-            .in_flight()
-            .is_some_and(|f| f.tag == Sender::Guardian)
+        self.programs_owed
+            || self
+                .safety
+                .in_flight()
+                .is_some_and(|f| f.tag != Sender::Window)
     }
 
     fn say(&mut self, text: &str) {
@@ -291,6 +314,7 @@ impl GuardianCore {
         self.say(&format!("{why}: sending 238H"));
         self.safety.owe_stop(why);
         self.stop_tries = 0;
+        self.programs_tried = false;
         self.stopping = true;
         let before = self.held.len();
         self.held.retain(|f| classify(f).kind != Kind::Motion);
@@ -328,6 +352,13 @@ impl GuardianCore {
         match self.safety.frame(frame) {
             Ok((done, answer)) => match done.tag {
                 Sender::Guardian => self.own_stop_answered(answer),
+                Sender::GuardianPrograms => self.programs_answered(&match answer {
+                    Answer::Reply => "254H 00 answered: every program ended".to_owned(),
+                    Answer::Error(code) => format!(
+                        "the controller refused 254H 00 (error {})",
+                        code.map_or_else(|| "unreadable".to_owned(), |c| c.to_string())
+                    ),
+                }),
                 // The window's link waits for it: never dropped.
                 Sender::Window => self.relay(frame.raw(), false),
             },
@@ -339,8 +370,8 @@ impl GuardianCore {
     fn own_stop_answered(&mut self, answer: Answer) {
         match answer {
             Answer::Reply => {
-                self.stopping = false;
                 self.say("238H answered: the controller stopped");
+                self.end_programs_or_rest();
             }
             Answer::Error(code) => {
                 let code = code.map_or_else(|| "unreadable".to_owned(), |c| c.to_string());
@@ -352,6 +383,26 @@ impl GuardianCore {
         }
     }
 
+    /// The guardian's 238H is done: while a program may run, 254H `00` follows (once per
+    /// STOP), then a second 238H halts a move the program commanded in between (README:
+    /// "STOP ends programs"); otherwise the guardian's stop is over.
+    fn end_programs_or_rest(&mut self) {
+        if self.safety.program_may_run() && !self.programs_tried {
+            self.programs_owed = true;
+        } else {
+            self.stopping = false;
+        }
+    }
+
+    /// The guardian's 254H `00` was answered, refused or timed out: the second 238H.
+    fn programs_answered(&mut self, what: &str) {
+        self.say(&format!("{what}: sending 238H again"));
+        // The program may have commanded a move after the first 238H.
+        self.safety.assume_motion();
+        self.safety.owe_stop("after ending the programs");
+        self.stop_tries = 0;
+    }
+
     /// The guardian's STOP failed: sent once more, or given up on (the window hears it).
     fn own_stop_failed(&mut self, what: &str, again: &str) {
         if self.stop_tries < STOP_TRIES {
@@ -359,7 +410,7 @@ impl GuardianCore {
             self.safety.owe_stop(again);
         } else {
             self.say(&format!("{what}: motion may still run"));
-            self.stopping = false;
+            self.end_programs_or_rest();
             self.push_to_window(FromGuardian::Stopped(format!(
                 "{what}: motion may still run"
             )));

@@ -7,8 +7,8 @@ use std::time::{Duration, Instant};
 use super::*;
 use crate::link::format_b::safety::stop_all;
 use crate::protocol::{
-    Axis, AxisPattern, CentiG, Command, Direction, Jog, JogFrame, JogMotion, MmPerSec, ScMode,
-    checksum,
+    Axis, AxisPattern, CentiG, Command, Direction, Jog, JogFrame, JogMotion, MmPerSec, Reply,
+    ScMode, checksum,
 };
 
 const LEASE: Duration = Duration::from_millis(250);
@@ -508,4 +508,80 @@ fn the_log_says_how_the_window_went() {
     g.handle_window_gone(t0, WindowGone::Ended);
     let log = log_of(&mut g);
     assert!(log.iter().any(|l| l.contains("process ended")), "{log:?}");
+}
+
+fn program_run() -> Vec<u8> {
+    with_sc("!9925301")
+}
+
+fn end_all() -> Vec<u8> {
+    with_sc("!9925400")
+}
+
+/// The window runs program 1 and gets its reply: a program may run.
+fn program_running(g: &mut GuardianCore, now: Instant) {
+    g.handle_window_bytes(now, &program_run());
+    assert_eq!(g.poll_transmit(now), Some(program_run()));
+    g.handle_line_bytes(&reply("253"));
+    assert_eq!(g.poll_to_window(), Some(FromGuardian::Bytes(reply("253"))));
+    assert!(g.motion_may_run(), "a program run is motion");
+}
+
+#[test]
+fn a_window_killed_while_a_program_runs_gets_238h_254h_00_and_238h_again() {
+    let t0 = Instant::now();
+    let mut g = core(t0);
+    program_running(&mut g, t0);
+    g.handle_window_closed(t0 + ms(30));
+    assert_eq!(g.poll_transmit(t0 + ms(30)), Some(stop_frame()));
+    g.handle_line_bytes(&reply("238"));
+    assert!(!g.is_done(), "the programs are still to end");
+    assert_eq!(g.poll_transmit(t0 + ms(31)), Some(end_all()));
+    assert_eq!(g.poll_transmit(t0 + ms(31)), None, "one outstanding");
+    g.handle_line_bytes(&reply("254"));
+    assert!(!g.is_done());
+    assert_eq!(g.poll_transmit(t0 + ms(32)), Some(stop_frame()));
+    g.handle_line_bytes(&reply("238"));
+    assert!(g.is_done());
+    assert_eq!(g.poll_transmit(t0 + ms(33)), None, "nothing more");
+    let log: Vec<String> = std::iter::from_fn(|| g.poll_log()).collect();
+    assert!(
+        log.iter().any(|l| l.contains("every program ended")),
+        "{log:?}"
+    );
+}
+
+#[test]
+fn a_refused_or_unanswered_254h_is_tried_once_and_the_arm_stopped_again() {
+    let t0 = Instant::now();
+    let mut g = core(t0);
+    program_running(&mut g, t0);
+    g.handle_window_closed(t0 + ms(30));
+    assert_eq!(g.poll_transmit(t0 + ms(30)), Some(stop_frame()));
+    g.handle_line_bytes(&reply("238"));
+    assert_eq!(g.poll_transmit(t0 + ms(31)), Some(end_all()));
+    let deadline = g.poll_timeout().expect("the 254H's deadline");
+    g.handle_timeout(deadline);
+    assert_eq!(g.poll_transmit(deadline), Some(stop_frame()));
+    g.handle_line_bytes(&reply("238"));
+    assert!(g.is_done(), "one 254H per STOP, whatever its answer");
+    assert_eq!(g.poll_transmit(deadline + ms(1)), None);
+}
+
+#[test]
+fn a_status_saying_no_program_runs_spares_the_254h() {
+    let t0 = Instant::now();
+    let mut g = core(t0);
+    program_running(&mut g, t0);
+    // The program ended by itself; the window's status poll says so.
+    g.handle_window_bytes(t0 + ms(5), &status_query());
+    assert_eq!(g.poll_transmit(t0 + ms(5)), Some(status_query()));
+    let status = Reply::SystemStatus(crate::protocol::SystemStatus::default())
+        .to_bytes(Station::DEFAULT)
+        .unwrap();
+    g.handle_line_bytes(&status);
+    g.handle_window_closed(t0 + ms(30));
+    assert_eq!(g.poll_transmit(t0 + ms(30)), Some(stop_frame()));
+    g.handle_line_bytes(&reply("238"));
+    assert!(g.is_done(), "no program runs: no 254H");
 }
