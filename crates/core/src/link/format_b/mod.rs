@@ -539,7 +539,7 @@ fn stopped_by(command: &crate::protocol::Command) -> bool {
 
 /// A program run, one step or resume (253H, 256H, 257H): the program may move the arm.
 pub(super) fn starts_program(command: &crate::protocol::Command) -> bool {
-    matches!(command, crate::protocol::Command::Program(c) if c.action.may_move())
+    safety::Programs::of(command) == safety::Programs::Start
 }
 
 impl CoreEvent for LinkEvent {
