@@ -41,6 +41,8 @@ pub enum Intent {
     Positions(super::positions::PositionsIntent),
     /// The Signals view.
     Signals(super::signals::SignalsIntent),
+    /// The Programs view.
+    Programs(super::programs::ProgramsIntent),
     /// The teach list after an edit (reorder, delete, rename), as a whole.
     TeachList(super::teach::TeachList),
     /// A teach file read (its points, or why not): waits for "Replace".
@@ -112,6 +114,7 @@ impl Pendant {
             Intent::TeachList(list) => self.teach.set(list),
             Intent::Positions(p) => self.apply_positions(p, now),
             Intent::Signals(s) => self.apply_signals(s, now),
+            Intent::Programs(p) => self.apply_programs(p, now),
             Intent::TeachLoaded { path, read } => self.teach_loaded(&path, read, now),
             Intent::TeachConfirmLoad => self.teach_confirm_load(now),
             Intent::TeachCancelLoad => self.teach_cancel_load(),
@@ -178,6 +181,12 @@ impl Pendant {
 impl From<super::positions::PositionsIntent> for Intent {
     fn from(i: super::positions::PositionsIntent) -> Intent {
         Intent::Positions(i)
+    }
+}
+
+impl From<super::programs::ProgramsIntent> for Intent {
+    fn from(i: super::programs::ProgramsIntent) -> Intent {
+        Intent::Programs(i)
     }
 }
 

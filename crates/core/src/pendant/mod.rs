@@ -13,6 +13,7 @@ pub mod jog;
 pub mod positions;
 pub mod samples;
 pub mod script;
+pub mod programs;
 pub mod signals;
 pub mod teach;
 
@@ -185,6 +186,8 @@ pub struct Pendant {
     pub samples: samples::polled::Polled,
     /// The watched inputs, outputs, flags and variables.
     pub signals: signals::Signals,
+    /// The controller's programs: their state, the operation asked about.
+    pub programs: programs::Programs,
 }
 
 impl Pendant {
@@ -207,6 +210,7 @@ impl Pendant {
             teach_feedback: None,
             positions: positions::Positions::new(),
             signals: signals::Signals::default(),
+            programs: programs::Programs::default(),
             coords: coords::CoordEditor::new(model.work_table_size, model.tool_table_size),
             kin: Scara::new(&model),
             model,
@@ -363,6 +367,9 @@ impl Pendant {
         if let Some(text) = self.signals.line_gone() {
             self.say(Level::Warning, text, _now);
         }
+        if let Some(text) = self.programs.line_gone() {
+            self.say(Level::Warning, text, _now);
+        }
         if self.jog.hold.stop(StopCause::LineLost).is_some() {
             self.say(Level::Error, "the line went down during a jog", _now);
         }
@@ -381,6 +388,12 @@ impl Pendant {
                 self.say(level, text, now);
             }
             return self.positions_out();
+        }
+        if event_command(&event).is_some_and(programs::Programs::owns) {
+            for (level, text) in self.programs.handle_event(&event, now) {
+                self.say(level, text, now);
+            }
+            return self.programs_out();
         }
         if event_command(&event).is_some_and(signals::Signals::owns) {
             let cx = self.signals_cx(now);
@@ -662,8 +675,9 @@ impl Pendant {
     /// latch holds while any jog control is still down.
     pub fn stop_by(&mut self, cause: StopCause, now: Instant) {
         // Motion asked for earlier this frame has not gone out: it never will.
-        self.requests
-            .retain(|r| !matches!(r, Request::Submit(c) if c.moves_arm()));
+        self.requests.retain(
+            |r| !matches!(r, Request::Submit(c) if c.moves_arm() || c.is_program_start()),
+        );
         // So has a signal's change confirmed this frame: STOP comes first.
         let change = |r: &Request| {
             matches!(
@@ -680,6 +694,7 @@ impl Pendant {
         self.jog.hold.stop(cause);
         self.axes.stop(cause);
         self.positions.go_confirm = None;
+        self.programs.stopped();
         self.jog.confirm = None;
         if let Some(f) = self.jog.followed.as_mut() {
             f.stopped.get_or_insert(now);
@@ -777,6 +792,8 @@ impl Pendant {
         self.samples.poll_captures(now);
         self.signals.tick(now, self.line.is_up());
         self.signals_out();
+        self.programs.tick(now, self.line.is_up());
+        self.programs_out();
         self.samples.signal_samples(self.signals.take_samples());
         if self.jog.hold.jog().is_none() {
             return;
@@ -820,6 +837,46 @@ impl Pendant {
             ready: self.controller_ready(now).map_err(|why| why.to_string()),
             program_running: system.map(|s| s.status2.program_running()),
             io_interlock: system.is_some_and(|s| s.status2.io_interlock()),
+        }
+    }
+
+    /// Applies one Programs intent: the sub-model decides; its words go to Messages.
+    pub fn apply_programs(&mut self, intent: programs::ProgramsIntent, now: Instant) {
+        let cx = self.programs_cx(now);
+        if let Some((level, text)) = self.programs.apply(intent, &cx, now) {
+            self.say(level, text, now);
+        }
+        self.programs_out();
+    }
+
+    /// What the programs' checks need to know of the line, the controller and the jog.
+    fn programs_cx(&self, now: Instant) -> programs::ProgramsCx {
+        let jogging = if let Some(cause) = self.jog.hold.latch() {
+            Some(format!(
+                "the STOP latch holds ({}): release the jog controls first",
+                cause.name()
+            ))
+        } else if self.jog.hold.jog().is_some() || self.jog.followed.is_some() {
+            Some("a jog or move of this window runs: let it end or STOP first".to_owned())
+        } else {
+            None
+        };
+        programs::ProgramsCx {
+            ready: self.controller_ready(now).map_err(|why| why.to_string()),
+            motion: self.motion_ready(now).map_err(|why| why.to_string()),
+            jogging,
+        }
+    }
+
+    /// Moves the programs' commands to the requests: status reads in the line time the
+    /// polls leave, operations at the user's priority (behind any STOP).
+    fn programs_out(&mut self) {
+        for (command, user) in self.programs.take_commands() {
+            self.requests.push(if user {
+                Request::Submit(command)
+            } else {
+                Request::Spare(command)
+            });
         }
     }
 

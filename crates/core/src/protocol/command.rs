@@ -178,6 +178,12 @@ impl Command {
         matches!(self, Command::Jog(j) if j.is_continuous())
     }
 
+    /// Whether this is a program run, one step or resume (253H, 256H, 257H): the program
+    /// may move the arm.
+    pub const fn is_program_start(&self) -> bool {
+        matches!(self, Command::Program(c) if c.action.may_move())
+    }
+
     /// Whether this is 238H STOP, which goes to the head of the queue.
     pub const fn is_stop(&self) -> bool {
         matches!(self, Command::Stop(_))

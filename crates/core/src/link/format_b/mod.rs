@@ -539,7 +539,7 @@ fn stopped_by(command: &crate::protocol::Command) -> bool {
 
 /// A program run, one step or resume (253H, 256H, 257H): the program may move the arm.
 pub(super) fn starts_program(command: &crate::protocol::Command) -> bool {
-    safety::Programs::of(command) == safety::Programs::Start
+    command.is_program_start()
 }
 
 impl CoreEvent for LinkEvent {

@@ -122,7 +122,7 @@ impl Programs {
     /// What `command` does to programs.
     pub fn of(command: &Command) -> Programs {
         match command {
-            Command::Program(c) if c.action.may_move() => Programs::Start,
+            c if c.is_program_start() => Programs::Start,
             Command::Program(c) if *c == ProgramCall::END_ALL => Programs::EndAll,
             Command::SystemStatus => Programs::Status,
             _ => Programs::Untouched,
