@@ -124,6 +124,7 @@ pub struct PendantApp {
     coords: CoordsPanel,
     positions: super::positions::PositionsPanel,
     signals: super::signals::SignalsPanel,
+    programs: super::programs::ProgramsPanel,
     /// The teach list and the coordinate drafts in files of their own.
     work_files: WorkFiles,
     arm: ArmView,
@@ -237,6 +238,7 @@ impl PendantApp {
             coords: CoordsPanel::default(),
             positions: super::positions::PositionsPanel::default(),
             signals: super::signals::SignalsPanel::default(),
+            programs: super::programs::ProgramsPanel::default(),
             work_files,
             arm: ArmView::default(),
             frame_log: FrameLogPanel::default(),
@@ -723,6 +725,7 @@ impl eframe::App for PendantApp {
                 coords: &mut self.coords,
                 positions: &mut self.positions,
                 signals: &mut self.signals,
+                programs: &mut self.programs,
                 frame_log: &mut self.frame_log,
                 plots: &mut self.plots,
                 simulator: &mut self.simulator,
@@ -748,6 +751,8 @@ impl eframe::App for PendantApp {
                 &mut self.plots,
                 &mut intents,
             );
+            self.programs
+                .after_panes(ui.ctx(), centre, &self.pendant, &mut intents);
         });
         self.live_log_shown.store(
             self.frame_log.live_in_sight,

@@ -35,6 +35,7 @@ pub enum Tab {
     Teach,
     Positions,
     Signals,
+    Programs,
     Messages,
     Coords,
     FrameLog,
@@ -52,6 +53,7 @@ impl Tab {
             Tab::Teach => "Teach list",
             Tab::Positions => "Positions",
             Tab::Signals => "Signals",
+            Tab::Programs => "Programs",
             Tab::Messages => "Messages",
             Tab::Coords => "Coordinate tables",
             Tab::FrameLog => "Frame log",
@@ -62,13 +64,14 @@ impl Tab {
     }
 }
 
-const ALL: [Tab; 12] = [
+const ALL: [Tab; 13] = [
     Tab::Arm,
     Tab::Position,
     Tab::Status,
     Tab::Teach,
     Tab::Positions,
     Tab::Signals,
+    Tab::Programs,
     Tab::Messages,
     Tab::Coords,
     Tab::FrameLog,
@@ -97,6 +100,7 @@ pub fn default_layout() -> Tree<Tab> {
             Tab::Positions,
             Tab::Coords,
             Tab::Signals,
+            Tab::Programs,
             Tab::Simulator,
         ],
     );
@@ -162,6 +166,7 @@ pub struct Tabs<'a> {
     pub coords: &'a mut CoordsPanel,
     pub positions: &'a mut PositionsPanel,
     pub signals: &'a mut SignalsPanel,
+    pub programs: &'a mut super::programs::ProgramsPanel,
     pub frame_log: &'a mut FrameLogPanel,
     pub plots: &'a mut super::plots::PlotsPanel,
     pub simulator: &'a mut SimulatorPanel,
@@ -211,6 +216,10 @@ impl Behavior<Tab> for Tabs<'_> {
             }
             Tab::Signals => {
                 self.signals
+                    .show(ui, self.pendant, self.folder, self.now, self.intents)
+            }
+            Tab::Programs => {
+                self.programs
                     .show(ui, self.pendant, self.folder, self.now, self.intents)
             }
             Tab::Messages => messages::show(ui, self.pendant, self.started),

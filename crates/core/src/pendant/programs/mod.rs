@@ -15,7 +15,7 @@ use crate::protocol::{
     ALL_PROGRAMS, Command, ErrorCode, PROGRAMS, ProgramAction, ProgramCall, ProgramStatus,
     ProgramStatusQuery, Reply,
 };
-pub use listing::Listing;
+pub use listing::{ListedProgram, Listing, MAX_FILE_BYTES};
 
 /// A round of status reads starts at most this often: the status cycle's pace.
 pub const MIN_ROUND: Duration = Duration::from_millis(100);
@@ -132,7 +132,7 @@ pub enum ProgramsIntent {
     /// A program listing read from a file (or why it could not be).
     Listing {
         path: String,
-        read: Result<String, String>,
+        read: Result<Listing, String>,
     },
 }
 
@@ -296,17 +296,17 @@ impl Programs {
                 self.proposal = None;
                 Ok(None)
             }
-            ProgramsIntent::Listing { path, read } => {
-                let result = read.and_then(|text| Listing::parse(&path, &text));
-                match result {
-                    Ok(listing) => {
-                        let said = listing.summary();
-                        self.listing = Some(listing);
-                        Ok(Some(said))
+            ProgramsIntent::Listing { path, read } => match read {
+                Ok(listing) => {
+                    let said = listing.summary();
+                    if self.selected.is_none() {
+                        self.selected = listing.programs.first().map(|p| p.number);
                     }
-                    Err(e) => Err(format!("{path}: {e}")),
+                    self.listing = Some(listing);
+                    Ok(Some(said))
                 }
-            }
+                Err(e) => Err(format!("{path}: {e}")),
+            },
         };
         let said = match said {
             Ok(None) => return None,
