@@ -20,6 +20,16 @@ use std::path::Path;
 pub mod csv_style {
     pub const BOM: &str = "\u{feff}";
     pub const EOL: &str = "\r\n";
+
+    /// One CSV field: quoted (quotes doubled) when it holds a separator (`,` or Excel's
+    /// `;`), a quote or a line end; as it is otherwise.
+    pub fn field(text: &str) -> std::borrow::Cow<'_, str> {
+        if text.contains([',', ';', '"', '\n', '\r']) {
+            format!("\"{}\"", text.replace('"', "\"\"")).into()
+        } else {
+            text.into()
+        }
+    }
 }
 
 /// The most a teach list or coordinate-table file may hold (10,000 points are about

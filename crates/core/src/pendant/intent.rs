@@ -43,6 +43,8 @@ pub enum Intent {
     Signals(super::signals::SignalsIntent),
     /// The Programs view.
     Programs(super::programs::ProgramsIntent),
+    /// The Alarms view.
+    Alarms(super::alarms::AlarmsIntent),
     /// The teach list after an edit (reorder, delete, rename), as a whole.
     TeachList(super::teach::TeachList),
     /// A teach file read (its points, or why not): waits for "Replace".
@@ -115,6 +117,7 @@ impl Pendant {
             Intent::Positions(p) => self.apply_positions(p, now),
             Intent::Signals(s) => self.apply_signals(s, now),
             Intent::Programs(p) => self.apply_programs(p, now),
+            Intent::Alarms(a) => self.apply_alarms(a, now),
             Intent::TeachLoaded { path, read } => self.teach_loaded(&path, read, now),
             Intent::TeachConfirmLoad => self.teach_confirm_load(now),
             Intent::TeachCancelLoad => self.teach_cancel_load(),

@@ -13,6 +13,7 @@ pub mod jog;
 pub mod positions;
 pub mod samples;
 pub mod script;
+pub mod alarms;
 pub mod programs;
 pub mod signals;
 pub mod teach;
@@ -188,6 +189,8 @@ pub struct Pendant {
     pub signals: signals::Signals,
     /// The controller's programs: their state, the operation asked about.
     pub programs: programs::Programs,
+    /// The controller's alarm history and the alarms seen arriving.
+    pub alarms: alarms::Alarms,
 }
 
 impl Pendant {
@@ -211,6 +214,7 @@ impl Pendant {
             positions: positions::Positions::new(),
             signals: signals::Signals::default(),
             programs: programs::Programs::default(),
+            alarms: alarms::Alarms::default(),
             coords: coords::CoordEditor::new(model.work_table_size, model.tool_table_size),
             kin: Scara::new(&model),
             model,
@@ -370,6 +374,7 @@ impl Pendant {
         if let Some(text) = self.programs.line_gone() {
             self.say(Level::Warning, text, _now);
         }
+        self.alarms.line_gone();
         if self.jog.hold.stop(StopCause::LineLost).is_some() {
             self.say(Level::Error, "the line went down during a jog", _now);
         }
@@ -388,6 +393,12 @@ impl Pendant {
                 self.say(level, text, now);
             }
             return self.positions_out();
+        }
+        if event_command(&event).is_some_and(alarms::Alarms::owns) {
+            if let Some((level, text)) = self.alarms.handle_event(&event) {
+                self.say(level, text, now);
+            }
+            return self.alarms_out();
         }
         if event_command(&event).is_some_and(programs::Programs::owns) {
             for (level, text) in self.programs.handle_event(&event, now) {
@@ -410,6 +421,8 @@ impl Pendant {
                 self.requests
                     .push(Request::Submit(controller::version_query()));
                 self.requests.push(Request::ReadTable(CoordKind::Work));
+                self.alarms.connected();
+                self.alarms_out();
             }
             LinkEvent::Disconnected { reason } => {
                 let reason = match connection::open_hint(&reason) {
@@ -531,8 +544,21 @@ impl Pendant {
         match reply {
             Reply::SystemStatus(s) => {
                 let old = self.controller.system.as_ref().map(|o| &o.value);
+                let previous = old.map(|o| o.critical_error);
                 for (level, text) in transitions::system(old, &s) {
                     self.say(level, text, now);
+                }
+                let code = s.critical_error;
+                if code != crate::protocol::ErrorCode::NONE && previous.is_some_and(|c| c != code)
+                {
+                    // The reply that brought it is the frame log's last row.
+                    let row = self.frame_log.end().saturating_sub(1);
+                    let wall = self
+                        .frame_log
+                        .row(row)
+                        .map_or(self.frame_log.origin_wall(), |r| self.frame_log.wall(&r));
+                    self.alarms.alarm_arrived(code, now, wall, row);
+                    self.alarms_out();
                 }
                 self.controller.system = Some(controller::Stamped { value: s, at: now });
             }
@@ -837,6 +863,21 @@ impl Pendant {
             ready: self.controller_ready(now).map_err(|why| why.to_string()),
             program_running: system.map(|s| s.status2.program_running()),
             io_interlock: system.is_some_and(|s| s.status2.io_interlock()),
+        }
+    }
+
+    /// Applies one Alarms intent: the sub-model decides; its words go to Messages.
+    pub fn apply_alarms(&mut self, intent: alarms::AlarmsIntent, now: Instant) {
+        if let Some((level, text)) = self.alarms.apply(intent, self.line.is_up()) {
+            self.say(level, text, now);
+        }
+        self.alarms_out();
+    }
+
+    /// Moves the alarm history's reads to the requests, in the line time the polls leave.
+    fn alarms_out(&mut self) {
+        for command in self.alarms.take_commands() {
+            self.requests.push(Request::Spare(command));
         }
     }
 

@@ -59,7 +59,7 @@ pub(super) fn submitted(p: &mut Pendant) -> Vec<Command> {
 }
 
 #[test]
-fn connecting_asks_for_the_version_and_both_tables_in_turn() {
+fn connecting_asks_for_the_version_both_tables_in_turn_and_the_alarm_history() {
     let now = t0();
     let mut p = pendant();
     p.handle_event(
@@ -73,7 +73,11 @@ fn connecting_asks_for_the_version_and_both_tables_in_turn() {
         r,
         vec![
             Request::Submit(controller::version_query()),
-            Request::ReadTable(CoordKind::Work)
+            Request::ReadTable(CoordKind::Work),
+            // Its first record, in the line time the polls leave.
+            Request::Spare(Command::ErrorDetail(
+                crate::protocol::ErrorDetailQuery::ListRecord { record: 1 }
+            )),
         ]
     );
     assert!(p.line.is_up());
