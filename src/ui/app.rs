@@ -125,6 +125,7 @@ pub struct PendantApp {
     positions: super::positions::PositionsPanel,
     signals: super::signals::SignalsPanel,
     programs: super::programs::ProgramsPanel,
+    alarms: super::alarms::AlarmsPanel,
     /// The teach list and the coordinate drafts in files of their own.
     work_files: WorkFiles,
     arm: ArmView,
@@ -239,6 +240,7 @@ impl PendantApp {
             positions: super::positions::PositionsPanel::default(),
             signals: super::signals::SignalsPanel::default(),
             programs: super::programs::ProgramsPanel::default(),
+            alarms: super::alarms::AlarmsPanel::default(),
             work_files,
             arm: ArmView::default(),
             frame_log: FrameLogPanel::default(),
@@ -726,6 +728,7 @@ impl eframe::App for PendantApp {
                 positions: &mut self.positions,
                 signals: &mut self.signals,
                 programs: &mut self.programs,
+                alarms: &mut self.alarms,
                 frame_log: &mut self.frame_log,
                 plots: &mut self.plots,
                 simulator: &mut self.simulator,

@@ -36,6 +36,7 @@ pub enum Tab {
     Positions,
     Signals,
     Programs,
+    Alarms,
     Messages,
     Coords,
     FrameLog,
@@ -54,6 +55,7 @@ impl Tab {
             Tab::Positions => "Positions",
             Tab::Signals => "Signals",
             Tab::Programs => "Programs",
+            Tab::Alarms => "Alarms",
             Tab::Messages => "Messages",
             Tab::Coords => "Coordinate tables",
             Tab::FrameLog => "Frame log",
@@ -64,7 +66,7 @@ impl Tab {
     }
 }
 
-const ALL: [Tab; 13] = [
+const ALL: [Tab; 14] = [
     Tab::Arm,
     Tab::Position,
     Tab::Status,
@@ -72,6 +74,7 @@ const ALL: [Tab; 13] = [
     Tab::Positions,
     Tab::Signals,
     Tab::Programs,
+    Tab::Alarms,
     Tab::Messages,
     Tab::Coords,
     Tab::FrameLog,
@@ -104,7 +107,10 @@ pub fn default_layout() -> Tree<Tab> {
             Tab::Simulator,
         ],
     );
-    let traffic = tabs(&mut tiles, &[Tab::Messages, Tab::FrameLog, Tab::Plots]);
+    let traffic = tabs(
+        &mut tiles,
+        &[Tab::Messages, Tab::Alarms, Tab::FrameLog, Tab::Plots],
+    );
     let left = tiles.insert_container(Linear::new_binary(
         LinearDir::Vertical,
         [arm, traffic],
@@ -167,6 +173,7 @@ pub struct Tabs<'a> {
     pub positions: &'a mut PositionsPanel,
     pub signals: &'a mut SignalsPanel,
     pub programs: &'a mut super::programs::ProgramsPanel,
+    pub alarms: &'a mut super::alarms::AlarmsPanel,
     pub frame_log: &'a mut FrameLogPanel,
     pub plots: &'a mut super::plots::PlotsPanel,
     pub simulator: &'a mut SimulatorPanel,
@@ -220,6 +227,10 @@ impl Behavior<Tab> for Tabs<'_> {
             }
             Tab::Programs => {
                 self.programs
+                    .show(ui, self.pendant, self.folder, self.now, self.intents)
+            }
+            Tab::Alarms => {
+                self.alarms
                     .show(ui, self.pendant, self.folder, self.now, self.intents)
             }
             Tab::Messages => messages::show(ui, self.pendant, self.started),

@@ -26,6 +26,7 @@ mod readout;
 mod rmc_connection;
 mod run;
 mod safety_band;
+pub mod alarms;
 pub mod programs;
 pub mod signals;
 mod simulator;
