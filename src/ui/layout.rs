@@ -229,10 +229,9 @@ impl Behavior<Tab> for Tabs<'_> {
                 self.programs
                     .show(ui, self.pendant, self.folder, self.now, self.intents)
             }
-            Tab::Alarms => {
-                self.alarms
-                    .show(ui, self.pendant, self.folder, self.now, self.intents)
-            }
+            Tab::Alarms => self
+                .alarms
+                .show(ui, self.pendant, self.folder, self.now, self.intents),
             Tab::Messages => messages::show(ui, self.pendant, self.started),
             Tab::Coords => self
                 .coords

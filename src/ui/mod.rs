@@ -2,6 +2,7 @@
 //! turn clicks into its calls; they never see the link. [`app::PendantApp`] owns the live
 //! session, feeds link events to the pendant and runs its requests after each frame.
 
+pub mod alarms;
 pub mod app;
 mod arm_export;
 pub mod arm_view;
@@ -22,12 +23,11 @@ mod pad;
 pub mod plots;
 mod ports;
 pub mod positions;
+pub mod programs;
 mod readout;
 mod rmc_connection;
 mod run;
 mod safety_band;
-pub mod alarms;
-pub mod programs;
 pub mod signals;
 mod simulator;
 mod status;

@@ -3,6 +3,7 @@
 //! events come in through [`Pendant::handle_event`], and what must go to the link comes
 //! out of [`Pendant::take_requests`].
 
+pub mod alarms;
 pub mod axes;
 pub mod connection;
 pub mod controller;
@@ -11,10 +12,9 @@ pub mod frame_log;
 mod intent;
 pub mod jog;
 pub mod positions;
+pub mod programs;
 pub mod samples;
 pub mod script;
-pub mod alarms;
-pub mod programs;
 pub mod signals;
 pub mod teach;
 
@@ -549,8 +549,7 @@ impl Pendant {
                     self.say(level, text, now);
                 }
                 let code = s.critical_error;
-                if code != crate::protocol::ErrorCode::NONE && previous.is_some_and(|c| c != code)
-                {
+                if code != crate::protocol::ErrorCode::NONE && previous.is_some_and(|c| c != code) {
                     // The reply that brought it is the frame log's last row.
                     let row = self.frame_log.end().saturating_sub(1);
                     let wall = self
@@ -701,9 +700,8 @@ impl Pendant {
     /// latch holds while any jog control is still down.
     pub fn stop_by(&mut self, cause: StopCause, now: Instant) {
         // Motion asked for earlier this frame has not gone out: it never will.
-        self.requests.retain(
-            |r| !matches!(r, Request::Submit(c) if c.moves_arm() || c.is_program_start()),
-        );
+        self.requests
+            .retain(|r| !matches!(r, Request::Submit(c) if c.moves_arm() || c.is_program_start()));
         // So has a signal's change confirmed this frame: STOP comes first.
         let change = |r: &Request| {
             matches!(
