@@ -7,8 +7,10 @@ use super::*;
 use crate::link::{NotSentReason, Origin, RequestId};
 
 fn reply(query: ErrorDetailQuery, code: u16) -> LinkEvent {
-    let mut d = ErrorDetail::default();
-    d.error = ErrorCode(code);
+    let mut d = ErrorDetail {
+        error: ErrorCode(code),
+        ..Default::default()
+    };
     d.details[1] = 7;
     d.details[2] = 1;
     LinkEvent::Reply {
