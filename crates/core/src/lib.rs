@@ -14,6 +14,8 @@
 //!   [`robot_wire`], [`robot`], [`protocol`], [`rmc`], [`line`](mod@line).
 //! - [`robot_wire`]: wire codes <-> robot types (arm policy, jog frame, arm system, table
 //!   kind), the one place that knows both [`protocol`] and [`robot`].
+//! - [`sel`]: SEL program text (the simulator's program file), parsed with errors by
+//!   line and column; read by `sim` (to run) and `pendant` (to show) -> [`protocol`].
 //! - [`files`]: files the user names, read with a size bound and written whole, and the
 //!   coordinate file both the pendant and the simulator read.
 //! - [`line`](mod@line): byte lines (read with a timeout, write), line and connection
@@ -42,5 +44,6 @@ pub mod protocol;
 pub mod rmc;
 pub mod robot;
 pub mod robot_wire;
+pub mod sel;
 pub mod session;
 pub mod sim;
