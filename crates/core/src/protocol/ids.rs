@@ -397,6 +397,8 @@ impl ErrorCode {
             0xB08 => Some("target or path outside the arm's reach"),
             0xB09 => Some("target needs the other arm system; switching not allowed"),
             0xB0A => Some("position number holds no data for these axes"),
+            0xB0B => Some("no program with this number"),
+            0xB0C => Some("program not in a state for this (started, running or not started)"),
             _ => None,
         }
     }

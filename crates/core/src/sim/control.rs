@@ -3,6 +3,7 @@
 //! the state checks the soak tests run.
 
 use super::controller::{ALARM_HISTORY, Controller, Snapshot};
+use super::errors::SimError;
 use super::state::{Alarm, HomeProgress, Mode, ServoSwitch};
 use crate::files::coords_file::PositionTable;
 use crate::robot::CoordTables;
@@ -12,7 +13,7 @@ impl Controller {
     pub fn set_emergency_stop(&mut self, on: bool) {
         self.estop = on;
         if on {
-            self.halt_all();
+            self.halt_all(SimError::EmergencyStop.code());
         }
     }
 
@@ -20,7 +21,7 @@ impl Controller {
     pub fn set_drive_cut_off(&mut self, on: bool) {
         self.drive_cut = on;
         if on {
-            self.halt_all();
+            self.halt_all(SimError::DriveCutOff.code());
         }
     }
 
@@ -90,21 +91,43 @@ impl Controller {
         let alarm = Alarm {
             code,
             axis: axis.filter(|a| (1..=8).contains(a)),
-            message: message
-                .chars()
-                .filter(|c| c.is_ascii_graphic() || *c == ' ')
-                .take(255)
-                .collect(),
+            message: printable(message),
+            ..Alarm::default()
         };
         if let Some(a) = alarm.axis {
             self.axes[usize::from(a - 1)].error = code;
         }
-        self.latest_error = code;
+        self.record_alarm(alarm);
+        self.halt_all(code);
+    }
+
+    /// A program's step failed: the alarm names the program and step; every program ends
+    /// and the moves brake to a stop, servos stay on `[inferred: an operation-cancellation
+    /// level error; the spec pages name no program errors]`.
+    pub(crate) fn raise_program_alarm(&mut self, code: u16, program: u8, step: u16, message: &str) {
+        self.record_alarm(Alarm {
+            code: code & 0xFFF,
+            axis: None,
+            program,
+            step,
+            message: printable(message),
+        });
+        self.end_all_programs(code & 0xFFF);
+        let now = self.now;
+        for m in self.motions.iter_mut() {
+            if !m.cancelled() {
+                m.stop(now);
+            }
+        }
+    }
+
+    /// The alarm pending, latest and first in the history.
+    fn record_alarm(&mut self, alarm: Alarm) {
+        self.latest_error = alarm.code;
         self.last_error = Some(alarm.clone());
         self.history.insert(0, alarm.clone());
         self.history.truncate(ALARM_HISTORY);
         self.alarm = Some(alarm);
-        self.halt_all();
     }
 
     /// Clears the pending alarm and the axes' error codes, as 252H does.
@@ -116,10 +139,12 @@ impl Controller {
         }
     }
 
-    /// Stops everything at once (E-stop, cut-off, alarm): positions freeze, servos off.
-    fn halt_all(&mut self) {
+    /// Stops everything at once (E-stop, cut-off, alarm): positions freeze, servos off,
+    /// every program ends with `code` (0: without an error, as a reset ends them).
+    fn halt_all(&mut self, code: u16) {
         let now = self.now;
         self.advance(now);
+        self.end_all_programs(code);
         for m in std::mem::take(&mut self.motions) {
             self.end_motion(&m, true);
         }
@@ -136,7 +161,7 @@ impl Controller {
     /// alarm cleared; home state and positions kept (absolute encoders) `[inferred,
     /// PROTOCOL.md 3.13]`.
     pub(crate) fn reboot(&mut self) {
-        self.halt_all();
+        self.halt_all(0);
         self.alarm = None;
         for a in self.axes.iter_mut() {
             a.error = 0;
@@ -225,6 +250,15 @@ impl Controller {
         }
         Ok(())
     }
+}
+
+/// Printable ASCII only, 255 characters at most (216H's message field).
+fn printable(message: &str) -> String {
+    message
+        .chars()
+        .filter(|c| c.is_ascii_graphic() || *c == ' ')
+        .take(255)
+        .collect()
 }
 
 #[cfg(test)]

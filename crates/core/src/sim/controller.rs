@@ -6,6 +6,7 @@ use std::time::Duration;
 use super::errors::SimError;
 use super::framing::{Silence, max_command};
 use super::motion::{Motion, MotionKind};
+use super::programs::Programs;
 use super::signals::Signals;
 use super::state::{Alarm, AxisKind, AxisState, Counters, HomeProgress, Mode, SimConfig};
 use crate::files::coords_file::{self, PositionTable};
@@ -39,6 +40,8 @@ pub struct SimSetup {
     /// The position table (209H-291H, 26BH, 2D6H); numbers above the model's maximum
     /// (`config.position_digits`) are kept but never reached.
     pub positions: PositionTable,
+    /// SEL programs (213H, 253H-257H); by default the demo ([`crate::sel::DEMO`]).
+    pub programs: Vec<crate::sel::Program>,
 }
 
 impl Default for SimSetup {
@@ -56,6 +59,10 @@ impl SimSetup {
             model,
             coords: defaults.tables,
             positions: defaults.positions,
+            programs: crate::sel::parse(crate::sel::DEMO)
+                .runnable()
+                .cloned()
+                .collect(),
         }
     }
 }
@@ -109,6 +116,11 @@ pub struct Controller {
     pub(crate) counters: Counters,
     /// Inputs, outputs, flags, variables and the I/O interlock (boxed: some 100 kB).
     pub(crate) signals: Box<Signals>,
+    /// The SEL programs and their tasks.
+    pub(crate) programs: Box<Programs>,
+    /// The program slot whose step runs now: its own moves pass the check that the
+    /// axes another program holds are taken.
+    pub(crate) acting: Option<usize>,
 }
 
 impl Controller {
@@ -139,6 +151,8 @@ impl Controller {
             now: Duration::ZERO,
             counters: Counters::default(),
             signals: Box::default(),
+            programs: Box::new(Programs::new(setup.programs)),
+            acting: None,
         };
         c.cfg.linear_axes = c.cfg.linear_axes.min(2);
         if c.cfg.start_ready {
@@ -306,8 +320,8 @@ impl Controller {
                 }
                 self.last_error = Some(Alarm {
                     code: e.code(),
-                    axis: None,
                     message: e.text().to_owned(),
+                    ..Alarm::default()
                 });
                 Reply::Error(ErrorCode(e.code()))
                     .encode_into(station, out)
@@ -363,6 +377,7 @@ impl Controller {
             Command::BitQuery(ref q) => self.msg_bit_query(q)?,
             Command::VarQuery(ref q) => self.msg_var_query(q)?,
             Command::VarWrite(ref d) => self.msg_var_write(d)?,
+            Command::ProgramStatus(q) => self.msg_program_status(q)?,
             Command::SoftwareReset => {
                 self.msg_reset()?;
                 return Ok(self.cfg.reset_replies.then_some(Reply::Ack(cmd.id())));
@@ -391,6 +406,7 @@ impl Controller {
             Command::ScaraMovePosition(m) => self.msg_scara_position(m),
             Command::PositionMove(m) => self.msg_position_move(m),
             Command::BitChange(c) => self.msg_bit_change(c),
+            Command::Program(c) => self.msg_program(c),
             _ => Err(SimError::UnknownMessage),
         }
     }
@@ -415,9 +431,6 @@ impl Controller {
                 a.completed = true;
             }
         }
-        if self.motions.is_empty() {
-            return;
-        }
         let mut i = 0;
         while i < self.motions.len() {
             let m = &self.motions[i];
@@ -431,6 +444,7 @@ impl Controller {
                 i += 1;
             }
         }
+        self.run_programs(now);
     }
 
     /// Takes a motion's axis values (it leaves the axes it does not own unchanged).
@@ -487,7 +501,18 @@ impl Controller {
     /// Whether nothing changes with time: no axis in use and no reboot under way (the
     /// world then only changes by a command).
     pub fn at_rest(&self) -> bool {
-        self.in_use() == 0 && self.rebooting_until.is_none()
+        self.in_use() == 0 && self.rebooting_until.is_none() && !self.programs.any_running()
+    }
+
+    /// The SEL programs loaded and where each one is.
+    pub fn programs(&self) -> &Programs {
+        &self.programs
+    }
+
+    /// Replaces the programs (all of them end first, without an error).
+    pub fn load_programs(&mut self, programs: impl IntoIterator<Item = crate::sel::Program>) {
+        self.end_all_programs(0);
+        *self.programs = Programs::new(programs);
     }
 
     /// Axis pattern of the axes in use: moving, homing or switching servo.

@@ -46,6 +46,11 @@ pub enum SimError {
     SoftLimit,
     /// 262H: no move in progress on the selected axes to change (real number CC1).
     SpeedChange,
+    /// 253H-257H: no program with this number is loaded.
+    NoProgram,
+    /// 253H-257H: the program is not in a state for this (run when started, one step
+    /// while running freely, pause or resume when not started).
+    ProgramState,
 }
 
 /// One row of the table: code, enum, short text.
@@ -72,6 +77,8 @@ pub const CODE_TABLE: &[CodeRow] = &[
     row(0xB08, SimError::Unreachable),
     row(0xB09, SimError::ArmSystem),
     row(0xB0A, SimError::NoPosition),
+    row(0xB0B, SimError::NoProgram),
+    row(0xB0C, SimError::ProgramState),
     row(0xC74, SimError::SoftLimit),
     row(0xCC1, SimError::SpeedChange),
 ];

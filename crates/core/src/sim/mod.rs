@@ -6,6 +6,7 @@
 //! - [`errors::CODE_TABLE`]: the error codes of `&` replies.
 //! - [`console`]: operator states (E-stop, mode, cut-off, alarms) from outside the protocol.
 //! - [`signals`]: inputs, outputs, flags and variables (PROTOCOL.md 3.34-3.43).
+//! - [`programs`]: SEL programs run by an interpreter of a subset (PROTOCOL.md 3.44-3.45).
 //! - [`rmc`]: a simulated Delta RMC151E axis controller over Modbus/TCP.
 
 pub mod console;
@@ -19,6 +20,7 @@ pub mod log_limit;
 pub mod motion;
 pub mod panel;
 pub mod pipe;
+pub mod programs;
 pub mod rmc;
 pub mod runner;
 mod servers;

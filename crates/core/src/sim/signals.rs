@@ -253,6 +253,19 @@ impl Signals {
         }
     }
 
+    /// A program's BTON / BTOF or output column: output port `n` (never held by the I/O
+    /// interlock: the program is the controller), a global flag, or a local flag of
+    /// `program` (900-999).
+    pub(crate) fn set_by_program(&mut self, n: u16, program: u8, on: bool) -> Result<(), SimError> {
+        if OUTPUTS.holds(n) {
+            self.set_bit(BitSpace::Output, 0, n, on)
+        } else if GLOBAL_FLAGS.holds(n) {
+            self.set_bit(BitSpace::Flag, 0, n, on)
+        } else {
+            self.set_bit(BitSpace::Flag, program, n, on)
+        }
+    }
+
     /// Sets input port `n` (the operator's sensor); the refusal as text.
     pub fn set_input(&mut self, n: u16, on: bool) -> Result<(), String> {
         self.set_bit(BitSpace::Input, 0, n, on)

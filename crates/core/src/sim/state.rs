@@ -82,11 +82,14 @@ impl AxisState {
 }
 
 /// A pending alarm (raised by the control API or by the simulation).
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct Alarm {
     pub code: u16,
     /// Axis number 1-8 the alarm belongs to, if any (216H detail 3, 212H error code).
     pub axis: Option<u8>,
+    /// The program and step (1-based) that raised it; 0 for none (216H details 1-2).
+    pub program: u8,
+    pub step: u16,
     /// Free text for 216H's message field (at most 255 ASCII characters are sent).
     pub message: String,
 }

@@ -7,6 +7,7 @@
 mod axis;
 mod coords;
 mod positions;
+mod programs;
 mod scara;
 mod signals;
 mod status;
@@ -78,6 +79,10 @@ impl Controller {
             }
             let a = &self.axes[i];
             if in_use & (1 << i) != 0 {
+                return Err(SimError::AxisBusy);
+            }
+            // Axes a started program holds are its own (the program's moves pass).
+            if self.programs.held_by_others(self.acting) & (1 << i) != 0 {
                 return Err(SimError::AxisBusy);
             }
             if !a.servo {

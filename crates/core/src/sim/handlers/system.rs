@@ -53,7 +53,9 @@ impl Controller {
             status1: SystemStatus1::default()
                 .with_manual_switch(manual)
                 .with_emergency_stop(self.estop),
-            status2: SystemStatus2::default().with_io_interlock(self.signals.interlock()),
+            status2: SystemStatus2::default()
+                .with_io_interlock(self.signals.interlock())
+                .with_program_running(self.programs.any_started()),
             status3: SystemStatus3::default()
                 .with_drive_cut_off(self.drive_cut)
                 .with_auto_operation(!manual)
@@ -85,7 +87,11 @@ impl Controller {
                     .find(|a| a.code == code && a.axis == Some(axis))
                     .filter(|_| code != 0)
             }
-            ErrorDetailQuery::Program { .. } => None,
+            // The newest alarm a program raised `[inferred: type 2 names a program]`.
+            ErrorDetailQuery::Program { program } => self
+                .history
+                .iter()
+                .find(|a| a.program == program && program != 0),
             ErrorDetailQuery::ListRecord { record } if record >= 1 => nth(usize::from(record)),
             ErrorDetailQuery::ExtendedListRecord { record } if record >= 1 => {
                 nth(usize::from(record))
@@ -96,6 +102,8 @@ impl Controller {
         if let Some(a) = alarm {
             detail.error = ErrorCode(a.code);
             // Details 1-8: program, step, axis, point, 5-8 unused.
+            detail.details[0] = u32::from(a.program);
+            detail.details[1] = u32::from(a.step);
             detail.details[2] = u32::from(a.axis.unwrap_or(0));
             let text = a.message.as_bytes();
             detail.message = text[..text.len().min(255)].to_vec();
