@@ -8,11 +8,12 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use clap::Parser;
-use xsel_pendant_core::files::coords_file;
+use xsel_pendant_core::files::{coords_file, read_text_bounded};
 use xsel_pendant_core::flags::parse_or_exit;
 use xsel_pendant_core::line::{BAUD_RANGE, byte_time_8n1};
 use xsel_pendant_core::protocol::Station;
 use xsel_pendant_core::robot::RobotModel;
+use xsel_pendant_core::sel;
 use xsel_pendant_core::sim::console::{self, OperatorAction, parse_code};
 use xsel_pendant_core::sim::errors::code_table_text;
 use xsel_pendant_core::sim::log_limit::LogLimiter;
@@ -97,6 +98,12 @@ struct Args {
     /// "left"), replacing those of --coords. Default: the --coords file's positions.
     #[arg(long, value_name = "FILE")]
     positions: Option<String>,
+    /// SEL programs to serve (213H, 253H-257H) from a text file in the format of the
+    /// README's "Programs in the simulator", replacing the demo (program 1, a pick and
+    /// place between positions 1 and 2). A program with an error is not loaded (each
+    /// error is named by line and column); the others are.
+    #[arg(long, value_name = "FILE")]
+    programs: Option<String>,
     /// Position numbering of the model: 4 (positions 1-20000, every position message) or
     /// 3 (1-3000; 21FH, 22DH, 26DH, 290H, 291H answer A01).
     #[arg(long, value_name = "3|4", default_value_t = 4, value_parser = clap::value_parser!(u8).range(3..=4))]
@@ -312,6 +319,15 @@ fn run(args: Args) -> Result<(), Failure> {
         let file = coords_file::load(path, &setup.model)
             .map_err(|e| Failure::Flag(format!("--positions: {e}")))?;
         setup.positions = file.positions;
+    }
+    if let Some(path) = &args.programs {
+        let text = read_text_bounded(std::path::Path::new(path), sel::MAX_FILE_BYTES)
+            .map_err(|e| Failure::Flag(format!("--programs: {e}")))?;
+        let parsed = sel::parse(&text);
+        for line in parsed.report() {
+            say(&format!("xsel-sim: --programs {path}: {line}"));
+        }
+        setup.programs = parsed.runnable().cloned().collect();
     }
     setup.config.position_digits = args.position_digits;
     setup.config.station = args.station.0;

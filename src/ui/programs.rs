@@ -284,20 +284,36 @@ impl ProgramsPanel {
         };
         let step = programs.row(self.program).step();
         ui.label(RichText::new(format!("Program {} {}", p.number, p.name)).strong());
+        if p.errors > 0 {
+            ui.colored_label(
+                ui.visuals().error_fg_color,
+                format!(
+                    "{} line(s) not read (in red; point at one for why): the simulator \
+                     would not load this program",
+                    p.errors
+                ),
+            );
+        }
         let follow = step.map(|s| (self.program, s));
         let scroll = follow.is_some() && follow != self.scrolled_to;
         egui::ScrollArea::vertical()
             .id_salt("programs-listing")
             .auto_shrink([false, false])
             .show(ui, |ui| {
-                for (number, text) in &p.steps {
-                    let here = step == Some(*number);
-                    let line = RichText::new(format!("{number:>4}  {text}")).monospace();
-                    let r = if here {
-                        ui.label(line.background_color(AMBER.gamma_multiply(0.35)).strong())
-                    } else {
-                        ui.label(line)
-                    };
+                for s in &p.steps {
+                    let here = step == Some(s.number);
+                    let mut line =
+                        RichText::new(format!("{:>4}  {}", s.number, s.text)).monospace();
+                    if s.error.is_some() {
+                        line = line.color(ui.visuals().error_fg_color);
+                    }
+                    if here {
+                        line = line.background_color(AMBER.gamma_multiply(0.35)).strong();
+                    }
+                    let mut r = ui.label(line);
+                    if let Some(e) = &s.error {
+                        r = r.on_hover_text(format!("Not read: {e}"));
+                    }
                     if here && scroll {
                         r.scroll_to_me(Some(egui::Align::Center));
                     }

@@ -13,6 +13,7 @@ mod embedded;
 mod lines;
 mod long_run;
 mod positions;
+mod programs;
 mod rmc;
 mod rmc_abuse;
 mod signals;

@@ -17,8 +17,9 @@ const LONG: Duration = Duration::from_secs(10);
 /// How long the real binary may take to start on a loaded machine.
 const PROCESS: Duration = Duration::from_secs(20);
 
-/// `xsel-sim --tcp` with its console on a pipe, and a host on its line.
-struct Sim {
+/// `xsel-sim --tcp` with its console on a pipe, and a host on its line (the programs
+/// tests use it too).
+pub(crate) struct Sim {
     child: Child,
     console: ChildStdin,
     out: Receiver<String>,
@@ -31,7 +32,7 @@ impl Sim {
     }
 
     /// With these command-line flags.
-    fn with(flags: &[&str]) -> Sim {
+    pub(crate) fn with(flags: &[&str]) -> Sim {
         let mut child = Command::new(env!("CARGO_BIN_EXE_xsel-sim"))
             .args(["--tcp", "127.0.0.1:0", "--quiet"])
             .args(flags)
@@ -71,7 +72,7 @@ impl Sim {
     }
 
     /// Types `line` on the console and waits for its answer (a line holding `want`).
-    fn type_line(&mut self, line: &str, want: &str) {
+    pub(crate) fn type_line(&mut self, line: &str, want: &str) {
         writeln!(self.console, "{line}").expect("console");
         let deadline = Instant::now() + PROCESS;
         loop {
@@ -85,7 +86,7 @@ impl Sim {
     }
 
     /// Sends `text` and CR LF as they are (its SC included); the reply without CR LF.
-    fn exact(&mut self, text: &str) -> String {
+    pub(crate) fn exact(&mut self, text: &str) -> String {
         self.stream
             .write_all(format!("{text}\r\n").as_bytes())
             .unwrap();
@@ -93,7 +94,7 @@ impl Sim {
     }
 
     /// Sends `body` with its SC computed; the reply without CR LF, its SC checked.
-    fn ask(&mut self, body: &str) -> String {
+    pub(crate) fn ask(&mut self, body: &str) -> String {
         self.stream.write_all(&frame(body)).unwrap();
         let r = self.reply(body);
         let (payload, got) = r.split_at(r.len() - 2);
@@ -115,7 +116,7 @@ impl Sim {
     }
 
     /// 215H status byte 2 (PROTOCOL.md 3.4: characters 16-17).
-    fn status_byte_2(&mut self) -> u8 {
+    pub(crate) fn status_byte_2(&mut self) -> u8 {
         let r = self.ask("!99215");
         u8::from_str_radix(&r[15..17], 16).unwrap()
     }
@@ -129,13 +130,13 @@ impl Drop for Sim {
 }
 
 /// `&` with `code`, its SC.
-fn err(code: &str) -> String {
+pub(crate) fn err(code: &str) -> String {
     let body = format!("&99{code}");
     format!("{body}{}", sc(&body))
 }
 
 /// `body` and its SC.
-fn with_sc(body: &str) -> String {
+pub(crate) fn with_sc(body: &str) -> String {
     format!("{body}{}", sc(body))
 }
 

@@ -20,6 +20,9 @@ use crate::protocol::messages::signals::PROGRAMS;
 /// 2, five cycles.
 pub const DEMO: &str = include_str!("../../../../assets/programs/demo.sel");
 
+/// The largest program file read (the simulator's `--programs`, the pendant's listing).
+pub const MAX_FILE_BYTES: u64 = 4 * 1024 * 1024;
+
 /// The most steps one program may have. IAI's X-SEL holds 9999 steps in all
 /// `[inferred: recalled from the controller's specifications, not read on a page here]`.
 pub const MAX_STEPS: usize = 9999;
@@ -46,6 +49,36 @@ impl Parsed {
     /// The programs with no error: what the simulator loads.
     pub fn runnable(&self) -> impl Iterator<Item = &Program> {
         self.programs.iter().filter(|p| p.errors == 0)
+    }
+
+    /// What was read, in a few lines: the programs loaded, those not loaded and why, then
+    /// every error listed (one a line).
+    pub fn report(&self) -> Vec<String> {
+        let name = |p: &Program| {
+            if p.name.is_empty() {
+                format!("{}", p.number)
+            } else {
+                format!("{} ({})", p.number, p.name)
+            }
+        };
+        let loaded: Vec<String> = self.runnable().map(name).collect();
+        let mut lines = vec![if loaded.is_empty() {
+            "no program loaded".to_owned()
+        } else {
+            format!("program(s) loaded: {}", loaded.join(", "))
+        }];
+        for p in self.programs.iter().filter(|p| p.errors > 0) {
+            lines.push(format!(
+                "program {} not loaded: {} line(s) with errors",
+                name(p),
+                p.errors
+            ));
+        }
+        lines.extend(self.errors.iter().map(|e| e.to_string()));
+        if self.unlisted > 0 {
+            lines.push(format!("{} more error(s) not listed", self.unlisted));
+        }
+        lines
     }
 }
 

@@ -582,6 +582,12 @@ pub fn status(c: &Controller) -> String {
         "\njoints J1 {:.3} deg, J2 {:.3} deg, Z {:.3} mm, R {:.3} deg",
         j.j1, j.j2, j.z, j.j4
     );
+    let programs = c.programs();
+    for n in programs.numbers() {
+        if let Some(line) = programs.describe(n) {
+            let _ = write!(out, "\n{line}");
+        }
+    }
     out
 }
 

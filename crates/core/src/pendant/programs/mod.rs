@@ -15,7 +15,7 @@ use crate::protocol::{
     ALL_PROGRAMS, Command, ErrorCode, PROGRAMS, ProgramAction, ProgramCall, ProgramStatus,
     ProgramStatusQuery, Reply,
 };
-pub use listing::{ListedProgram, Listing, MAX_FILE_BYTES};
+pub use listing::{ListedProgram, ListedStep, Listing, MAX_FILE_BYTES};
 
 /// A round of status reads starts at most this often: the status cycle's pace.
 pub const MIN_ROUND: Duration = Duration::from_millis(100);

@@ -168,6 +168,24 @@ impl Programs {
         Some((t.state, t.step(), t.error))
     }
 
+    /// Program `n` in words: "program 1 (pick and place): running at step 6".
+    pub fn describe(&self, n: u8) -> Option<String> {
+        let p = self.program(n)?;
+        let (state, step, (code, at)) = self.state(n)?;
+        let name = if p.name.is_empty() {
+            format!("program {n}")
+        } else {
+            format!("program {n} ({})", p.name)
+        };
+        let state = match state {
+            TaskState::Running => format!("running at step {step}"),
+            TaskState::Paused => format!("paused before step {step}"),
+            TaskState::NotStarted if code != 0 => format!("ended by error {code:03X} at step {at}"),
+            TaskState::NotStarted => "not started".to_owned(),
+        };
+        Some(format!("{name}: {state}"))
+    }
+
     /// The row at step index `pc` of program slot `i`, if there is one.
     pub(crate) fn row(&self, i: usize, pc: usize) -> Option<Option<Row>> {
         let steps = &self.loaded.get(i)?.as_ref()?.steps;
