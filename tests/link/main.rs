@@ -11,6 +11,7 @@ mod backlog;
 mod faults;
 mod guardian;
 mod probe;
+mod programs;
 mod rmc_guardian;
 mod rmc_hold;
 mod shutdown;
