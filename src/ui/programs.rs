@@ -118,8 +118,23 @@ impl ProgramsPanel {
             .map(|(level, text)| (level_color(*level), text.as_str()));
         reserved_line(ui, feedback, feedback.map(|(_, t)| t));
         self.poll_job(now, out);
-        self.file
-            .row(ui, folder, now, &FILE_BUTTONS, |ask| start_job(ask, now));
+        ui.horizontal(|ui| {
+            if ui
+                .button("Demo listing")
+                .on_hover_text(
+                    "Show the built-in simulator's demo (program 1, a pick and place between \
+                     positions 1 and 2: assets/programs/demo.sel)",
+                )
+                .clicked()
+            {
+                out.push(Intent::Programs(ProgramsIntent::Listing {
+                    path: Listing::DEMO.to_owned(),
+                    read: Ok(Listing::demo()),
+                }));
+            }
+            self.file
+                .row(ui, folder, now, &FILE_BUTTONS, |ask| start_job(ask, now));
+        });
         ui.separator();
         let listed = programs
             .listing

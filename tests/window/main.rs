@@ -19,6 +19,7 @@ mod frame_log_snapshot;
 mod main_window;
 mod plots;
 mod positions;
+mod programs;
 mod sessions;
 mod signals;
 mod simulator;

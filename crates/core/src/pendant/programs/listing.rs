@@ -35,6 +35,14 @@ pub struct Listing {
 }
 
 impl Listing {
+    /// The name the demo listing goes by where a file's path would be.
+    pub const DEMO: &str = "the built-in simulator's demo";
+
+    /// The built-in simulator's demo program ([`sel::DEMO`]).
+    pub fn demo() -> Listing {
+        Listing::from_parsed(Listing::DEMO, &sel::parse(sel::DEMO))
+    }
+
     /// Reads a listing file's bytes (UTF-8 text in the simulator's format).
     pub fn from_bytes(path: &str, bytes: &[u8]) -> Result<Listing, String> {
         let text = std::str::from_utf8(bytes)
