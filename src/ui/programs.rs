@@ -26,6 +26,9 @@ const SPEED_NOTE: &str = "A program moves the arm at its own speeds (VEL, ACC, D
     pendant's reduced jog speed does not apply. STOP or Esc ends every program and stops \
     the arm.";
 
+/// Below this width the listing goes above the table instead of beside it.
+const SIDE_BY_SIDE: f32 = 760.0;
+
 /// What the file field is for: opening a listing.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum ListingFile {
@@ -141,11 +144,19 @@ impl ProgramsPanel {
             .as_ref()
             .and_then(|l| l.program(self.program))
             .is_some();
-        if listed {
+        if listed && ui.available_width() >= SIDE_BY_SIDE {
             ui.columns(2, |cols| {
                 self.table(&mut cols[0], programs, now, &mut ask);
                 self.listing(&mut cols[1], programs);
             });
+        } else if listed {
+            // A narrow pane: the listing above, the table below it.
+            let height = (ui.available_height() * 0.45).max(120.0);
+            ui.allocate_ui(egui::vec2(ui.available_width(), height), |ui| {
+                self.listing(ui, programs);
+            });
+            ui.separator();
+            self.table(ui, programs, now, &mut ask);
         } else {
             self.table(ui, programs, now, &mut ask);
         }
@@ -325,7 +336,9 @@ impl ProgramsPanel {
                     if here {
                         line = line.background_color(AMBER.gamma_multiply(0.35)).strong();
                     }
-                    let mut r = ui.label(line);
+                    // Long lines end in "…" (the whole line on hover): the step numbers
+                    // stay in sight.
+                    let mut r = ui.add(egui::Label::new(line).truncate());
                     if let Some(e) = &s.error {
                         r = r.on_hover_text(format!("Not read: {e}"));
                     }

@@ -895,7 +895,7 @@ impl Pendant {
                 "the STOP latch holds ({}): release the jog controls first",
                 cause.name()
             ))
-        } else if self.jog.hold.jog().is_some() || self.jog.followed.is_some() {
+        } else if self.jog.hold.jog().is_some() || self.own_move_runs(now) {
             Some("a jog or move of this window runs: let it end or STOP first".to_owned())
         } else {
             None
@@ -905,6 +905,21 @@ impl Pendant {
             motion: self.motion_ready(now).map_err(|why| why.to_string()),
             jogging,
         }
+    }
+
+    /// Whether a move this window sent is on its way or running: sent and not answered
+    /// yet, or its profile not ended (a move that ended stays followed for the arm view).
+    fn own_move_runs(&self, now: Instant) -> bool {
+        let pending = self
+            .jog
+            .followed
+            .as_ref()
+            .is_some_and(|f| f.accepted.is_none() && f.stopped.is_none());
+        pending
+            || matches!(
+                self.motion_phase(now),
+                MotionPhase::Accelerating | MotionPhase::Constant | MotionPhase::Decelerating
+            )
     }
 
     /// Moves the programs' commands to the requests: status reads in the line time the

@@ -310,3 +310,84 @@ fn a_lost_line_says_what_becomes_of_a_program_started_here() {
     assert!(text.contains("pauses every program"), "{text}");
     assert_eq!(p.row(1).state(), ProgramState::Unknown);
 }
+
+#[test]
+fn through_the_pendant_a_jog_that_ended_lets_the_demo_run_pause_step_and_end() {
+    use crate::pendant::sim_bench::{Bench, Fault};
+    use crate::sim::programs::TaskState;
+    let mut b = Bench::new(crate::sim::SimSetup::default());
+    let sim_state = |b: &Bench| b.sim.programs().state(1).map(|(s, step, _)| (s, step));
+    // A jog step runs to its end first: then Run is no longer refused for it.
+    let now = b.now();
+    b.p.jog_step(
+        crate::pendant::JogAxis::X,
+        crate::protocol::Direction::Negative,
+        now,
+    );
+    b.pump(|_| Fault::Pass);
+    // The view open: program 1's status read.
+    b.apply(ProgramsIntent::Watch(true));
+    let now = b.now();
+    b.p.tick(now);
+    b.pump(|_| Fault::Pass);
+    assert!(b.p.programs.row(1).status.is_some());
+    b.apply(ProgramsIntent::Ask(ProgramAction::Run, 1));
+    assert!(
+        b.p.programs.proposal.is_none(),
+        "refused while the step moves"
+    );
+    let said = &b.p.programs.feedback.as_ref().unwrap().1;
+    assert!(said.contains("a jog or move of this window runs"), "{said}");
+    b.settle();
+    b.apply(ProgramsIntent::Ask(ProgramAction::Run, 1));
+    assert!(
+        b.p.programs.proposal.is_some(),
+        "{:?}",
+        b.p.programs.feedback
+    );
+    b.apply(ProgramsIntent::Confirm);
+    b.pump(|_| Fault::Pass);
+    assert_eq!(sim_state(&b).map(|s| s.0), Some(TaskState::Running));
+    // A status round: the view reads the program running.
+    b.t += MIN_ROUND;
+    let now = b.now();
+    b.p.tick(now);
+    b.pump(|_| Fault::Pass);
+    assert_eq!(b.p.programs.row(1).state(), ProgramState::Running);
+    b.apply(ProgramsIntent::Ask(ProgramAction::Pause, 1));
+    b.pump(|_| Fault::Pass);
+    assert!(
+        b.sent
+            .last()
+            .is_some_and(|c| *c == call(ProgramAction::Pause, 1)),
+        "{:?}",
+        b.p.programs.feedback
+    );
+    for _ in 0..400 {
+        b.t += Duration::from_millis(20);
+        b.sim.advance(b.t);
+        if sim_state(&b).is_some_and(|s| s.0 == TaskState::Paused) {
+            break;
+        }
+    }
+    let (state, at) = sim_state(&b).unwrap();
+    assert_eq!(state, TaskState::Paused);
+    // One step asks once, then runs exactly one step.
+    b.apply(ProgramsIntent::Ask(ProgramAction::Step, 1));
+    b.apply(ProgramsIntent::Confirm);
+    b.pump(|_| Fault::Pass);
+    for _ in 0..400 {
+        b.t += Duration::from_millis(20);
+        b.sim.advance(b.t);
+        if sim_state(&b).is_some_and(|s| s.0 == TaskState::Paused && s.1 != at) {
+            break;
+        }
+    }
+    let (state, next) = sim_state(&b).unwrap();
+    assert_eq!(state, TaskState::Paused);
+    assert!(next == at + 1 || (at == 14 && next == 5), "{at} -> {next}");
+    // STOP: the pendant's own STOP request; the program is ended by End all.
+    b.apply(ProgramsIntent::EndAll);
+    b.pump(|_| Fault::Pass);
+    assert_eq!(sim_state(&b).map(|s| s.0), Some(TaskState::NotStarted));
+}
