@@ -45,6 +45,8 @@ pub enum Intent {
     Programs(super::programs::ProgramsIntent),
     /// The Alarms view.
     Alarms(super::alarms::AlarmsIntent),
+    /// Controller snapshots (in the Alarms view).
+    Snapshot(super::snapshot::SnapshotIntent),
     /// The teach list after an edit (reorder, delete, rename), as a whole.
     TeachList(super::teach::TeachList),
     /// A teach file read (its points, or why not): waits for "Replace".
@@ -118,6 +120,7 @@ impl Pendant {
             Intent::Signals(s) => self.apply_signals(s, now),
             Intent::Programs(p) => self.apply_programs(p, now),
             Intent::Alarms(a) => self.apply_alarms(a, now),
+            Intent::Snapshot(s) => self.apply_snapshot(s, now),
             Intent::TeachLoaded { path, read } => self.teach_loaded(&path, read, now),
             Intent::TeachConfirmLoad => self.teach_confirm_load(now),
             Intent::TeachCancelLoad => self.teach_cancel_load(),

@@ -16,6 +16,7 @@ pub mod programs;
 pub mod samples;
 pub mod script;
 pub mod signals;
+pub mod snapshot;
 pub mod teach;
 
 use std::collections::VecDeque;
@@ -191,6 +192,8 @@ pub struct Pendant {
     pub programs: programs::Programs,
     /// The controller's alarm history and the alarms seen arriving.
     pub alarms: alarms::Alarms,
+    /// Controller snapshots: the one being taken, the latest two, a comparison.
+    pub snapshots: snapshot::Snapshots,
 }
 
 impl Pendant {
@@ -215,6 +218,7 @@ impl Pendant {
             signals: signals::Signals::default(),
             programs: programs::Programs::default(),
             alarms: alarms::Alarms::default(),
+            snapshots: snapshot::Snapshots::default(),
             coords: coords::CoordEditor::new(model.work_table_size, model.tool_table_size),
             kin: Scara::new(&model),
             model,
@@ -375,6 +379,9 @@ impl Pendant {
             self.say(Level::Warning, text, _now);
         }
         self.alarms.line_gone();
+        if let Some((level, text)) = self.snapshots.line_gone() {
+            self.say(level, text, _now);
+        }
         if self.jog.hold.stop(StopCause::LineLost).is_some() {
             self.say(Level::Error, "the line went down during a jog", _now);
         }
@@ -388,6 +395,12 @@ impl Pendant {
     pub fn handle_event(&mut self, now: Instant, event: LinkEvent) {
         self.log_traffic(&event);
         self.link_stop(now, &event);
+        if event_command(&event).is_some_and(|c| self.snapshots.owns(c)) {
+            if let Some((level, text)) = self.snapshots.handle_event(&event) {
+                self.say(level, text, now);
+            }
+            return self.snapshot_out();
+        }
         if event_command(&event).is_some_and(positions::Positions::owns) {
             for (level, text) in self.positions.handle_event(&event) {
                 self.say(level, text, now);
@@ -818,6 +831,7 @@ impl Pendant {
         self.signals_out();
         self.programs.tick(now, self.line.is_up());
         self.programs_out();
+        self.snapshot_work(now);
         self.samples.signal_samples(self.signals.take_samples());
         if self.jog.hold.jog().is_none() {
             return;
@@ -877,6 +891,107 @@ impl Pendant {
         for command in self.alarms.take_commands() {
             self.requests.push(Request::Spare(command));
         }
+    }
+
+    /// Applies one snapshot intent: the sub-model decides; its words go to Messages.
+    pub fn apply_snapshot(&mut self, intent: snapshot::SnapshotIntent, now: Instant) {
+        let line = match &self.line {
+            LineState::Up { line, .. } => Some(line.as_str()),
+            _ => None,
+        };
+        let said = self
+            .snapshots
+            .apply(intent, line, std::time::SystemTime::now());
+        if let Some((level, text)) = said {
+            self.say(level, text, now);
+        }
+        self.snapshot_out();
+    }
+
+    /// Moves the snapshot's own reads to the requests, in the line time the polls leave.
+    fn snapshot_out(&mut self) {
+        for command in self.snapshots.take_commands() {
+            self.requests.push(Request::Spare(command));
+        }
+    }
+
+    /// The parts of a snapshot other sub-models read: the position table (its view's
+    /// read of every number), the alarm history, and the coordinate tables read at
+    /// connect. Handed over once, taken in when they end.
+    fn snapshot_work(&mut self, now: Instant) {
+        use snapshot::{Part, Snapshots};
+        let handed = self.snapshots.handed();
+        let said = match self.snapshots.part() {
+            Some(Part::Positions) if !handed => {
+                match self.positions.start_read(1..=self.positions.capacity()) {
+                    Ok(()) => {
+                        self.snapshots.handed_over();
+                        self.positions_out();
+                        None
+                    }
+                    Err(why) => self.snapshots.part_read(|s| {
+                        s.missing.push(format!("position table: {why}"));
+                    }),
+                }
+            }
+            Some(Part::Positions) if self.positions.read.is_none() => {
+                let mut held = Vec::new();
+                let mut unknown = 0;
+                for n in 1..=self.positions.capacity() {
+                    match self.positions.row(n) {
+                        positions::Row::Held(r) => held.push(*r),
+                        positions::Row::Empty => {}
+                        _ => unknown += 1,
+                    }
+                }
+                self.snapshots.part_read(|s| {
+                    Snapshots::positions_read(&held)(s);
+                    if unknown > 0 {
+                        s.missing
+                            .push(format!("position table: {unknown} number(s) not read"));
+                    }
+                })
+            }
+            Some(Part::Alarms) if !handed => {
+                let said = self
+                    .alarms
+                    .apply(alarms::AlarmsIntent::Read, self.line.is_up());
+                self.snapshots.handed_over();
+                self.alarms_out();
+                said
+            }
+            Some(Part::Alarms) if self.alarms.reading().is_none() => {
+                let records: Vec<snapshot::AlarmEntry> = self
+                    .alarms
+                    .records()
+                    .iter()
+                    .filter_map(|r| r.detail.as_ref().ok().map(|d| (r.record, d).into()))
+                    .collect();
+                let failed = self.alarms.records().len() - records.len();
+                self.snapshots.part_read(|s| {
+                    s.alarms = records;
+                    if failed > 0 {
+                        s.missing
+                            .push(format!("alarm history: {failed} record(s) not read"));
+                    }
+                })
+            }
+            Some(Part::Tables) => {
+                let table =
+                    |t: &Option<controller::ReadTable>| t.as_ref().map(|t| t.records.clone());
+                let (work, tool) = (
+                    table(&self.controller.work_table),
+                    table(&self.controller.tool_table),
+                );
+                self.snapshots
+                    .part_read(Snapshots::tables(work.as_deref(), tool.as_deref()))
+            }
+            _ => None,
+        };
+        if let Some((level, text)) = said {
+            self.say(level, text, now);
+        }
+        self.snapshot_out();
     }
 
     /// Applies one Programs intent: the sub-model decides; its words go to Messages.
