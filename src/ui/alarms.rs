@@ -1,6 +1,7 @@
-//! The Alarms view: the controller's alarm history as read (216H types 3 and 5) with the
-//! pendant's words for each code, exported as CSV, and the alarms seen arriving, each with
-//! the frames just before and after it.
+//! The Alarms view: controller snapshots (taken, saved, compared) above the controller's
+//! alarm history as read (216H types 3 and 5) with the pendant's words for each code,
+//! exported as CSV, and the alarms seen arriving, each with the frames just before and
+//! after it.
 
 use std::path::Path;
 use std::time::Instant;
@@ -10,6 +11,7 @@ use egui_extras::{Column as Col, TableBuilder};
 
 use super::file_field::{Browse, FieldSpec, FileAsk, Purpose};
 use super::file_work::{Done, FileButton, FileWork, write_job};
+use super::snapshots::SnapshotsSection;
 use super::widgets::{GREY, RED, level_color, reserved_line};
 use crate::files::job::Job;
 use crate::pendant::alarms::{Alarms, AlarmsIntent, ListKind, LiveAlarm, to_csv};
@@ -46,9 +48,10 @@ static FILE_BUTTONS: [FileButton<AlarmsFile>; 1] = [(
     AlarmsFile::Export,
 )];
 
-/// The view's own state: the live alarm opened and the export file.
+/// The view's own state: the live alarm opened, the export file, the snapshots.
 pub struct AlarmsPanel {
     file: FileWork<AlarmsFile, Done<()>>,
+    snapshots: SnapshotsSection,
     /// The live alarm whose frames are shown (its frame log row).
     opened: Option<u64>,
 }
@@ -57,6 +60,7 @@ impl Default for AlarmsPanel {
     fn default() -> Self {
         Self {
             file: FileWork::new(&FILE_FIELD),
+            snapshots: SnapshotsSection::default(),
             opened: None,
         }
     }
@@ -84,6 +88,8 @@ impl AlarmsPanel {
         now: Instant,
         out: &mut Vec<Intent>,
     ) {
+        self.snapshots.show(ui, pendant, folder, now, out);
+        ui.separator();
         let alarms = &pendant.alarms;
         let mut ask = Vec::new();
         ui.horizontal_wrapped(|ui| {

@@ -30,6 +30,7 @@ mod run;
 mod safety_band;
 pub mod signals;
 mod simulator;
+mod snapshots;
 mod status;
 mod teach;
 mod top_bar;

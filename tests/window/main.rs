@@ -7,6 +7,7 @@ mod kittest_common;
 #[path = "../wire/mod.rs"]
 mod wire;
 
+mod alarms;
 mod axes;
 mod coords;
 mod frame_log;

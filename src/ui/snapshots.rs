@@ -1,0 +1,198 @@
+//! The snapshots section of the Alarms view: take one (progress, Cancel), compare the
+//! last two or a file with the latest, save the latest; the differences table by table.
+
+use std::path::Path;
+use std::time::Instant;
+
+use egui::{RichText, Ui};
+use egui_extras::{Column as Col, TableBuilder};
+
+use super::file_field::{Browse, FieldSpec, FileAsk, Purpose};
+use super::file_work::{Done, FileButton, FileWork, read_job, write_job};
+use super::widgets::{AMBER, GREY, level_color, reserved_line};
+use crate::files::job::Job;
+use crate::pendant::snapshot::{MAX_FILE_BYTES, Snapshot, SnapshotIntent, Snapshots};
+use crate::pendant::{Intent, Pendant};
+
+const ROW_HEIGHT: f32 = 20.0;
+
+/// What the file field is for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum SnapshotFile {
+    Save,
+    Open,
+}
+
+static FILE_FIELD: FieldSpec<SnapshotFile> = FieldSpec {
+    label: "Snapshot file",
+    hint: "snapshot.json",
+    width: 170.0,
+    browse: &[
+        Browse {
+            label: "Save the latest snapshot as...",
+            action: SnapshotFile::Save,
+            purpose: Purpose::Save,
+        },
+        Browse {
+            label: "Open a snapshot to compare...",
+            action: SnapshotFile::Open,
+            purpose: Purpose::Open,
+        },
+    ],
+    filters: &[("Controller snapshot", &["json"])],
+};
+
+static FILE_BUTTONS: [FileButton<SnapshotFile>; 2] = [
+    (
+        "Save latest",
+        Some("Write the latest snapshot to the file (JSON)"),
+        SnapshotFile::Save,
+    ),
+    (
+        "Open and compare",
+        Some("Read a snapshot file and compare it with the latest snapshot"),
+        SnapshotFile::Open,
+    ),
+];
+
+/// The section's own state: its file field.
+pub struct SnapshotsSection {
+    file: FileWork<SnapshotFile, Done<Box<Snapshot>>>,
+}
+
+impl Default for SnapshotsSection {
+    fn default() -> Self {
+        Self {
+            file: FileWork::new(&FILE_FIELD),
+        }
+    }
+}
+
+fn start_job(
+    mut ask: FileAsk<SnapshotFile>,
+    snapshots: &Snapshots,
+    now: Instant,
+) -> Result<Job<Done<Box<Snapshot>>>, String> {
+    if ask.path.extension().is_none() {
+        ask.path.set_extension("json");
+    }
+    match ask.action {
+        SnapshotFile::Open => read_job(ask.path, MAX_FILE_BYTES, now, |_, bytes| {
+            Snapshot::from_json(bytes).map(Box::new)
+        }),
+        SnapshotFile::Save => {
+            let latest = snapshots
+                .latest
+                .clone()
+                .ok_or("no snapshot taken yet: Take snapshot first")?;
+            write_job("writing", ask, 1, now, move || {
+                String::from_utf8_lossy(&latest.to_json()).into_owned()
+            })
+        }
+    }
+}
+
+impl SnapshotsSection {
+    /// Draws the section; what is asked for goes to `out`.
+    pub fn show(
+        &mut self,
+        ui: &mut Ui,
+        pendant: &Pendant,
+        folder: &Path,
+        now: Instant,
+        out: &mut Vec<Intent>,
+    ) {
+        let snapshots = &pendant.snapshots;
+        let mut ask = Vec::new();
+        ui.horizontal_wrapped(|ui| {
+            ui.label(RichText::new("Snapshots").strong());
+            let taking = snapshots.part();
+            if ui
+                .add_enabled(taking.is_none(), egui::Button::new("Take snapshot"))
+                .on_hover_text(
+                    "Read versions, the position table, the coordinate tables, global flags \
+                     and variables and the alarm history into one snapshot",
+                )
+                .clicked()
+            {
+                ask.push(SnapshotIntent::Take);
+            }
+            if let (Some(part), Some((done, all))) = (taking, snapshots.progress()) {
+                ui.spinner();
+                ui.label(format!("{} ({}/{all})", part.name(), done + 1));
+                if ui.button("Cancel").clicked() {
+                    ask.push(SnapshotIntent::Cancel);
+                }
+            }
+            if ui
+                .add_enabled(
+                    snapshots.previous.is_some() && snapshots.latest.is_some(),
+                    egui::Button::new("Compare the last two"),
+                )
+                .clicked()
+            {
+                ask.push(SnapshotIntent::CompareLast);
+            }
+        });
+        let feedback = snapshots
+            .feedback
+            .as_ref()
+            .map(|(level, text)| (level_color(*level), text.as_str()));
+        reserved_line(ui, feedback, feedback.map(|(_, t)| t));
+        self.poll_job(now, out);
+        self.file.row(ui, folder, now, &FILE_BUTTONS, |ask| {
+            start_job(ask, snapshots, now)
+        });
+        if let Some(latest) = &snapshots.latest {
+            ui.label(RichText::new(format!("Latest: {}", latest.summary())).color(GREY));
+        }
+        if let Some(c) = &snapshots.comparison {
+            if let Some(w) = &c.warning {
+                ui.colored_label(AMBER, w);
+            }
+            ui.label(c.summary());
+            if !c.differences.is_empty() {
+                ui.push_id("snapshot-differences", |ui| {
+                    TableBuilder::new(ui)
+                        .striped(true)
+                        .max_scroll_height(200.0)
+                        .column(Col::initial(120.0).at_least(80.0))
+                        .column(Col::initial(90.0).at_least(60.0))
+                        .column(Col::initial(200.0).at_least(80.0).clip(true))
+                        .column(Col::remainder().at_least(80.0).clip(true))
+                        .header(ROW_HEIGHT, |mut h| {
+                            for title in ["Table", "Row", "Was", "Now"] {
+                                h.col(|ui| {
+                                    ui.strong(title);
+                                });
+                            }
+                        })
+                        .body(|body| {
+                            body.rows(ROW_HEIGHT, c.differences.len(), |mut row| {
+                                let d = &c.differences[row.index()];
+                                for text in [d.table, &d.row, &d.old, &d.new] {
+                                    row.col(|ui| {
+                                        ui.label(text).on_hover_text(text);
+                                    });
+                                }
+                            });
+                        });
+                });
+            }
+        }
+        out.extend(ask.into_iter().map(Intent::Snapshot));
+    }
+
+    /// A finished file job: an opened snapshot goes to the model; a write's words stay
+    /// beside the field.
+    fn poll_job(&mut self, now: Instant, out: &mut Vec<Intent>) {
+        let words = |_| "snapshot saved".to_owned();
+        let Some((path, read)) = self.file.poll(now, out, words, |_| SnapshotFile::Save) else {
+            return;
+        };
+        out.push(Intent::Snapshot(SnapshotIntent::Opened {
+            path: path.display().to_string(),
+            read,
+        }));
+    }
+}
