@@ -11,7 +11,7 @@ use super::file_field::{Browse, FieldSpec, FileAsk, Purpose};
 use super::file_work::{Done, FileButton, FileWork, read_job, write_job};
 use super::widgets::{AMBER, GREY, level_color, reserved_line};
 use crate::files::job::Job;
-use crate::pendant::snapshot::{MAX_FILE_BYTES, Snapshot, SnapshotIntent, Snapshots};
+use crate::pendant::snapshot::{MAX_FILE_BYTES, Part, Snapshot, SnapshotIntent, Snapshots};
 use crate::pendant::{Intent, Pendant};
 
 const ROW_HEIGHT: f32 = 20.0;
@@ -120,6 +120,10 @@ impl SnapshotsSection {
             if let (Some(part), Some((done, all))) = (taking, snapshots.progress()) {
                 ui.spinner();
                 ui.label(format!("{} ({}/{all})", part.name(), done + 1));
+                // The position table's own read: how far it is.
+                if let (Part::Positions, Some(job)) = (part, pendant.positions.read.as_ref()) {
+                    ui.label(format!("{} of {} numbers", job.done, job.total()));
+                }
                 if ui.button("Cancel").clicked() {
                     ask.push(SnapshotIntent::Cancel);
                 }
