@@ -597,7 +597,7 @@ impl PendantApp {
         let filter = std::sync::Mutex::new(WakeFilter::new(
             self.live_log_shown.clone(),
             self.unread.clone(),
-            crate::link::EVENT_BACKLOG,
+            crate::session::EVENT_BACKLOG,
         ));
         let wakes = self.link_wakes.clone();
         let repaint = std::sync::Arc::new(move |event: &crate::pendant::LinkEvent| {

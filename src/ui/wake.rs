@@ -9,7 +9,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Duration;
 
-use crate::link::PollAnswers;
+use crate::session::PollAnswers;
 use crate::pendant::{LinkEvent, Origin};
 
 /// The longest a change waits to be drawn (polls arrive at about 10 Hz; one frame for a
