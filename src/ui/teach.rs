@@ -306,7 +306,7 @@ impl TeachPanel {
             });
         }
         // The panel's own word (a save) or the pendant's (a load): one reserved line.
-        let said = match (&self.file.message, &pendant.teach_feedback) {
+        let said = match (&self.file.message, pendant.teach.feedback()) {
             (Some((ok, text)), _) => Some((*ok, text.as_str())),
             (None, Some((level, text))) => Some((*level == Level::Info, text.as_str())),
             (None, None) => None,

@@ -35,6 +35,7 @@ pub use controller::ControllerState;
 pub use controller::readiness::NotReady;
 use controller::{readiness, transitions};
 pub use intent::Intent;
+use intent::UI_SCALES;
 pub use jog::hold::{HeldJog, JogInput, JogTarget, Press, StopCause};
 pub use jog::{Interpolation, JogAxis, JogMode, JogSettings, PhysicalJog, PlannedStep, Refusal};
 
@@ -177,8 +178,6 @@ pub struct Pendant {
     pub coords: coords::CoordEditor,
     /// The teach list, a load waiting for "Replace", and what Undo load brings back.
     pub teach: teach::book::TeachBook,
-    /// The teach pane's last word on a file (loaded, refused, undone).
-    pub teach_feedback: Option<(Level, String)>,
     /// The RMC151's axes.
     pub axes: axes::RmcAxes,
     /// The controller's position table: as read, the draft, the write going on.
@@ -210,7 +209,6 @@ impl Pendant {
                 p
             },
             teach,
-            teach_feedback: None,
             positions: positions::Positions::new(),
             signals: signals::Signals::default(),
             programs: programs::Programs::default(),
@@ -313,6 +311,13 @@ impl Pendant {
         });
     }
 
+    /// A sub-model's words for the operator, in order.
+    fn tell(&mut self, said: impl IntoIterator<Item = (Level, String)>, now: Instant) {
+        for (level, text) in said {
+            self.say(level, text, now);
+        }
+    }
+
     /// A word for the operator from outside the model (the window's own actions).
     pub fn note(&mut self, text: impl Into<String>, now: Instant) {
         self.say(Level::Info, text, now);
@@ -386,7 +391,7 @@ impl Pendant {
 
     /// Applies one event from the link.
     pub fn handle_event(&mut self, now: Instant, event: LinkEvent) {
-        self.log_traffic(&event);
+        self.frame_log.record_event(&event);
         self.link_stop(now, &event);
         if event_command(&event).is_some_and(positions::Positions::owns) {
             for (level, text) in self.positions.handle_event(&event) {
@@ -845,6 +850,114 @@ impl Pendant {
 }
 
 impl Pendant {
+    /// Sends a frame typed as its body: station, message ID and data, e.g. `99215`
+    /// (no header, SC or CR LF: the link adds them, with the checksum or `@@` as the
+    /// connection settings say). Returns what was sent, or why not.
+    pub fn send_raw(&mut self, body: &str, now: Instant) -> Result<Command, String> {
+        let cx = frame_log::raw_send::RawCx {
+            station: crate::protocol::Station(self.settings.connection.station),
+            line_up: self.line.is_up(),
+            motion: self.motion_ready(now),
+        };
+        let (result, (level, text)) = frame_log::raw_send::raw_command(body, &cx);
+        if let Ok(command) = &result {
+            self.requests.push(Request::Submit(command.clone()));
+        }
+        self.say(level, text, now);
+        result
+    }
+
+    // ---- intents ----
+
+    /// Applies one intent.
+    pub fn apply(&mut self, intent: Intent, now: Instant) {
+        match intent {
+            Intent::Jog(input, press) => self.jog_input(input, press, now),
+            Intent::FocusLost => self.focus_lost(now),
+            Intent::Stop(cause) => self.stop_by(cause, now),
+            Intent::JogSettings(settings) => self.set_jog_settings(settings),
+            Intent::Servo(on) => self.servo(on, now),
+            Intent::Home => self.home(now),
+            Intent::ResetAlarm => self.reset_alarm(now),
+            Intent::GoToTarget => self.go_to_target(now),
+            Intent::EditTarget(pose) => self.edit_step_target(pose),
+            Intent::ClearTarget => self.clear_step_target(),
+            Intent::TeachGo(index) => self.teach_go(index, now),
+            Intent::TeachRecord(name) => self.teach_record(&name, now),
+            Intent::TeachList(list) => self.teach.set(list),
+            Intent::Positions(p) => self.apply_positions(p, now),
+            Intent::Signals(s) => self.apply_signals(s, now),
+            Intent::Programs(p) => self.apply_programs(p, now),
+            Intent::Alarms(a) => self.apply_alarms(a, now),
+            Intent::TeachLoaded { path, read } => {
+                let said = self.teach.loaded(&path, read);
+                self.tell(said, now);
+            }
+            Intent::TeachConfirmLoad => {
+                let said = self.teach.confirm_load();
+                self.tell(said, now);
+            }
+            Intent::TeachCancelLoad => self.teach.cancel_load(),
+            Intent::TeachUndoLoad => {
+                let said = self.teach.undo_load();
+                self.tell(said, now);
+            }
+            Intent::SetTarget(pose) => self.set_step_target(pose, now),
+            Intent::ConnectionSettings(c) => self.settings.connection = c,
+            Intent::Connect => self.connect(now),
+            Intent::Disconnect => self.disconnect(now),
+            Intent::RaiseSpeedCap(mm_s) => self.raise_speed_cap(mm_s, now),
+            Intent::ResetSpeedCap => self.reset_speed_cap(now),
+            Intent::LightTheme(light) => self.settings.light_theme = light,
+            Intent::Coords(c) => self.apply_coords(c, now),
+            Intent::FrameLogCap(cap) => {
+                self.frame_log.set_cap(cap);
+                self.settings.frame_log_cap = Some(cap);
+            }
+            Intent::FrameLogBudget(mb) => {
+                self.frame_log.set_budget(mb.saturating_mul(1024 * 1024));
+                self.settings.frame_log_budget_mb = Some(mb);
+            }
+            Intent::ClearFrameLog => self.frame_log.clear(),
+            Intent::CaptureSettings(c) => {
+                self.settings.captures = c;
+                self.samples.captures.settings = c;
+            }
+            Intent::ClearCaptures => self.samples.captures.list.clear(),
+            Intent::UiScale(scale) => {
+                self.settings.ui_scale = (scale.is_finite() && (scale - 1.0).abs() > 1e-3)
+                    .then(|| scale.clamp(UI_SCALES.0, UI_SCALES.1));
+            }
+            Intent::FileUsed(path) => {
+                self.settings.last_folder = path.parent().map(std::path::Path::to_path_buf);
+            }
+            Intent::Axes(intent) => {
+                if let Some((level, text)) = self.axes.apply(intent, &mut self.settings.rmc, now) {
+                    self.say(level, text, now);
+                }
+            }
+            Intent::SendRaw(body) => {
+                // The outcome is kept for the frame log pane and said in Messages.
+                self.raw_sent = Some(self.send_raw(&body, now).map(|c| c.id().to_string()));
+            }
+        }
+    }
+
+    /// Applies a frame's intents: the jog inputs' states first (so a STOP latches every
+    /// input down this frame), then STOPs, then the rest in order.
+    pub fn apply_all(&mut self, intents: impl IntoIterator<Item = Intent>, now: Instant) {
+        let rank = |i: &Intent| match i {
+            Intent::Jog(..) | Intent::FocusLost | Intent::Axes(axes::AxisIntent::Jog(..)) => 0,
+            Intent::Stop(_) => 1,
+            _ => 2,
+        };
+        let mut intents: Vec<Intent> = intents.into_iter().collect();
+        intents.sort_by_key(rank);
+        for intent in intents {
+            self.apply(intent, now);
+        }
+    }
+
     /// Applies one Signals intent: the sub-model decides; its words go to Messages.
     pub fn apply_signals(&mut self, intent: signals::SignalsIntent, now: Instant) {
         let cx = self.signals_cx(now);
