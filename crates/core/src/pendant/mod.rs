@@ -11,6 +11,7 @@ pub mod coords;
 pub mod frame_log;
 mod intent;
 pub mod jog;
+mod out;
 pub mod positions;
 pub mod programs;
 pub mod samples;
@@ -37,14 +38,39 @@ use controller::{readiness, transitions};
 pub use intent::Intent;
 use intent::UI_SCALES;
 pub use jog::hold::{HeldJog, JogInput, JogTarget, Press, StopCause};
-pub use jog::{Interpolation, JogAxis, JogMode, JogSettings, PhysicalJog, PlannedStep, Refusal};
+pub use jog::{
+    Interpolation, JogAxis, JogCx, JogMode, JogSettings, PhysicalJog, PlannedStep, Refusal,
+};
+pub use out::{Level, Message, Out, Request};
+
+/// Jogging's view of the rest of the model, from the pendant's own fields (so the jog
+/// state itself may be borrowed mutably beside it).
+macro_rules! jog_cx {
+    ($p:expr) => {
+        jog::JogCx {
+            model: &$p.model,
+            kin: &$p.kin,
+            controller: &$p.controller,
+            settings: &$p.settings.jog,
+            line_up: $p.line.is_up(),
+        }
+    };
+}
+
+/// The pendant's requests and messages, for a sub-model to write into.
+macro_rules! out {
+    ($p:expr) => {
+        Out {
+            requests: &mut $p.requests,
+            messages: &mut $p.messages,
+        }
+    };
+}
 
 /// How long a "press again to confirm" for an arm flip stays armed.
 pub(crate) const CONFIRM_FOR: Duration = Duration::from_secs(5);
 /// The span of the link-health fault counts.
 const MINUTE: Duration = Duration::from_secs(60);
-/// Messages kept for the operator.
-const KEEP_MESSAGES: usize = 200;
 
 /// Everything persisted between runs (eframe storage).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -73,55 +99,6 @@ pub struct Settings {
     pub captures: samples::capture::CaptureSettings,
 }
 
-/// What the pendant asks of the link. The window runs these after drawing a frame;
-/// [`Request::Stop`] it runs at once.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Request {
-    /// A command at the user's priority.
-    Submit(Command),
-    /// A command that gives way to the status polls (position table reads).
-    Background(Command),
-    /// A command sent only in the line time the status polls leave (signal reads).
-    Spare(Command),
-    /// 238H for all axes, at the head of the queue.
-    Stop,
-    /// Keep the continuous jog alive (the link stops it when renewals stop).
-    RenewJogLease,
-    /// Read a whole coordinate table with 2A4H.
-    ReadTable(CoordKind),
-    /// Read these records of a coordinate table with 2A4H (a retry of what a read missed).
-    ReadRecords(CoordKind, std::ops::Range<u16>),
-    /// Stop the table read in progress.
-    CancelTableRead,
-    /// Give the embedded simulator these tables (the draft, to try it).
-    SimulatorTables(crate::robot::CoordTables),
-    /// Close the line (if open) and open the one in the settings.
-    Connect,
-    /// Close the line.
-    Disconnect,
-    /// A call for the RMC151's link.
-    Axes(axes::AxisCall),
-}
-
-/// How a message to the operator is shown.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Level {
-    Info,
-    Warning,
-    Error,
-}
-
-/// One line for the operator: what happened, where they are looking.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Message {
-    pub level: Level,
-    pub text: String,
-    pub at: Instant,
-    /// The whole story where `text` is the short form (a refusal's check point and
-    /// distances): shown on hover.
-    pub detail: Option<String>,
-}
-
 /// The motion phase the lamps show.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MotionPhase {
@@ -132,16 +109,6 @@ pub enum MotionPhase {
     Done,
     Jogging,
     Stopped,
-}
-
-/// A move the pendant sent and follows.
-#[derive(Clone, Debug)]
-struct Followed {
-    plan: PlannedStep,
-    /// When the controller accepted it; `None` while the reply is awaited.
-    accepted: Option<Instant>,
-    /// When a STOP went out while it was followed.
-    stopped: Option<Instant>,
 }
 
 /// The command an event answers, for the events that answer one.
@@ -300,15 +267,7 @@ impl Pendant {
 
     /// Adds a message for the operator (the window reports its file work through it).
     pub fn say(&mut self, level: Level, text: impl Into<String>, now: Instant) {
-        if self.messages.len() >= KEEP_MESSAGES {
-            self.messages.pop_front();
-        }
-        self.messages.push_back(Message {
-            level,
-            text: text.into(),
-            at: now,
-            detail: None,
-        });
+        out::say(&mut self.messages, level, text, now);
     }
 
     /// A sub-model's words for the operator, in order.
@@ -323,28 +282,9 @@ impl Pendant {
         self.say(Level::Info, text, now);
     }
 
+    /// The last word beside the pad, also said in Messages.
     fn jog_says(&mut self, level: Level, text: impl Into<String>, now: Instant) {
-        let text = text.into();
-        self.jog.feedback = Some(Message {
-            level,
-            text: text.clone(),
-            at: now,
-            detail: None,
-        });
-        self.say(level, text, now);
-    }
-
-    /// A refusal beside the pad in one short sentence, the whole of it in Messages and on
-    /// hover.
-    fn jog_refused(&mut self, why: &Refusal, now: Instant) {
-        let full = format!("refused: {why}");
-        self.jog.feedback = Some(Message {
-            level: Level::Warning,
-            text: format!("refused: {}", why.short()),
-            at: now,
-            detail: Some(full.clone()),
-        });
-        self.say(Level::Warning, full, now);
+        self.jog.says(&mut out!(self), level, text, now);
     }
 
     // ---- the line ----
@@ -397,7 +337,8 @@ impl Pendant {
             for (level, text) in self.positions.handle_event(&event) {
                 self.say(level, text, now);
             }
-            return self.positions_out();
+            let requests = self.positions.take_requests();
+            return self.requests.extend(requests);
         }
         if event_command(&event).is_some_and(alarms::Alarms::owns) {
             if let Some((level, text)) = self.alarms.handle_event(&event) {
@@ -492,7 +433,7 @@ impl Pendant {
                 kind,
                 received,
                 total,
-            } => self.table_progress(kind, received, total),
+            } => self.coords.table_progress(kind, received, total),
             LinkEvent::TableDone {
                 kind,
                 axes,
@@ -500,7 +441,16 @@ impl Pendant {
                 records,
                 missing,
             } => {
-                self.table_done(kind, axes, first, &records, &missing, now);
+                self.coords.table_done(
+                    &mut self.controller,
+                    &mut out!(self),
+                    kind,
+                    axes,
+                    first,
+                    &records,
+                    &missing,
+                    now,
+                );
                 if kind == CoordKind::Work && self.controller.tool_table.is_none() {
                     self.requests.push(Request::ReadTable(CoordKind::Tool));
                 }
@@ -646,12 +596,7 @@ impl Pendant {
 
     /// Whether the controller may be asked to move now.
     pub fn motion_ready(&self, now: Instant) -> Result<(), NotReady> {
-        readiness::motion_gate(
-            self.line.is_up(),
-            self.controller.system.as_ref().map(|s| &s.value),
-            self.controller.work.as_ref().map(|s| &s.value),
-            self.controller.is_stale(now),
-        )
+        jog_cx!(self).motion_ready(now)
     }
 
     /// Whether servo and homing commands may be sent (no servo or homing condition).
@@ -880,8 +825,8 @@ impl Pendant {
             Intent::Home => self.home(now),
             Intent::ResetAlarm => self.reset_alarm(now),
             Intent::GoToTarget => self.go_to_target(now),
-            Intent::EditTarget(pose) => self.edit_step_target(pose),
-            Intent::ClearTarget => self.clear_step_target(),
+            Intent::EditTarget(pose) => self.jog.edit_step_target(pose),
+            Intent::ClearTarget => self.jog.clear_step_target(),
             Intent::TeachGo(index) => self.teach_go(index, now),
             Intent::TeachRecord(name) => self.teach_record(&name, now),
             Intent::TeachList(list) => self.teach.set(list),
@@ -906,8 +851,8 @@ impl Pendant {
             Intent::ConnectionSettings(c) => self.settings.connection = c,
             Intent::Connect => self.connect(now),
             Intent::Disconnect => self.disconnect(now),
-            Intent::RaiseSpeedCap(mm_s) => self.raise_speed_cap(mm_s, now),
-            Intent::ResetSpeedCap => self.reset_speed_cap(now),
+            Intent::RaiseSpeedCap(mm_s) => self.jog.raise_speed_cap(&mut out!(self), mm_s, now),
+            Intent::ResetSpeedCap => self.jog.reset_speed_cap(&mut out!(self), now),
             Intent::LightTheme(light) => self.settings.light_theme = light,
             Intent::Coords(c) => self.apply_coords(c, now),
             Intent::FrameLogCap(cap) => {
@@ -956,6 +901,92 @@ impl Pendant {
         for intent in intents {
             self.apply(intent, now);
         }
+    }
+
+    /// Applies one Positions intent: the table decides, Go to No. N moves through the
+    /// jog state; the words go to Messages.
+    pub fn apply_positions(&mut self, intent: positions::PositionsIntent, now: Instant) {
+        if let positions::PositionsIntent::Go(n) = intent {
+            return self.position_go(n, now);
+        }
+        let jog_cx = jog_cx!(self);
+        let arm = self.jog.arm_now(&jog_cx, now);
+        let settings = self.jog.sent(&jog_cx);
+        let check = |rec: &crate::protocol::PositionRecord| match &arm {
+            Ok(arm) => jog::plan_position_go(&self.model, &self.kin, &settings, rec, arm)
+                .map(|_| ())
+                .map_err(|why| why.to_string()),
+            Err(why) => Err(format!("not checked: {why}")),
+        };
+        let cx = positions::PositionsCx {
+            line_up: self.line.is_up(),
+            program_running: self.program_running(),
+            controller: &self.controller,
+            check: &check,
+        };
+        let said = self.positions.apply(intent, &cx, now);
+        self.tell(said, now);
+        let requests = self.positions.take_requests();
+        self.requests.extend(requests);
+    }
+
+    /// 215H says a program runs (or nothing is known: counted as running, to be safe).
+    pub fn program_running(&self) -> bool {
+        self.controller
+            .system
+            .as_ref()
+            .is_none_or(|s| s.value.status2.program_running())
+    }
+
+    /// Go to No. `n`: 2D6H to what the controller holds there, after the checks of a
+    /// step; an arm flip asks for a second press.
+    fn position_go(&mut self, n: u16, now: Instant) {
+        let cx = jog_cx!(self);
+        let mut out = out!(self);
+        let rec = match self.positions.row(n) {
+            positions::Row::Held(r) => *r,
+            positions::Row::Empty => {
+                let text = format!("refused: No. {n} holds no data");
+                return self.jog.says(&mut out, Level::Warning, text, now);
+            }
+            _ => {
+                let text = format!(
+                    "refused: No. {n} has not been read: read it first (Go checks the controller's own record)"
+                );
+                return self.jog.says(&mut out, Level::Warning, text, now);
+            }
+        };
+        if !self.jog.may_send_move(&cx, &mut out, "move", now) {
+            return;
+        }
+        let plan = self.jog.arm_now(&cx, now).and_then(|arm| {
+            jog::plan_position_go(cx.model, cx.kin, &self.jog.sent(&cx), &rec, &arm)
+        });
+        let plan = match plan {
+            Ok(plan) => plan,
+            Err(why) => return self.jog.refused(&mut out, &why, now),
+        };
+        let confirmed = self
+            .positions
+            .go_confirm
+            .take()
+            .is_some_and(|(m, at)| m == n && now.duration_since(at) < CONFIRM_FOR);
+        if plan.flips_arm && !confirmed {
+            self.positions.go_confirm = Some((n, now));
+            let text = format!(
+                "Go to No. {n} flips the arm system: press again within {} s to confirm",
+                CONFIRM_FOR.as_secs()
+            );
+            return self.jog.says(&mut out, Level::Warning, text, now);
+        }
+        let differs = if self.positions.differs(n) {
+            " (the controller's record: the draft's row differs and is not written)"
+        } else {
+            ""
+        };
+        self.jog.send(&mut out, plan);
+        let text = format!("go to No. {n}: sent{differs}");
+        self.jog.says(&mut out, Level::Info, text, now);
     }
 
     /// Applies one Signals intent: the sub-model decides; its words go to Messages.
@@ -1042,6 +1073,305 @@ impl Pendant {
                 Request::Spare(command)
             });
         }
+    }
+}
+
+impl Pendant {
+    // ---- jogging: the jog state decides; the pendant lends it the rest ----
+
+    /// What a step of `axis` in `dir` would do now, without sending it.
+    pub fn preview_step(
+        &self,
+        axis: JogAxis,
+        dir: crate::protocol::Direction,
+        now: Instant,
+    ) -> Result<PlannedStep, Refusal> {
+        self.jog.preview_step(&jog_cx!(self), axis, dir, now)
+    }
+
+    /// A click on a jog button in step mode: plan, check, send (or refuse, or ask to
+    /// confirm an arm flip).
+    pub fn jog_step(&mut self, axis: JogAxis, dir: crate::protocol::Direction, now: Instant) {
+        let cx = jog_cx!(self);
+        self.jog.step(&cx, &mut out!(self), axis, dir, now);
+    }
+
+    /// One jog input's state this frame (the hold-to-run machine decides what it means).
+    fn jog_input(&mut self, input: JogInput, press: Press, now: Instant) {
+        let cx = jog_cx!(self);
+        self.jog.input(&cx, &mut out!(self), input, press, now);
+    }
+
+    /// The window lost focus: it cannot see a key or button come up, so every jog stops.
+    fn focus_lost(&mut self, now: Instant) {
+        if let Some((level, text)) = self.axes.focus_lost_at(now) {
+            self.say(level, text, now);
+        }
+        self.jog.focus_lost(&mut out!(self), now);
+    }
+
+    /// The continuous jog running on a held input.
+    pub fn held_jog(&self) -> Option<HeldJog> {
+        self.jog.held_jog()
+    }
+
+    /// The control `input` is held on now, if any (the pad lights it).
+    pub fn held_on(&self, input: JogInput) -> Option<JogTarget> {
+        self.jog.held_on(input)
+    }
+
+    /// The STOP latch beside the pad: "STOP (Esc): release the jog controls".
+    pub fn stop_latch(&self) -> Option<String> {
+        self.jog.stop_latch()
+    }
+
+    /// New jog choices; a refusal or an armed confirmation made under the old ones goes.
+    fn set_jog_settings(&mut self, settings: JogSettings) {
+        if settings != self.settings.jog {
+            self.settings.jog = settings;
+            self.jog.settings_changed();
+        }
+    }
+
+    /// The jog settings as they go on the line: speeds within the cap.
+    pub fn jog_sent(&self) -> JogSettings {
+        self.jog.sent(&jog_cx!(self))
+    }
+
+    /// The jog speed cap at the tool, mm/s.
+    pub fn speed_cap(&self) -> f64 {
+        self.jog.speed_cap()
+    }
+
+    /// The motion phase of the move being followed.
+    pub fn motion_phase(&self, now: Instant) -> MotionPhase {
+        self.jog.motion_phase(&self.controller, now)
+    }
+
+    /// Whether the controller ended the held jog by itself (see
+    /// [`jog::JogState::held_jog_ended`]).
+    pub fn held_jog_ended(&self) -> bool {
+        self.jog.held_jog_ended(&self.controller)
+    }
+
+    /// The polled joints within the model's positioning band of the command position.
+    pub fn in_position(&self) -> Option<bool> {
+        self.jog.in_position(&self.controller, &self.model)
+    }
+
+    /// The planned move being followed, for the arm view's ghost.
+    pub fn followed_move(&self) -> Option<&crate::robot::Move> {
+        self.jog.followed_move()
+    }
+
+    /// The target set from the arm view, if any.
+    pub fn step_target(&self) -> Option<&jog::target::StepTarget> {
+        self.jog.step_target()
+    }
+
+    /// Sets the target to the tool tip at `pose` in the selected work frame.
+    pub fn set_step_target(&mut self, pose: crate::robot::Pose, now: Instant) {
+        self.jog
+            .set_step_target(&self.controller, &mut out!(self), pose, now);
+    }
+
+    /// What "Go to target" would do now.
+    pub fn preview_target(&self, now: Instant) -> Option<jog::target::StepPreview> {
+        self.jog.preview_target(&jog_cx!(self), now)
+    }
+
+    /// What "Go" on taught point `index` would do now, for its ghost.
+    pub fn preview_go(&self, index: usize, now: Instant) -> Option<jog::target::StepPreview> {
+        let point = self.teach.list().get(index)?;
+        Some(self.jog.preview_go(&jog_cx!(self), point, now))
+    }
+
+    /// What a move to position record `rec` would do now, for its ghost.
+    pub fn preview_position(
+        &self,
+        rec: &crate::protocol::PositionRecord,
+        now: Instant,
+    ) -> Option<jog::target::StepPreview> {
+        self.jog.preview_position(&jog_cx!(self), rec, now)
+    }
+
+    /// "Go to target": 2D4H after the readiness, frame and move checks.
+    pub fn go_to_target(&mut self, now: Instant) {
+        let cx = jog_cx!(self);
+        self.jog.go_to_target(&cx, &mut out!(self), now);
+    }
+
+    /// What a click on a jog button would do now, for the ghost.
+    pub fn preview_jog(
+        &self,
+        axis: JogAxis,
+        dir: crate::protocol::Direction,
+        now: Instant,
+    ) -> Option<jog::target::StepPreview> {
+        self.jog.preview_jog(&jog_cx!(self), axis, dir, now)
+    }
+
+    /// The move in progress (sent and not yet ended), as a preview of its end.
+    pub fn preview_followed(&self, now: Instant) -> Option<jog::target::StepPreview> {
+        self.jog.preview_followed(&jog_cx!(self), now)
+    }
+
+    /// "Go" on a taught point: 2D4H after the frame check and the same checks as a step;
+    /// the RMC axes it names move with it.
+    pub fn teach_go(&mut self, index: usize, now: Instant) {
+        let Some(point) = self.teach.list().get(index).cloned() else {
+            return;
+        };
+        let cx = jog_cx!(self);
+        let mut out = out!(self);
+        if !self.jog.may_send_move(&cx, &mut out, "move", now) {
+            return;
+        }
+        let refused = |jog: &mut jog::JogState, out: &mut Out, why: String| {
+            jog.says(out, Level::Warning, format!("refused: {why}"), now);
+        };
+        if let Some((work, tool)) = cx.controller.frame_numbers()
+            && let Err(why) = teach::check_go(&point, work, tool)
+        {
+            return refused(&mut self.jog, &mut out, why.to_string());
+        }
+        // The RMC axes the point names are checked first: nothing moves unless all may.
+        let axis_moves = if point.axes.is_empty() {
+            Vec::new()
+        } else {
+            match self.axes.go_moves(&point.axes, &self.settings.rmc) {
+                Ok(moves) => moves,
+                Err(why) => return refused(&mut self.jog, &mut out, why.to_string()),
+            }
+        };
+        let plan = self
+            .jog
+            .arm_now(&cx, now)
+            .and_then(|arm| jog::plan_go(cx.model, cx.kin, &self.jog.sent(&cx), &point, &arm));
+        match plan {
+            Ok(plan) => {
+                self.jog.send(&mut out, plan);
+                self.axes.queue(axis_moves);
+                let text = format!("go to \"{}\": sent", point.name);
+                self.jog.says(&mut out, Level::Info, text, now);
+            }
+            Err(why) => self.jog.refused(&mut out, &why, now),
+        }
+    }
+
+    /// "Record": the current pose, arm system and frame numbers under `name` (a free
+    /// name is made up when it is empty).
+    pub fn teach_record(&mut self, name: &str, now: Instant) {
+        let Some(status) = self.controller.work.as_ref().map(|s| s.value) else {
+            return self.say(Level::Warning, "not recorded: no position read yet", now);
+        };
+        if self.controller.is_stale(now) {
+            return self.say(
+                Level::Warning,
+                "not recorded: the position is out of date",
+                now,
+            );
+        }
+        let Some(pose) = self.controller.work_position() else {
+            return self.say(Level::Warning, "not recorded: no position read yet", now);
+        };
+        let name = if name.trim().is_empty() {
+            self.teach.list().unique_name("P")
+        } else {
+            name.trim().to_owned()
+        };
+        let at = teach::TaughtPose {
+            pose: pose.to_wire(),
+            arm: status.common.arm,
+            work: status.work,
+            tool: status.tool,
+        };
+        let axes = if self.settings.rmc.teach_axes {
+            match self.axes.taught_positions() {
+                Ok(axes) => axes,
+                Err(why) => return self.say(Level::Warning, format!("not recorded: {why}"), now),
+            }
+        } else {
+            Vec::new()
+        };
+        match self.teach.edit(|l| l.record_with_axes(&name, at, axes)) {
+            Ok(_) => self.say(Level::Info, format!("recorded \"{name}\""), now),
+            Err(e) => self.say(Level::Warning, format!("not recorded: {e}"), now),
+        }
+    }
+}
+
+impl Pendant {
+    // ---- the coordinate tables: the editor decides; the pendant lends it the rest ----
+
+    /// Applies one of the coordinate pane's intents.
+    pub fn apply_coords(&mut self, intent: coords::CoordsIntent, now: Instant) {
+        let cx = coords::CoordsCx {
+            line_up: self.line.is_up(),
+            controller: &self.controller,
+            model: &self.model,
+        };
+        self.coords.apply(intent, &cx, &mut out!(self), now);
+    }
+
+    /// The controller's table as read, if it was.
+    pub fn read_table(&self, kind: crate::robot::FrameKind) -> Option<&controller::ReadTable> {
+        coords::read_table(&self.controller, kind)
+    }
+
+    /// Reads a whole table from the controller again (the draft keeps its edits).
+    pub fn reload_table(&mut self, kind: CoordKind, now: Instant) {
+        let line_up = self.line.is_up();
+        self.coords.reload(line_up, &mut out!(self), kind, now);
+    }
+
+    /// Stops the read in progress; what was read so far is kept, the rest shown unread.
+    pub fn cancel_table_read(&mut self) {
+        self.coords.cancel_read(&mut out!(self));
+    }
+
+    /// The record ranges of a table not read (empty when all were, or none was read).
+    pub fn unread_ranges(&self, kind: crate::robot::FrameKind) -> Vec<std::ops::Range<u16>> {
+        coords::unread_ranges(&self.controller, kind)
+    }
+
+    /// Reads again only the records a read missed, range by range.
+    pub fn retry_unread(&mut self, kind: CoordKind, now: Instant) {
+        let cx = coords::CoordsCx {
+            line_up: self.line.is_up(),
+            controller: &self.controller,
+            model: &self.model,
+        };
+        self.coords.retry_unread(&cx, &mut out!(self), kind, now);
+    }
+
+    /// The draft becomes the controller's table (one undo step).
+    pub fn draft_from_controller(&mut self, kind: crate::robot::FrameKind) {
+        self.coords.draft_from_controller(&self.controller, kind);
+    }
+
+    /// Frames to draw over the arm (see [`coords::CoordEditor::frames_over_arm`]).
+    pub fn frames_over_arm(&self) -> Vec<(crate::robot::FrameKind, u8, crate::robot::CoordSystem)> {
+        self.coords.frames_over_arm(&self.controller)
+    }
+
+    /// Both drafts in a file format.
+    pub fn export_tables(&self, format: coords::file::TableFormat) -> String {
+        self.coords.export(format)
+    }
+
+    /// Reads a file into the drafts (see [`coords::CoordEditor::import`]).
+    pub fn import_tables(
+        &mut self,
+        bytes: &[u8],
+        format: coords::file::TableFormat,
+    ) -> Result<usize, teach::file::FileError> {
+        self.coords.import(bytes, format, &self.model)
+    }
+
+    /// Asks the window to give the drafts to the built-in simulator as its tables.
+    pub fn give_draft_to_simulator(&mut self, _now: Instant) {
+        self.coords.give_to_simulator(&mut out!(self));
     }
 }
 
