@@ -303,6 +303,33 @@ impl Pendant {
         self.line_gone(now);
     }
 
+    /// The records a whole-table read ([`Request::ReadTable`]) asks for: the model's
+    /// table, as far as 2A4H can number it.
+    pub fn table_records(&self, kind: CoordKind) -> std::ops::Range<u16> {
+        let size = match kind {
+            CoordKind::Work => self.model.work_table_size,
+            CoordKind::Tool => self.model.tool_table_size,
+        };
+        0..size.min(usize::from(crate::protocol::COORD_RECORDS)) as u16
+    }
+
+    /// The RMC151's connection could not be started: its line is down, and why.
+    pub fn rmc_connect_failed(&mut self, reason: String, now: Instant) {
+        self.say(Level::Error, format!("RMC: {reason}"), now);
+        self.axes.line = LineState::Down { reason, since: now };
+    }
+
+    /// The window started at `now` (`wall` on the clock): the frame log's times count
+    /// from here.
+    pub fn started(&mut self, now: Instant, wall: std::time::SystemTime) {
+        self.frame_log.set_origin(Some(now), wall);
+    }
+
+    /// A frame log of `rows` synthetic rows (the benches' memory of a full log).
+    pub fn fill_log_synthetic(&mut self, rows: u64) {
+        self.frame_log.fill_synthetic(rows);
+    }
+
     /// The link could not be started at all (the port could not be opened, a bad file).
     pub fn connect_failed(&mut self, reason: String, now: Instant) {
         self.say(Level::Error, format!("cannot connect: {reason}"), now);
