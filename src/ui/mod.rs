@@ -1,6 +1,7 @@
-//! The egui window: one file per panel. Panels draw [`crate::pendant::Pendant`] state and
-//! turn clicks into its calls; they never see the link. [`app::PendantApp`] owns the live
-//! session, feeds link events to the pendant and runs its requests after each frame.
+//! The egui window: one file per view, each a [`Pane`] drawing the
+//! [`crate::pendant::Pendant`] and pushing intents; they never see the link.
+//! [`app::PendantApp`] is composition and the frame loop: its lines (`lines`) feed link
+//! events to the pendant and run its requests after each frame.
 
 pub mod alarms;
 pub mod app;
