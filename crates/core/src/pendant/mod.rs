@@ -347,11 +347,9 @@ impl Pendant {
             self.say(Level::Warning, text, _now);
         }
         self.alarms.line_gone();
-        if self.jog.hold.stop(StopCause::LineLost).is_some() {
+        if self.jog.line_lost() {
             self.say(Level::Error, "the line went down during a jog", _now);
         }
-        self.jog.followed = None;
-        self.jog.command_position = None;
     }
 
     // ---- events ----
@@ -414,7 +412,7 @@ impl Pendant {
                     name(&command)
                 );
                 if command.moves_arm() {
-                    self.motion_refused();
+                    self.jog.motion_refused();
                     self.jog_says(Level::Error, text, now);
                 } else {
                     self.say(Level::Error, text, now);
@@ -427,7 +425,7 @@ impl Pendant {
             } => {
                 let text = format!("no reply to {} ({})", command.id(), name(&command));
                 if command.moves_arm() {
-                    self.jog.followed = None;
+                    self.jog.motion_unanswered();
                     self.jog_says(Level::Error, text, now);
                 } else {
                     self.say(Level::Warning, text, now);
@@ -440,17 +438,10 @@ impl Pendant {
                 if reason == crate::link::NotSentReason::StopCameFirst {
                     // Ended by the STOP the operator (or the link) gave: no refusal, and
                     // the latch keeps that STOP's cause.
-                    if self
-                        .jog
-                        .followed
-                        .as_ref()
-                        .is_some_and(|f| f.plan.command == command && f.accepted.is_none())
-                    {
-                        self.jog.followed = None;
-                    }
+                    self.jog.ended_by_stop(&command);
                     self.say(Level::Info, text, now);
                 } else if command.moves_arm() {
-                    self.motion_refused();
+                    self.jog.motion_refused();
                     self.jog_says(Level::Error, text, now);
                 } else {
                     self.say(Level::Warning, text, now);
@@ -468,22 +459,21 @@ impl Pendant {
                 records,
                 missing,
             } => {
-                self.coords.table_done(
-                    &mut self.controller,
-                    &mut out!(self),
+                let done = coords::TableDone {
                     kind,
                     axes,
                     first,
-                    &records,
-                    &missing,
-                    now,
-                );
+                    records: &records,
+                    missing: &missing,
+                };
+                self.coords
+                    .table_done(&mut self.controller, &mut out!(self), done, now);
                 if kind == CoordKind::Work && self.controller.tool_table.is_none() {
                     self.requests.push(Request::ReadTable(CoordKind::Tool));
                 }
             }
             LinkEvent::Interrupted { command, .. } if command.moves_arm() => {
-                self.jog.followed = None;
+                self.jog.motion_unanswered();
                 self.jog_says(
                     Level::Error,
                     format!(
@@ -570,43 +560,7 @@ impl Pendant {
                 }
             }
             Reply::Version(v) => self.controller.version = Some(v),
-            Reply::Ack(_) => match command {
-                Command::ScaraMoveRelative(_)
-                | Command::ScaraMoveAbsolute(_)
-                | Command::ScaraMovePosition(_) => {
-                    if let Some(f) = self
-                        .jog
-                        .followed
-                        .as_mut()
-                        .filter(|f| f.plan.command == command)
-                    {
-                        f.accepted = Some(now);
-                        self.jog.command_position = Some(f.plan.end);
-                    }
-                }
-                Command::Jog(j) if j.is_continuous() && self.jog.hold.jog().is_some() => {
-                    self.jog.jog_accepted = Some(now);
-                }
-                Command::Jog(j) if j.distance.0 != 0 => {
-                    if let Some(f) = self
-                        .jog
-                        .followed
-                        .as_mut()
-                        .filter(|f| f.plan.command == command)
-                    {
-                        f.accepted = Some(now);
-                        self.jog.command_position = Some(f.plan.end);
-                    }
-                }
-                Command::Stop(_) => {
-                    if let Some(f) = self.jog.followed.as_mut() {
-                        f.stopped.get_or_insert(now);
-                    }
-                    // The arm stopped short: the command position is where it is.
-                    self.jog.command_position = None;
-                }
-                _ => {}
-            },
+            Reply::Ack(_) => self.jog.acknowledged(&command, now),
             _ => {}
         }
     }
@@ -692,26 +646,16 @@ impl Pendant {
             self.say(Level::Warning, text, now);
         }
         self.requests.push(Request::Stop);
-        self.jog.hold.stop(cause);
+        self.jog.stop(cause, now);
         self.axes.stop(cause);
         self.positions.go_confirm = None;
         self.programs.stopped();
-        self.jog.confirm = None;
-        if let Some(f) = self.jog.followed.as_mut() {
-            f.stopped.get_or_insert(now);
-        }
         // The operator's own STOP is news of the expected kind; any other is a warning.
         let level = match cause {
             StopCause::Button | StopCause::Esc | StopCause::Exit => Level::Info,
             _ => Level::Warning,
         };
         self.jog_says(level, format!("STOP sent ({})", cause.name()), now);
-    }
-
-    /// A move or jog the controller (or the link) refused: the jog ends, latched.
-    fn motion_refused(&mut self) {
-        self.jog.followed = None;
-        self.jog.hold.stop(StopCause::Refused);
     }
 
     /// The link's own STOPs (lapsed lease, stalled line) reach Messages and latch.
@@ -730,11 +674,7 @@ impl Pendant {
             crate::link::Origin::SafetyStop => StopCause::LinkSafety,
             _ => return,
         };
-        self.jog.hold.stop(cause);
-        if let Some(f) = self.jog.followed.as_mut() {
-            f.stopped.get_or_insert(now);
-        }
-        self.jog.command_position = None;
+        self.jog.stopped_outside(cause, now);
         self.jog_says(
             Level::Warning,
             format!("STOP sent by the link: {}", cause.name()),
@@ -745,11 +685,7 @@ impl Pendant {
     /// The guardian stopped the arm by itself: a jog still held is latched as for any
     /// STOP the operator did not give.
     fn guardian_stopped(&mut self, why: &str, now: Instant) {
-        self.jog.hold.stop(StopCause::Guardian);
-        if let Some(f) = self.jog.followed.as_mut() {
-            f.stopped.get_or_insert(now);
-        }
-        self.jog.command_position = None;
+        self.jog.stopped_outside(StopCause::Guardian, now);
         self.jog_says(
             Level::Warning,
             format!("STOP sent by the guardian process: {why}"),
@@ -802,13 +738,7 @@ impl Pendant {
         if let Err(why) = self.motion_ready(now) {
             return self.stop_by(StopCause::NotReady(why), now);
         }
-        if self.held_jog_ended() && !std::mem::replace(&mut self.jog.jog_end_said, true) {
-            let label = self
-                .jog
-                .hold
-                .jog()
-                .map(|j| j.target.label())
-                .unwrap_or_default();
+        if let Some(label) = self.jog.ended_by_controller(&self.controller) {
             self.jog_says(
                 Level::Warning,
                 format!(

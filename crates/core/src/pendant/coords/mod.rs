@@ -177,6 +177,18 @@ impl CoordEditor {
     }
 }
 
+/// A finished read of a table, as the link reports it.
+pub struct TableDone<'a> {
+    pub kind: CoordKind,
+    /// The axis pattern the table was answered with.
+    pub axes: AxisPattern,
+    /// The first record read.
+    pub first: u16,
+    pub records: &'a [Option<crate::protocol::PerAxis<crate::protocol::Milli>>],
+    /// The record ranges that could not be read.
+    pub missing: &'a [Range<u16>],
+}
+
 /// What the coordinate-table editor needs to know of the rest of the model.
 pub struct CoordsCx<'a> {
     pub line_up: bool,
@@ -345,18 +357,20 @@ impl CoordEditor {
 
     /// Files a finished read: the controller's table, the drafts' unedited rows, the
     /// next retry.
-    #[allow(clippy::too_many_arguments)] // a link event's fields, and where they go
     pub fn table_done(
         &mut self,
         controller: &mut ControllerState,
         out: &mut Out,
-        kind: CoordKind,
-        axes: AxisPattern,
-        first: u16,
-        records: &[Option<crate::protocol::PerAxis<crate::protocol::Milli>>],
-        missing: &[Range<u16>],
+        done: TableDone<'_>,
         now: Instant,
     ) {
+        let TableDone {
+            kind,
+            axes,
+            first,
+            records,
+            missing,
+        } = done;
         let fk = FrameKind::from(kind);
         let before = read_table(controller, fk).map(|t| t.records.clone());
         let size = self.draft(fk).rows().len();

@@ -3,6 +3,7 @@
 //! and intents: jog steps (planned and checked), continuous jogs on a lease, the move
 //! followed, and the motion phase the lamps show.
 
+mod events;
 pub mod hold;
 pub mod plan;
 pub mod speed_cap;
