@@ -114,17 +114,17 @@ fn refuse_huge(h: &mut Harness<'_, PendantApp>, dir: &Path) {
         }
     }
     let (idle, idle_peak) = rss_mb();
-    let before = h.state().pendant().teach_feedback.clone();
+    let before = h.state().pendant().teach.feedback().cloned();
     load(h, &huge);
     step_until(h, "the 200 MB file refused", |a| {
-        a.pendant().teach_feedback != before
+        a.pendant().teach.feedback().cloned() != before
     });
     let (after, peak) = rss_mb();
     println!();
     println!("1. a 200 MB CSV of commas as a teach list");
     println!(
         "   said: {:?}",
-        h.state().pendant().teach_feedback.as_ref().map(|f| &f.1)
+        h.state().pendant().teach.feedback().map(|f| &f.1)
     );
     println!(
         "   RSS idle {idle:.1} MB, after {after:.1} MB; peak {idle_peak:.1} MB before, \

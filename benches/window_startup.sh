@@ -11,7 +11,7 @@
 # Needs xvfb-run (xvfb, xauth). Builds target/release/xsel-pendant when it is missing.
 # XSEL_PENDANT_ARGS adds flags to the app's command line (e.g. "--renderer wgpu").
 # The app's probe (XSEL_PENDANT_FIRST_FRAME, XSEL_PENDANT_EXIT_AFTER_FIRST_FRAME) is
-# described in src/ui/app.rs, `first_frame_probe`.
+# described in src/ui/start.rs, `BenchHooks` (the binary reads it from its environment).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BIN=${XSEL_PENDANT_BIN:-target/release/xsel-pendant}

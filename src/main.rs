@@ -7,7 +7,7 @@ use std::io::Write;
 use std::process::ExitCode;
 
 use xsel_pendant::session::{self, LineOwner};
-use xsel_pendant::ui::{StartOptions, run_window};
+use xsel_pendant::ui::{BenchHooks, StartOptions, run_window};
 use xsel_pendant::{cli, headless, render_cli};
 
 fn main() -> ExitCode {
@@ -49,6 +49,8 @@ fn main() -> ExitCode {
         } else {
             LineOwner::guardian()
         },
+        // The benches' opt-in hooks (benches/window_startup.sh sets them).
+        bench: BenchHooks::from_env(),
     };
     match run_window(options, args.renderer) {
         Ok(()) => ExitCode::SUCCESS,

@@ -11,6 +11,7 @@ use egui_extras::{Column as Col, TableBuilder};
 
 use super::file_field::{Browse, FieldSpec, FileAsk, Purpose};
 use super::file_work::{Done, FileButton, FileWork, write_job};
+use super::pane::{Pane, PaneCx};
 use super::snapshots::SnapshotsSection;
 use super::widgets::{GREY, RED, level_color, reserved_line};
 use crate::files::job::Job;
@@ -314,4 +315,10 @@ fn history(ui: &mut Ui, alarms: &Alarms) {
                 });
             });
     });
+}
+
+impl Pane for AlarmsPanel {
+    fn ui(&mut self, ui: &mut Ui, cx: &mut PaneCx<'_>) {
+        self.show(ui, cx.pendant, cx.folder, cx.now, cx.intents);
+    }
 }

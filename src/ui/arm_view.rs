@@ -9,6 +9,7 @@ use std::time::Instant;
 use egui::{Color32, RichText, Sense, Ui};
 
 use super::arm_export::Export;
+use super::pane::{Pane, PaneCx};
 use crate::pendant::jog::JogAxis;
 use crate::pendant::jog::target::StepPreview;
 use crate::pendant::{Intent, Pendant};
@@ -339,5 +340,11 @@ fn ghost_of(p: &StepPreview) -> Ghost {
         tip: p.tip_base,
         check,
         line,
+    }
+}
+
+impl Pane for ArmView {
+    fn ui(&mut self, ui: &mut Ui, cx: &mut PaneCx<'_>) {
+        self.show(ui, cx.pendant, cx.folder, cx.now, cx.intents);
     }
 }

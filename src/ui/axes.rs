@@ -4,6 +4,7 @@
 
 use egui::{Button, ComboBox, DragValue, Pos2, RichText, Ui};
 
+use super::pane::{Pane, PaneCx};
 use super::widgets::{AMBER, GREEN, GREY, RED, level_color, reserved_line};
 use crate::pendant::axes::lamps::{Lamp, LampKind, Lit};
 use crate::pendant::axes::{AxisIntent, AxisJog, AxisView};
@@ -406,5 +407,18 @@ fn jog_button(
     }
     if !down && pressed_now && resp.clicked() {
         pad.tapped = Some(target);
+    }
+}
+
+/// The RMC axes pane: what its axis buttons saw this frame is kept for the window's
+/// pointer (taken after drawing).
+#[derive(Default)]
+pub struct AxesPane {
+    pub pad: AxesPadOutput,
+}
+
+impl Pane for AxesPane {
+    fn ui(&mut self, ui: &mut Ui, cx: &mut PaneCx<'_>) {
+        egui::ScrollArea::vertical().show(ui, |ui| show(ui, cx.pendant, cx.intents, &mut self.pad));
     }
 }

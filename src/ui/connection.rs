@@ -4,6 +4,7 @@
 use egui::{ComboBox, RichText, Ui};
 
 use super::detect::Detect;
+use super::pane::{Pane, PaneCx};
 use super::ports::PortList;
 use super::widgets::{AMBER, GREEN, GREY, RED, reserved_line};
 use crate::line::Parity;
@@ -285,4 +286,10 @@ fn health(ui: &mut Ui, pendant: &Pendant) {
     reserved_line(ui, Some((text, &line)), Some(&line));
     let paused = "polling paused: the window fell behind the link";
     reserved_line(ui, h.polling_paused.then_some((AMBER, paused)), None);
+}
+
+impl Pane for ConnectionPanel {
+    fn ui(&mut self, ui: &mut Ui, cx: &mut PaneCx<'_>) {
+        self.show(ui, cx.pendant, cx.intents);
+    }
 }

@@ -10,6 +10,7 @@ use egui::{Button, ProgressBar, RichText, Ui};
 use super::coords_table::{CellEdit, table};
 use super::file_field::{Browse, FieldSpec, FileAsk, Purpose};
 use super::file_work::FileWork;
+use super::pane::{Pane, PaneCx};
 use super::widgets::{AMBER, GREEN, RED, clock_utc, reserved_line};
 use crate::files::job::Job;
 use crate::files::{DOCUMENT_LIMIT, WriteError, read_bounded_in, write_file};
@@ -418,5 +419,11 @@ impl CoordsPanel {
                 }));
             }
         }
+    }
+}
+
+impl Pane for CoordsPanel {
+    fn ui(&mut self, ui: &mut Ui, cx: &mut PaneCx<'_>) {
+        self.show(ui, cx.pendant, cx.folder, cx.now, cx.intents);
     }
 }

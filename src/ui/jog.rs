@@ -12,6 +12,7 @@ use egui::{
 };
 
 use super::pad::{self, PadOutput};
+use super::pane::{Pane, PaneCx};
 use super::widgets::{AMBER, GREEN, GREY, RED, reserved_line};
 use crate::pendant::jog::speed_cap::{self, MAX_CAP_MM_S, REDUCED_SPEED_MM_S};
 use crate::pendant::jog::{MAX_STEP, STEP_LADDER};
@@ -24,6 +25,8 @@ use crate::robot::{JogFrame, RelativeTo};
 pub struct JogPanel {
     /// The "raise the cap" dialog is open with this value.
     raising: Option<f64>,
+    /// What the pad saw this frame (taken after drawing, for the pointer's jog input).
+    pub pad: PadOutput,
 }
 
 impl JogPanel {
@@ -479,4 +482,10 @@ fn settings(ui: &mut Ui, pendant: &Pendant, j: &mut JogSettings) {
              polled position; target: where the profile is now",
         );
     });
+}
+
+impl Pane for JogPanel {
+    fn ui(&mut self, ui: &mut Ui, cx: &mut PaneCx<'_>) {
+        self.pad = self.show(ui, cx.pendant, cx.now, cx.intents);
+    }
 }

@@ -8,23 +8,29 @@
 //! viewer layout (the model this app follows), and it allows rows, columns and grids,
 //! not only binary splits.
 
-use std::time::Instant;
-
 use egui::{Ui, WidgetText};
 use egui_tiles::{
     Behavior, Linear, LinearDir, SimplificationOptions, TileId, Tiles, Tree, UiResponse,
 };
 use serde::{Deserialize, Serialize};
 
+use super::alarms::AlarmsPanel;
 use super::arm_view::ArmView;
+use super::axes::AxesPane;
 use super::coords::CoordsPanel;
 use super::frame_log::FrameLogPanel;
+use super::messages::MessagesPane;
+use super::pane::{Pane, PaneCx};
+use super::plots::PlotsPanel;
 use super::positions::PositionsPanel;
+use super::programs::ProgramsPanel;
+use super::readout::Readout;
 use super::signals::SignalsPanel;
 use super::simulator::SimulatorPanel;
+use super::status::StatusPane;
 use super::teach::TeachPanel;
-use super::{messages, readout, status};
-use crate::pendant::{Intent, Pendant};
+use crate::pendant::JogAxis;
+use crate::protocol::Direction;
 
 /// One tab of the centre.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -162,111 +168,88 @@ pub fn checked_layout(saved: Option<Tree<Tab>>) -> Tree<Tab> {
     tree
 }
 
-/// What the panes draw with.
-pub struct Tabs<'a> {
-    pub pendant: &'a Pendant,
-    /// What the panels that draw `&Pendant` ask for, applied after drawing.
-    pub intents: &'a mut Vec<Intent>,
-    pub arm: &'a mut ArmView,
-    pub teach: &'a mut TeachPanel,
-    pub coords: &'a mut CoordsPanel,
-    pub positions: &'a mut PositionsPanel,
-    pub signals: &'a mut SignalsPanel,
-    pub programs: &'a mut super::programs::ProgramsPanel,
-    pub alarms: &'a mut super::alarms::AlarmsPanel,
-    pub frame_log: &'a mut FrameLogPanel,
-    pub plots: &'a mut super::plots::PlotsPanel,
-    pub simulator: &'a mut SimulatorPanel,
-    /// The folder a file name typed without one is in.
-    pub folder: &'a std::path::Path,
-    /// The built-in simulator's front panel, when the line is the built-in one.
-    pub sim: Option<&'a crate::session::simulator::FrontPanel>,
-    /// The simulator action clicked, handed to the front panel after drawing.
-    pub sim_action: &'a mut Option<crate::session::simulator::OperatorAction>,
-    pub now: Instant,
-    pub started: Instant,
-    /// Where each pane shown this frame was drawn (for the size tests).
-    pub pane_rects: &'a mut Vec<(Tab, egui::Rect)>,
-    /// What the RMC axis buttons saw this frame.
-    pub axes_pad: &'a mut super::axes::AxesPadOutput,
+/// Every pane of the centre, one of each: the layout places them, and calls them all
+/// through [`Pane`].
+#[derive(Default)]
+pub struct Panes {
+    pub arm: ArmView,
+    pub readout: Readout,
+    pub status: StatusPane,
+    pub teach: TeachPanel,
+    pub positions: PositionsPanel,
+    pub signals: SignalsPanel,
+    pub programs: ProgramsPanel,
+    pub alarms: AlarmsPanel,
+    pub messages: MessagesPane,
+    pub coords: CoordsPanel,
+    pub frame_log: FrameLogPanel,
+    pub simulator: SimulatorPanel,
+    pub axes: AxesPane,
+    pub plots: PlotsPanel,
 }
 
-impl Behavior<Tab> for Tabs<'_> {
+impl Panes {
+    /// The pane a tab shows.
+    pub fn get(&mut self, tab: Tab) -> &mut dyn Pane {
+        match tab {
+            Tab::Arm => &mut self.arm,
+            Tab::Position => &mut self.readout,
+            Tab::Status => &mut self.status,
+            Tab::Teach => &mut self.teach,
+            Tab::Positions => &mut self.positions,
+            Tab::Signals => &mut self.signals,
+            Tab::Programs => &mut self.programs,
+            Tab::Alarms => &mut self.alarms,
+            Tab::Messages => &mut self.messages,
+            Tab::Coords => &mut self.coords,
+            Tab::FrameLog => &mut self.frame_log,
+            Tab::Simulator => &mut self.simulator,
+            Tab::Axes => &mut self.axes,
+            Tab::Plots => &mut self.plots,
+        }
+    }
+
+    /// Before drawing: what the arm view's ghost follows this frame (the jog button
+    /// under the pointer, the teach row and the position hovered last frame).
+    pub fn before(&mut self, hovered_step: Option<(JogAxis, Direction)>) {
+        self.arm.hovered_step = hovered_step;
+        self.arm.hovered_point = self.teach.hovered_go;
+        // Last frame's hovered Go or preview row; this frame's is found while drawing.
+        self.arm.hovered_position = self.positions.hovered.take();
+        self.frame_log.live_in_sight = false;
+    }
+
+    /// After the layout: the confirmations drawn over the centre (whichever tab is in
+    /// front, kept inside `centre`), and the signals ticked for plotting put into the
+    /// Plots pane.
+    pub fn after(&mut self, ctx: &egui::Context, centre: egui::Rect, cx: &mut PaneCx<'_>) {
+        self.positions
+            .preview_window(ctx, centre, cx.pendant, cx.intents);
+        self.signals
+            .after_panes(ctx, centre, cx.pendant, &mut self.plots, cx.intents);
+        self.programs
+            .after_panes(ctx, centre, cx.pendant, cx.intents);
+    }
+}
+
+/// The layout's view of the panes for one frame.
+struct Placed<'p, 'c> {
+    panes: &'p mut Panes,
+    cx: &'p mut PaneCx<'c>,
+    /// Where each pane shown this frame was drawn (for the size tests).
+    rects: &'p mut Vec<(Tab, egui::Rect)>,
+}
+
+impl Behavior<Tab> for Placed<'_, '_> {
     fn tab_title_for_pane(&mut self, pane: &Tab) -> WidgetText {
         pane.title().into()
     }
 
     fn pane_ui(&mut self, ui: &mut Ui, _tile: TileId, pane: &mut Tab) -> UiResponse {
-        self.pane_rects
+        self.rects
             .push((*pane, ui.clip_rect().intersect(ui.max_rect())));
         let mut ui = ui.new_child(egui::UiBuilder::new().max_rect(ui.max_rect().shrink(6.0)));
-        let ui = &mut ui;
-        match pane {
-            Tab::Arm => self
-                .arm
-                .show(ui, self.pendant, self.folder, self.now, self.intents),
-            Tab::Position => readout::show(ui, self.pendant, self.now),
-            Tab::Status => {
-                egui::ScrollArea::vertical().show(ui, |ui| {
-                    status::show(ui, self.pendant, self.now, self.intents)
-                });
-            }
-            Tab::Teach => {
-                egui::ScrollArea::vertical().show(ui, |ui| {
-                    self.teach
-                        .show(ui, self.pendant, self.folder, self.now, self.intents)
-                });
-            }
-            Tab::Positions => {
-                self.positions
-                    .show(ui, self.pendant, self.folder, self.now, self.intents)
-            }
-            Tab::Signals => {
-                self.signals
-                    .show(ui, self.pendant, self.folder, self.now, self.intents)
-            }
-            Tab::Programs => {
-                self.programs
-                    .show(ui, self.pendant, self.folder, self.now, self.intents)
-            }
-            Tab::Alarms => self
-                .alarms
-                .show(ui, self.pendant, self.folder, self.now, self.intents),
-            Tab::Messages => messages::show(ui, self.pendant, self.started),
-            Tab::Coords => self
-                .coords
-                .show(ui, self.pendant, self.folder, self.now, self.intents),
-            Tab::FrameLog => {
-                self.frame_log
-                    .show(ui, self.pendant, self.folder, self.now, self.intents)
-            }
-            Tab::Plots => super::plots::show(
-                self.plots,
-                ui,
-                self.pendant,
-                self.intents,
-                self.folder,
-                self.now,
-            ),
-            Tab::Axes => {
-                egui::ScrollArea::vertical().show(ui, |ui| {
-                    super::axes::show(ui, self.pendant, self.intents, self.axes_pad)
-                });
-            }
-            Tab::Simulator => match self.sim.map(|panel| panel.state()) {
-                Some(Some(state)) => {
-                    if let Some(action) = self.simulator.show(ui, state) {
-                        *self.sim_action = Some(action);
-                    }
-                }
-                Some(None) => {
-                    ui.label("Waiting for the built-in simulator's panel...");
-                }
-                None => {
-                    ui.label("Not on the built-in simulator: the line goes to a real controller.");
-                }
-            },
-        }
+        self.panes.get(*pane).ui(&mut ui, self.cx);
         UiResponse::None
     }
 
@@ -278,9 +261,17 @@ impl Behavior<Tab> for Tabs<'_> {
     }
 }
 
-/// Draws the layout in `ui`.
-pub fn show(ui: &mut Ui, tree: &mut Tree<Tab>, tabs: &mut Tabs<'_>) {
-    tree.ui(tabs, ui);
+/// Draws the layout in `ui`, each pane where the tree puts it; `rects` gets where each
+/// pane shown was drawn.
+pub fn show(
+    ui: &mut Ui,
+    tree: &mut Tree<Tab>,
+    panes: &mut Panes,
+    cx: &mut PaneCx<'_>,
+    rects: &mut Vec<(Tab, egui::Rect)>,
+) {
+    rects.clear();
+    tree.ui(&mut Placed { panes, cx, rects }, ui);
 }
 
 #[cfg(test)]

@@ -4,6 +4,7 @@ use std::time::Instant;
 
 use egui::{RichText, Ui};
 
+use super::pane::{Pane, PaneCx};
 use super::widgets::level_color;
 use crate::pendant::Pendant;
 
@@ -21,4 +22,14 @@ pub fn show(ui: &mut Ui, pendant: &Pendant, started: Instant) {
                 );
             }
         });
+}
+
+/// The Messages pane.
+#[derive(Default)]
+pub struct MessagesPane;
+
+impl Pane for MessagesPane {
+    fn ui(&mut self, ui: &mut Ui, cx: &mut PaneCx<'_>) {
+        show(ui, cx.pendant, cx.started);
+    }
 }

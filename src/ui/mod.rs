@@ -1,6 +1,7 @@
-//! The egui window: one file per panel. Panels draw [`crate::pendant::Pendant`] state and
-//! turn clicks into its calls; they never see the link. [`app::PendantApp`] owns the live
-//! session, feeds link events to the pendant and runs its requests after each frame.
+//! The egui window: one file per view, each a [`Pane`] drawing the
+//! [`crate::pendant::Pendant`] and pushing intents; they never see the link.
+//! [`app::PendantApp`] is composition and the frame loop: its lines (`lines`) feed link
+//! events to the pendant and run its requests after each frame.
 
 pub mod alarms;
 pub mod app;
@@ -18,8 +19,10 @@ mod inbox;
 mod jog;
 mod keys;
 mod layout;
+mod lines;
 mod messages;
 mod pad;
+mod pane;
 pub mod plots;
 mod ports;
 pub mod positions;
@@ -31,6 +34,7 @@ mod safety_band;
 pub mod signals;
 mod simulator;
 mod snapshots;
+mod start;
 mod status;
 mod teach;
 mod top_bar;
@@ -38,6 +42,8 @@ mod wake;
 mod widgets;
 mod work_files;
 
-pub use app::{APP_ID, PendantApp, StartOptions};
+pub use app::{APP_ID, PendantApp};
 pub use layout::Tab;
+pub use pane::{Pane, PaneCx};
 pub use run::run_window;
+pub use start::{BenchHooks, StartOptions};

@@ -4,7 +4,9 @@
 
 use egui::{Button, Pos2, Rect, RichText, Sense, Ui, vec2};
 
-use crate::pendant::{JogAxis, JogInput, JogTarget, Pendant, PhysicalJog};
+use super::axes::AxesPadOutput;
+use crate::pendant::axes::AxisIntent;
+use crate::pendant::{Intent, JogAxis, JogInput, JogTarget, Pendant, PhysicalJog, Press};
 use crate::protocol::Direction;
 
 /// Smallest button, px (the floor at 1280x800).
@@ -164,4 +166,36 @@ fn button(
     if !down && pressed_now && resp.clicked() {
         out.tapped = Some(target);
     }
+}
+
+/// The pointer's state on a pad: on the button it was pressed on, aside, or up.
+fn pointer_press<T>(ctx: &egui::Context, held_on: Option<T>) -> Press<T> {
+    match (ctx.input(|i| i.pointer.primary_down()), held_on) {
+        (false, _) => Press::Up,
+        (true, Some(target)) => Press::On(target),
+        (true, None) => Press::Aside,
+    }
+}
+
+/// The pointer's jog input this frame, on the arm's pad and the same pointer on the RMC
+/// axis buttons (one hold machine each, one STOP): a tap first, then where it is.
+pub fn pointer_intents(
+    ctx: &egui::Context,
+    pad: &PadOutput,
+    axes: &AxesPadOutput,
+    intents: &mut Vec<Intent>,
+) {
+    if let Some(target) = pad.tapped {
+        intents.push(Intent::Jog(JogInput::Pointer, Press::On(target)));
+    }
+    intents.push(Intent::Jog(
+        JogInput::Pointer,
+        pointer_press(ctx, pad.held_on),
+    ));
+    if let Some(target) = axes.tapped {
+        let tap = AxisIntent::Jog(JogInput::Pointer, Press::On(target));
+        intents.push(Intent::Axes(tap));
+    }
+    let press = pointer_press(ctx, axes.held_on);
+    intents.push(Intent::Axes(AxisIntent::Jog(JogInput::Pointer, press)));
 }

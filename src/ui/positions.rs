@@ -10,6 +10,7 @@ use egui_extras::{Column as Col, TableBuilder};
 
 use super::file_field::{Browse, FieldSpec, FileAsk, Purpose};
 use super::file_work::{Done, FileButton, FileWork, is_json, read_job, write_job};
+use super::pane::{Pane, PaneCx};
 use super::widgets::{AMBER, GREEN, GREY, RED, level_color, reserved_line};
 use crate::files::job::Job;
 use crate::pendant::positions::write::Outcome;
@@ -843,5 +844,11 @@ impl PositionsPanel {
         if !open {
             ask.push(PositionsIntent::CancelPreview);
         }
+    }
+}
+
+impl Pane for PositionsPanel {
+    fn ui(&mut self, ui: &mut Ui, cx: &mut PaneCx<'_>) {
+        self.show(ui, cx.pendant, cx.folder, cx.now, cx.intents);
     }
 }

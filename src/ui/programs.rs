@@ -10,6 +10,7 @@ use egui_extras::{Column as Col, TableBuilder};
 
 use super::file_field::{Browse, FieldSpec, FileAsk, Purpose};
 use super::file_work::{Done, FileButton, FileWork, read_job};
+use super::pane::{Pane, PaneCx};
 use super::widgets::{AMBER, GREEN, GREY, RED, level_color, reserved_line};
 use crate::files::job::Job;
 use crate::pendant::programs::{
@@ -426,5 +427,11 @@ fn confirmation(
         });
     if !open || ctx.input(|i| i.key_pressed(Key::Escape)) {
         ask.push(ProgramsIntent::Cancel);
+    }
+}
+
+impl Pane for ProgramsPanel {
+    fn ui(&mut self, ui: &mut Ui, cx: &mut PaneCx<'_>) {
+        self.show(ui, cx.pendant, cx.folder, cx.now, cx.intents);
     }
 }

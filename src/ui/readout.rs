@@ -5,6 +5,7 @@ use std::time::Instant;
 
 use egui::{RichText, Ui};
 
+use super::pane::{Pane, PaneCx};
 use super::widgets::AMBER;
 use crate::pendant::Pendant;
 
@@ -104,5 +105,15 @@ pub fn show(ui: &mut Ui, pendant: &Pendant, now: Instant) {
             "{}, work No. {}, tool No. {}",
             w.common.arm, w.work, w.tool
         ));
+    }
+}
+
+/// The Position pane.
+#[derive(Default)]
+pub struct Readout;
+
+impl Pane for Readout {
+    fn ui(&mut self, ui: &mut Ui, cx: &mut PaneCx<'_>) {
+        show(ui, cx.pendant, cx.now);
     }
 }

@@ -4,6 +4,7 @@
 
 use egui::{Button, DragValue, RichText, Ui};
 
+use super::pane::{Pane, PaneCx};
 use super::widgets::{AMBER, GREEN, GREY, RED, reserved_line};
 use crate::pendant::axes::{AxisIntent, RmcSettings};
 use crate::pendant::{Intent, LineState, Pendant};
@@ -135,4 +136,14 @@ fn limit_field(ui: &mut Ui, limit: &mut Option<f32>, name: &str) {
             .on_hover_text(name.to_string());
         }
     });
+}
+
+/// The Delta RMC151's connection section of the left column.
+#[derive(Default)]
+pub struct RmcConnectionPane;
+
+impl Pane for RmcConnectionPane {
+    fn ui(&mut self, ui: &mut Ui, cx: &mut PaneCx<'_>) {
+        show(ui, cx.pendant, cx.intents);
+    }
 }

@@ -1,6 +1,7 @@
 //! Opening the native window, with a plain one-line error where there is no display.
 
-use super::app::{APP_ID, END_ASKED, PendantApp, StartOptions};
+use super::app::{APP_ID, END_ASKED, PendantApp};
+use super::start::StartOptions;
 use crate::cli::Renderer;
 
 /// Opens the window and runs until it closes, drawn by `renderer`.

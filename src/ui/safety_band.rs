@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use egui::{Color32, RichText, Ui};
 
+use super::pane::{Pane, PaneCx};
 use super::widgets::{AMBER, RED};
 use crate::pendant::Pendant;
 use crate::protocol::SystemMode;
@@ -145,4 +146,14 @@ pub fn show(ui: &mut Ui, pendant: &Pendant, _now: Instant) {
     );
     let all: Vec<String> = alerts.iter().map(|a| a.text.clone()).collect();
     resp.on_hover_text(all.join("\n"));
+}
+
+/// The safety band under the top bar.
+#[derive(Default)]
+pub struct SafetyBand;
+
+impl Pane for SafetyBand {
+    fn ui(&mut self, ui: &mut Ui, cx: &mut PaneCx<'_>) {
+        show(ui, cx.pendant, cx.now);
+    }
 }

@@ -11,6 +11,7 @@ use egui_extras::{Column as Col, TableBuilder};
 
 use super::file_field::{Browse, FieldSpec, FileAsk, Purpose};
 use super::file_work::{Done, FileButton, FileWork, is_json, read_job, write_job};
+use super::pane::{Pane, PaneCx};
 use super::plots::PlotsPanel;
 use super::widgets::{AMBER, GREEN, GREY, RED, level_color, reserved_line};
 use crate::files::job::Job;
@@ -945,4 +946,10 @@ fn named_field(text: &str, name: String) -> egui::WidgetInfo {
     let mut info = egui::WidgetInfo::text_edit(true, text, text, "");
     info.label = Some(name);
     info
+}
+
+impl Pane for SignalsPanel {
+    fn ui(&mut self, ui: &mut Ui, cx: &mut PaneCx<'_>) {
+        self.show(ui, cx.pendant, cx.folder, cx.now, cx.intents);
+    }
 }

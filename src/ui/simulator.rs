@@ -7,6 +7,7 @@
 
 use egui::{RichText, Ui};
 
+use super::pane::{Pane, PaneCx};
 use super::widgets::{AMBER, GREEN, GREY, RED, lamp, reserved_line};
 use crate::session::simulator::{Mode, OperatorAction, PanelState, parse_code};
 
@@ -14,6 +15,8 @@ use crate::session::simulator::{Mode, OperatorAction, PanelState, parse_code};
 pub struct SimulatorPanel {
     code: String,
     feedback: Option<(bool, String)>,
+    /// The action clicked this frame, handed to the front panel after drawing.
+    pub action: Option<OperatorAction>,
 }
 
 impl Default for SimulatorPanel {
@@ -22,6 +25,7 @@ impl Default for SimulatorPanel {
             // A real code to start from (a hint would look filled in and raise nothing).
             code: "C74".into(),
             feedback: None,
+            action: None,
         }
     }
 }
@@ -177,4 +181,22 @@ fn signals(ui: &mut Ui, state: &PanelState) -> Option<OperatorAction> {
         }
     });
     action
+}
+
+impl Pane for SimulatorPanel {
+    fn ui(&mut self, ui: &mut Ui, cx: &mut PaneCx<'_>) {
+        match cx.sim.map(|panel| panel.state()) {
+            Some(Some(state)) => {
+                if let Some(action) = self.show(ui, state) {
+                    self.action = Some(action);
+                }
+            }
+            Some(None) => {
+                ui.label("Waiting for the built-in simulator's panel...");
+            }
+            None => {
+                ui.label("Not on the built-in simulator: the line goes to a real controller.");
+            }
+        }
+    }
 }

@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use egui::{Button, Color32, RichText, Ui};
 
+use super::pane::{Pane, PaneCx};
 use super::widgets::{AMBER, GREEN, GREY, RED, reason};
 use crate::pendant::controller::STALE_AFTER;
 use crate::pendant::{Intent, MotionPhase, Pendant};
@@ -242,5 +243,15 @@ pub fn servo_home_buttons(
         if b.on_hover_text(hover).on_disabled_hover_text(why).clicked() {
             intents.push(intent);
         }
+    }
+}
+
+/// The Status pane.
+#[derive(Default)]
+pub struct StatusPane;
+
+impl Pane for StatusPane {
+    fn ui(&mut self, ui: &mut Ui, cx: &mut PaneCx<'_>) {
+        egui::ScrollArea::vertical().show(ui, |ui| show(ui, cx.pendant, cx.now, cx.intents));
     }
 }

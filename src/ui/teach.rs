@@ -9,6 +9,7 @@ use egui_extras::{Column as Col, TableBuilder};
 
 use super::file_field::{Browse, FieldSpec, FileAsk, Purpose};
 use super::file_work::{Done, FileWork, is_json, read_job, write_job};
+use super::pane::{Pane, PaneCx};
 use super::widgets::{AMBER, RED, reserved_line};
 use crate::files::DOCUMENT_LIMIT;
 use crate::files::job::Job;
@@ -306,7 +307,7 @@ impl TeachPanel {
             });
         }
         // The panel's own word (a save) or the pendant's (a load): one reserved line.
-        let said = match (&self.file.message, &pendant.teach_feedback) {
+        let said = match (&self.file.message, pendant.teach.feedback()) {
             (Some((ok, text)), _) => Some((*ok, text.as_str())),
             (None, Some((level, text))) => Some((*level == Level::Info, text.as_str())),
             (None, None) => None,
@@ -371,5 +372,13 @@ fn go_words(pendant: &Pendant) -> String {
             "2D4H CP (straight line) at {} mm/s (the ghost shows the line)",
             sent.cp_speed_mm_s
         ),
+    }
+}
+
+impl Pane for TeachPanel {
+    fn ui(&mut self, ui: &mut Ui, cx: &mut PaneCx<'_>) {
+        egui::ScrollArea::vertical().show(ui, |ui| {
+            self.show(ui, cx.pendant, cx.folder, cx.now, cx.intents);
+        });
     }
 }

@@ -5,6 +5,7 @@ use std::time::{Duration, Instant};
 
 use egui::{Button, Color32, RichText, Ui, vec2};
 
+use super::pane::{Pane, PaneCx};
 use super::widgets::{AMBER, GREEN, RED};
 use crate::pendant::{Intent, LineState, Pendant, StopCause};
 use crate::protocol::SystemMode;
@@ -143,4 +144,14 @@ fn rmc_lamp(ui: &mut Ui, pendant: &Pendant) {
     ui.scope(|ui| super::widgets::lamp(ui, true, color, "RMC"))
         .response
         .on_hover_text(hover);
+}
+
+/// The top bar.
+#[derive(Default)]
+pub struct TopBar;
+
+impl Pane for TopBar {
+    fn ui(&mut self, ui: &mut Ui, cx: &mut PaneCx<'_>) {
+        show(ui, cx.pendant, cx.now, cx.intents);
+    }
 }

@@ -9,8 +9,8 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Duration;
 
-use crate::link::PollAnswers;
 use crate::pendant::{LinkEvent, Origin};
+use crate::session::PollAnswers;
 
 /// The longest a change waits to be drawn (polls arrive at about 10 Hz; one frame for a
 /// burst of them).

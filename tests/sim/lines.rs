@@ -3,12 +3,10 @@
 //! client, paced replies over TCP, a host that never reads the 25BH reply. Every wait has
 //! a deadline; nothing asserts on timing.
 
-// Threaded smoke tests that keep a fixed sleep: a third-party host's pace, with no
-// condition to wait for, only a speed to keep:
-// - `ten_thousand_pipelined_frames_over_a_pty_are_all_answered_in_order`: a reader 20 ms
-//   slow a read, so that the pty fills while the writer goes on;
-// - `a_frame_sent_a_byte_at_a_time_is_answered`: 3 ms between bytes, so that each comes
-//   to the simulator on its own.
+// The one threaded smoke test that keeps a fixed sleep: a third-party host's pace, with no
+// condition to wait for (the simulator counts frames, not bytes read), only a speed to
+// keep: `a_frame_sent_a_byte_at_a_time_is_answered` waits 3 ms between bytes, so that each
+// comes to the simulator on its own.
 
 use std::io::{Read, Write};
 use std::net::TcpStream;
@@ -19,7 +17,7 @@ use xsel_pendant::line::byte_time_8n1;
 use xsel_pendant::sim::runner::{RunOptions, SimCore, start_tcp};
 use xsel_pendant::sim::{Controller, FaultSpec, SimSetup};
 
-use crate::wait::{LONG, eventually};
+use crate::wait::{LONG, eventually, until};
 use crate::wire::{frame, sc};
 
 const FRAMES: usize = 10_000;
@@ -123,14 +121,13 @@ fn ten_thousand_pipelined_frames_over_a_pty_are_all_answered_in_order() {
             writer.write_all(&numbered(i)).unwrap();
         }
     });
-    let lines = read_lines(
-        |b| {
-            // A slow reader: the simulator's side of the pty fills up.
-            std::thread::sleep(Duration::from_millis(20));
-            port.read(b)
-        },
-        FRAMES,
-    );
+    // Nothing is read until every frame is written: the simulator's side of the pty
+    // fills with replies while the writer goes on, and the writer only finishes if the
+    // simulator keeps receiving while its replies wait for room.
+    until("every frame written while no reply is read", LONG, || {
+        feeder.is_finished()
+    });
+    let lines = read_lines(|b| port.read(b), FRAMES);
     feeder.join().unwrap();
     check_in_order(&lines);
     let n = server.handle.counters();

@@ -10,13 +10,8 @@ use std::time::{Duration, Instant};
 use xsel_pendant::sim::runner::{RunOptions, SimCore, TcpServer, start_tcp};
 use xsel_pendant::sim::{Controller, FaultSpec, SimSetup};
 
+use crate::wait::{LONG, PROCESS};
 use crate::wire::{frame, sc};
-
-/// How long a reply or a move may take before the test fails (only a failing test waits
-/// this long).
-const LONG: Duration = Duration::from_secs(10);
-/// How long the real binary may take to start on a loaded machine.
-const PROCESS: Duration = Duration::from_secs(20);
 
 /// A host on a TCP line to the simulator (kept alive with it, if it runs in this process).
 struct Host {

@@ -9,13 +9,8 @@ use std::process::{Child, ChildStdin, Command, Stdio};
 use std::sync::mpsc::{Receiver, channel};
 use std::time::{Duration, Instant};
 
+use crate::wait::{LONG, PROCESS};
 use crate::wire::{frame, sc};
-
-/// How long a reply or a console answer may take before the test fails (only a failing
-/// test waits this long).
-const LONG: Duration = Duration::from_secs(10);
-/// How long the real binary may take to start on a loaded machine.
-const PROCESS: Duration = Duration::from_secs(20);
 
 /// `xsel-sim --tcp` with its console on a pipe, and a host on its line (the programs
 /// tests use it too).

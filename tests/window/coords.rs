@@ -441,11 +441,11 @@ fn a_teach_load_never_empties_the_list_never_blocks_and_replaces_only_when_told(
     record(&mut h, "KEEP");
     // The read is a job: the window keeps drawing until the pendant has its answer.
     let load = |h: &mut Harness<'_, PendantApp>, file: &std::path::Path| {
-        let before = h.state().pendant().teach_feedback.clone();
+        let before = h.state().pendant().teach.feedback().cloned();
         replace_text(h, "File", &file.display().to_string());
         click(h, "Load");
         step_until(h, "the load answered", |a| {
-            a.pendant().teach_feedback != before || a.pendant().teach.pending().is_some()
+            a.pendant().teach.feedback().cloned() != before || a.pendant().teach.pending().is_some()
         });
     };
     let said = |h: &Harness<'_, PendantApp>| {

@@ -19,6 +19,7 @@ use crate::pendant::{Intent, Level, Pendant};
 use crate::protocol::Columns;
 use jobs::{Filtered, Saved};
 
+use super::pane::{Pane, PaneCx};
 use crate::files::job::{Job, JobPoll};
 use crate::ui::file_field::{FileField, take_done};
 
@@ -447,4 +448,10 @@ pub(crate) fn plain(s: &str) -> String {
         .chars()
         .map(|c| if c.is_ascii() { c } else { '?' })
         .collect()
+}
+
+impl Pane for FrameLogPanel {
+    fn ui(&mut self, ui: &mut Ui, cx: &mut PaneCx<'_>) {
+        self.show(ui, cx.pendant, cx.folder, cx.now, cx.intents);
+    }
 }

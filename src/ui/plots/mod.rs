@@ -14,6 +14,7 @@ use std::time::{Duration, Instant};
 use egui::{Color32, ComboBox, RichText, Ui};
 use egui_plot::{Line, Plot, PlotBounds, PlotPoints, Text, VLine};
 
+use super::pane::{Pane, PaneCx};
 use crate::pendant::samples::capture::Capture;
 use crate::pendant::samples::view::{
     Trace, TraceCache, TraceChoice, capture_trace, capture_value_at, live_value_at,
@@ -634,4 +635,10 @@ fn readout(p: &PlotsPanel, ui: &mut Ui, pendant: &Pendant, captures: &[&Capture]
                 ui.end_row();
             }
         });
+}
+
+impl Pane for PlotsPanel {
+    fn ui(&mut self, ui: &mut Ui, cx: &mut PaneCx<'_>) {
+        show(self, ui, cx.pendant, cx.intents, cx.folder, cx.now);
+    }
 }

@@ -11,6 +11,7 @@ pub mod coords;
 pub mod frame_log;
 mod intent;
 pub mod jog;
+mod out;
 pub mod positions;
 pub mod programs;
 pub mod samples;
@@ -36,15 +37,41 @@ pub use controller::ControllerState;
 pub use controller::readiness::NotReady;
 use controller::{readiness, transitions};
 pub use intent::Intent;
+use intent::UI_SCALES;
 pub use jog::hold::{HeldJog, JogInput, JogTarget, Press, StopCause};
-pub use jog::{Interpolation, JogAxis, JogMode, JogSettings, PhysicalJog, PlannedStep, Refusal};
+pub use jog::{
+    Interpolation, JogAxis, JogCx, JogMode, JogSettings, PhysicalJog, PlannedStep, Refusal,
+};
+pub use out::{Level, Message, Out, Request};
+
+/// Jogging's view of the rest of the model, from the pendant's own fields (so the jog
+/// state itself may be borrowed mutably beside it).
+macro_rules! jog_cx {
+    ($p:expr) => {
+        jog::JogCx {
+            model: &$p.model,
+            kin: &$p.kin,
+            controller: &$p.controller,
+            settings: &$p.settings.jog,
+            line_up: $p.line.is_up(),
+        }
+    };
+}
+
+/// The pendant's requests and messages, for a sub-model to write into.
+macro_rules! out {
+    ($p:expr) => {
+        Out {
+            requests: &mut $p.requests,
+            messages: &mut $p.messages,
+        }
+    };
+}
 
 /// How long a "press again to confirm" for an arm flip stays armed.
 pub(crate) const CONFIRM_FOR: Duration = Duration::from_secs(5);
 /// The span of the link-health fault counts.
 const MINUTE: Duration = Duration::from_secs(60);
-/// Messages kept for the operator.
-const KEEP_MESSAGES: usize = 200;
 
 /// Everything persisted between runs (eframe storage).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -73,55 +100,6 @@ pub struct Settings {
     pub captures: samples::capture::CaptureSettings,
 }
 
-/// What the pendant asks of the link. The window runs these after drawing a frame;
-/// [`Request::Stop`] it runs at once.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Request {
-    /// A command at the user's priority.
-    Submit(Command),
-    /// A command that gives way to the status polls (position table reads).
-    Background(Command),
-    /// A command sent only in the line time the status polls leave (signal reads).
-    Spare(Command),
-    /// 238H for all axes, at the head of the queue.
-    Stop,
-    /// Keep the continuous jog alive (the link stops it when renewals stop).
-    RenewJogLease,
-    /// Read a whole coordinate table with 2A4H.
-    ReadTable(CoordKind),
-    /// Read these records of a coordinate table with 2A4H (a retry of what a read missed).
-    ReadRecords(CoordKind, std::ops::Range<u16>),
-    /// Stop the table read in progress.
-    CancelTableRead,
-    /// Give the embedded simulator these tables (the draft, to try it).
-    SimulatorTables(crate::robot::CoordTables),
-    /// Close the line (if open) and open the one in the settings.
-    Connect,
-    /// Close the line.
-    Disconnect,
-    /// A call for the RMC151's link.
-    Axes(axes::AxisCall),
-}
-
-/// How a message to the operator is shown.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Level {
-    Info,
-    Warning,
-    Error,
-}
-
-/// One line for the operator: what happened, where they are looking.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Message {
-    pub level: Level,
-    pub text: String,
-    pub at: Instant,
-    /// The whole story where `text` is the short form (a refusal's check point and
-    /// distances): shown on hover.
-    pub detail: Option<String>,
-}
-
 /// The motion phase the lamps show.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MotionPhase {
@@ -132,16 +110,6 @@ pub enum MotionPhase {
     Done,
     Jogging,
     Stopped,
-}
-
-/// A move the pendant sent and follows.
-#[derive(Clone, Debug)]
-struct Followed {
-    plan: PlannedStep,
-    /// When the controller accepted it; `None` while the reply is awaited.
-    accepted: Option<Instant>,
-    /// When a STOP went out while it was followed.
-    stopped: Option<Instant>,
 }
 
 /// The command an event answers, for the events that answer one.
@@ -178,8 +146,6 @@ pub struct Pendant {
     pub coords: coords::CoordEditor,
     /// The teach list, a load waiting for "Replace", and what Undo load brings back.
     pub teach: teach::book::TeachBook,
-    /// The teach pane's last word on a file (loaded, refused, undone).
-    pub teach_feedback: Option<(Level, String)>,
     /// The RMC151's axes.
     pub axes: axes::RmcAxes,
     /// The controller's position table: as read, the draft, the write going on.
@@ -213,7 +179,6 @@ impl Pendant {
                 p
             },
             teach,
-            teach_feedback: None,
             positions: positions::Positions::new(),
             signals: signals::Signals::default(),
             programs: programs::Programs::default(),
@@ -306,15 +271,14 @@ impl Pendant {
 
     /// Adds a message for the operator (the window reports its file work through it).
     pub fn say(&mut self, level: Level, text: impl Into<String>, now: Instant) {
-        if self.messages.len() >= KEEP_MESSAGES {
-            self.messages.pop_front();
+        out::say(&mut self.messages, level, text, now);
+    }
+
+    /// A sub-model's words for the operator, in order.
+    fn tell(&mut self, said: impl IntoIterator<Item = (Level, String)>, now: Instant) {
+        for (level, text) in said {
+            self.say(level, text, now);
         }
-        self.messages.push_back(Message {
-            level,
-            text: text.into(),
-            at: now,
-            detail: None,
-        });
     }
 
     /// A word for the operator from outside the model (the window's own actions).
@@ -322,28 +286,9 @@ impl Pendant {
         self.say(Level::Info, text, now);
     }
 
+    /// The last word beside the pad, also said in Messages.
     fn jog_says(&mut self, level: Level, text: impl Into<String>, now: Instant) {
-        let text = text.into();
-        self.jog.feedback = Some(Message {
-            level,
-            text: text.clone(),
-            at: now,
-            detail: None,
-        });
-        self.say(level, text, now);
-    }
-
-    /// A refusal beside the pad in one short sentence, the whole of it in Messages and on
-    /// hover.
-    fn jog_refused(&mut self, why: &Refusal, now: Instant) {
-        let full = format!("refused: {why}");
-        self.jog.feedback = Some(Message {
-            level: Level::Warning,
-            text: format!("refused: {}", why.short()),
-            at: now,
-            detail: Some(full.clone()),
-        });
-        self.say(Level::Warning, full, now);
+        self.jog.says(&mut out!(self), level, text, now);
     }
 
     // ---- the line ----
@@ -360,6 +305,33 @@ impl Pendant {
         self.requests.push(Request::Disconnect);
         self.line = LineState::Closed;
         self.line_gone(now);
+    }
+
+    /// The records a whole-table read ([`Request::ReadTable`]) asks for: the model's
+    /// table, as far as 2A4H can number it.
+    pub fn table_records(&self, kind: CoordKind) -> std::ops::Range<u16> {
+        let size = match kind {
+            CoordKind::Work => self.model.work_table_size,
+            CoordKind::Tool => self.model.tool_table_size,
+        };
+        0..size.min(usize::from(crate::protocol::COORD_RECORDS)) as u16
+    }
+
+    /// The RMC151's connection could not be started: its line is down, and why.
+    pub fn rmc_connect_failed(&mut self, reason: String, now: Instant) {
+        self.say(Level::Error, format!("RMC: {reason}"), now);
+        self.axes.line = LineState::Down { reason, since: now };
+    }
+
+    /// The window started at `now` (`wall` on the clock): the frame log's times count
+    /// from here.
+    pub fn started(&mut self, now: Instant, wall: std::time::SystemTime) {
+        self.frame_log.set_origin(Some(now), wall);
+    }
+
+    /// A frame log of `rows` synthetic rows (the benches' memory of a full log).
+    pub fn fill_log_synthetic(&mut self, rows: u64) {
+        self.frame_log.fill_synthetic(rows);
     }
 
     /// The link could not be started at all (the port could not be opened, a bad file).
@@ -382,18 +354,16 @@ impl Pendant {
         if let Some((level, text)) = self.snapshots.line_gone() {
             self.say(level, text, _now);
         }
-        if self.jog.hold.stop(StopCause::LineLost).is_some() {
+        if self.jog.line_lost() {
             self.say(Level::Error, "the line went down during a jog", _now);
         }
-        self.jog.followed = None;
-        self.jog.command_position = None;
     }
 
     // ---- events ----
 
     /// Applies one event from the link.
     pub fn handle_event(&mut self, now: Instant, event: LinkEvent) {
-        self.log_traffic(&event);
+        self.frame_log.record_event(&event);
         self.link_stop(now, &event);
         if event_command(&event).is_some_and(|c| self.snapshots.owns(c)) {
             if let Some((level, text)) = self.snapshots.handle_event(&event) {
@@ -405,7 +375,8 @@ impl Pendant {
             for (level, text) in self.positions.handle_event(&event) {
                 self.say(level, text, now);
             }
-            return self.positions_out();
+            let requests = self.positions.take_requests();
+            return self.requests.extend(requests);
         }
         if event_command(&event).is_some_and(alarms::Alarms::owns) {
             if let Some((level, text)) = self.alarms.handle_event(&event) {
@@ -454,7 +425,7 @@ impl Pendant {
                     name(&command)
                 );
                 if command.moves_arm() {
-                    self.motion_refused();
+                    self.jog.motion_refused();
                     self.jog_says(Level::Error, text, now);
                 } else {
                     self.say(Level::Error, text, now);
@@ -467,7 +438,7 @@ impl Pendant {
             } => {
                 let text = format!("no reply to {} ({})", command.id(), name(&command));
                 if command.moves_arm() {
-                    self.jog.followed = None;
+                    self.jog.motion_unanswered();
                     self.jog_says(Level::Error, text, now);
                 } else {
                     self.say(Level::Warning, text, now);
@@ -480,17 +451,10 @@ impl Pendant {
                 if reason == crate::link::NotSentReason::StopCameFirst {
                     // Ended by the STOP the operator (or the link) gave: no refusal, and
                     // the latch keeps that STOP's cause.
-                    if self
-                        .jog
-                        .followed
-                        .as_ref()
-                        .is_some_and(|f| f.plan.command == command && f.accepted.is_none())
-                    {
-                        self.jog.followed = None;
-                    }
+                    self.jog.ended_by_stop(&command);
                     self.say(Level::Info, text, now);
                 } else if command.moves_arm() {
-                    self.motion_refused();
+                    self.jog.motion_refused();
                     self.jog_says(Level::Error, text, now);
                 } else {
                     self.say(Level::Warning, text, now);
@@ -500,7 +464,7 @@ impl Pendant {
                 kind,
                 received,
                 total,
-            } => self.table_progress(kind, received, total),
+            } => self.coords.table_progress(kind, received, total),
             LinkEvent::TableDone {
                 kind,
                 axes,
@@ -508,13 +472,21 @@ impl Pendant {
                 records,
                 missing,
             } => {
-                self.table_done(kind, axes, first, &records, &missing, now);
+                let done = coords::TableDone {
+                    kind,
+                    axes,
+                    first,
+                    records: &records,
+                    missing: &missing,
+                };
+                self.coords
+                    .table_done(&mut self.controller, &mut out!(self), done, now);
                 if kind == CoordKind::Work && self.controller.tool_table.is_none() {
                     self.requests.push(Request::ReadTable(CoordKind::Tool));
                 }
             }
             LinkEvent::Interrupted { command, .. } if command.moves_arm() => {
-                self.jog.followed = None;
+                self.jog.motion_unanswered();
                 self.jog_says(
                     Level::Error,
                     format!(
@@ -601,43 +573,7 @@ impl Pendant {
                 }
             }
             Reply::Version(v) => self.controller.version = Some(v),
-            Reply::Ack(_) => match command {
-                Command::ScaraMoveRelative(_)
-                | Command::ScaraMoveAbsolute(_)
-                | Command::ScaraMovePosition(_) => {
-                    if let Some(f) = self
-                        .jog
-                        .followed
-                        .as_mut()
-                        .filter(|f| f.plan.command == command)
-                    {
-                        f.accepted = Some(now);
-                        self.jog.command_position = Some(f.plan.end);
-                    }
-                }
-                Command::Jog(j) if j.is_continuous() && self.jog.hold.jog().is_some() => {
-                    self.jog.jog_accepted = Some(now);
-                }
-                Command::Jog(j) if j.distance.0 != 0 => {
-                    if let Some(f) = self
-                        .jog
-                        .followed
-                        .as_mut()
-                        .filter(|f| f.plan.command == command)
-                    {
-                        f.accepted = Some(now);
-                        self.jog.command_position = Some(f.plan.end);
-                    }
-                }
-                Command::Stop(_) => {
-                    if let Some(f) = self.jog.followed.as_mut() {
-                        f.stopped.get_or_insert(now);
-                    }
-                    // The arm stopped short: the command position is where it is.
-                    self.jog.command_position = None;
-                }
-                _ => {}
-            },
+            Reply::Ack(_) => self.jog.acknowledged(&command, now),
             _ => {}
         }
     }
@@ -654,12 +590,7 @@ impl Pendant {
 
     /// Whether the controller may be asked to move now.
     pub fn motion_ready(&self, now: Instant) -> Result<(), NotReady> {
-        readiness::motion_gate(
-            self.line.is_up(),
-            self.controller.system.as_ref().map(|s| &s.value),
-            self.controller.work.as_ref().map(|s| &s.value),
-            self.controller.is_stale(now),
-        )
+        jog_cx!(self).motion_ready(now)
     }
 
     /// Whether servo and homing commands may be sent (no servo or homing condition).
@@ -728,26 +659,16 @@ impl Pendant {
             self.say(Level::Warning, text, now);
         }
         self.requests.push(Request::Stop);
-        self.jog.hold.stop(cause);
+        self.jog.stop(cause, now);
         self.axes.stop(cause);
         self.positions.go_confirm = None;
         self.programs.stopped();
-        self.jog.confirm = None;
-        if let Some(f) = self.jog.followed.as_mut() {
-            f.stopped.get_or_insert(now);
-        }
         // The operator's own STOP is news of the expected kind; any other is a warning.
         let level = match cause {
             StopCause::Button | StopCause::Esc | StopCause::Exit => Level::Info,
             _ => Level::Warning,
         };
         self.jog_says(level, format!("STOP sent ({})", cause.name()), now);
-    }
-
-    /// A move or jog the controller (or the link) refused: the jog ends, latched.
-    fn motion_refused(&mut self) {
-        self.jog.followed = None;
-        self.jog.hold.stop(StopCause::Refused);
     }
 
     /// The link's own STOPs (lapsed lease, stalled line) reach Messages and latch.
@@ -766,11 +687,7 @@ impl Pendant {
             crate::link::Origin::SafetyStop => StopCause::LinkSafety,
             _ => return,
         };
-        self.jog.hold.stop(cause);
-        if let Some(f) = self.jog.followed.as_mut() {
-            f.stopped.get_or_insert(now);
-        }
-        self.jog.command_position = None;
+        self.jog.stopped_outside(cause, now);
         self.jog_says(
             Level::Warning,
             format!("STOP sent by the link: {}", cause.name()),
@@ -781,11 +698,7 @@ impl Pendant {
     /// The guardian stopped the arm by itself: a jog still held is latched as for any
     /// STOP the operator did not give.
     fn guardian_stopped(&mut self, why: &str, now: Instant) {
-        self.jog.hold.stop(StopCause::Guardian);
-        if let Some(f) = self.jog.followed.as_mut() {
-            f.stopped.get_or_insert(now);
-        }
-        self.jog.command_position = None;
+        self.jog.stopped_outside(StopCause::Guardian, now);
         self.jog_says(
             Level::Warning,
             format!("STOP sent by the guardian process: {why}"),
@@ -839,13 +752,7 @@ impl Pendant {
         if let Err(why) = self.motion_ready(now) {
             return self.stop_by(StopCause::NotReady(why), now);
         }
-        if self.held_jog_ended() && !std::mem::replace(&mut self.jog.jog_end_said, true) {
-            let label = self
-                .jog
-                .hold
-                .jog()
-                .map(|j| j.target.label())
-                .unwrap_or_default();
+        if let Some(label) = self.jog.ended_by_controller(&self.controller) {
             self.jog_says(
                 Level::Warning,
                 format!(
@@ -859,6 +766,201 @@ impl Pendant {
 }
 
 impl Pendant {
+    /// Sends a frame typed as its body: station, message ID and data, e.g. `99215`
+    /// (no header, SC or CR LF: the link adds them, with the checksum or `@@` as the
+    /// connection settings say). Returns what was sent, or why not.
+    pub fn send_raw(&mut self, body: &str, now: Instant) -> Result<Command, String> {
+        let cx = frame_log::raw_send::RawCx {
+            station: crate::protocol::Station(self.settings.connection.station),
+            line_up: self.line.is_up(),
+            motion: self.motion_ready(now),
+        };
+        let (result, (level, text)) = frame_log::raw_send::raw_command(body, &cx);
+        if let Ok(command) = &result {
+            self.requests.push(Request::Submit(command.clone()));
+        }
+        self.say(level, text, now);
+        result
+    }
+
+    // ---- intents ----
+
+    /// Applies one intent.
+    pub fn apply(&mut self, intent: Intent, now: Instant) {
+        match intent {
+            Intent::Jog(input, press) => self.jog_input(input, press, now),
+            Intent::FocusLost => self.focus_lost(now),
+            Intent::Stop(cause) => self.stop_by(cause, now),
+            Intent::JogSettings(settings) => self.set_jog_settings(settings),
+            Intent::Servo(on) => self.servo(on, now),
+            Intent::Home => self.home(now),
+            Intent::ResetAlarm => self.reset_alarm(now),
+            Intent::GoToTarget => self.go_to_target(now),
+            Intent::EditTarget(pose) => self.jog.edit_step_target(pose),
+            Intent::ClearTarget => self.jog.clear_step_target(),
+            Intent::TeachGo(index) => self.teach_go(index, now),
+            Intent::TeachRecord(name) => self.teach_record(&name, now),
+            Intent::TeachList(list) => self.teach.set(list),
+            Intent::Positions(p) => self.apply_positions(p, now),
+            Intent::Signals(s) => self.apply_signals(s, now),
+            Intent::Programs(p) => self.apply_programs(p, now),
+            Intent::Alarms(a) => self.apply_alarms(a, now),
+            Intent::Snapshot(s) => self.apply_snapshot(s, now),
+            Intent::TeachLoaded { path, read } => {
+                let said = self.teach.loaded(&path, read);
+                self.tell(said, now);
+            }
+            Intent::TeachConfirmLoad => {
+                let said = self.teach.confirm_load();
+                self.tell(said, now);
+            }
+            Intent::TeachCancelLoad => self.teach.cancel_load(),
+            Intent::TeachUndoLoad => {
+                let said = self.teach.undo_load();
+                self.tell(said, now);
+            }
+            Intent::SetTarget(pose) => self.set_step_target(pose, now),
+            Intent::ConnectionSettings(c) => self.settings.connection = c,
+            Intent::Connect => self.connect(now),
+            Intent::Disconnect => self.disconnect(now),
+            Intent::RaiseSpeedCap(mm_s) => self.jog.raise_speed_cap(&mut out!(self), mm_s, now),
+            Intent::ResetSpeedCap => self.jog.reset_speed_cap(&mut out!(self), now),
+            Intent::LightTheme(light) => self.settings.light_theme = light,
+            Intent::Coords(c) => self.apply_coords(c, now),
+            Intent::FrameLogCap(cap) => {
+                self.frame_log.set_cap(cap);
+                self.settings.frame_log_cap = Some(cap);
+            }
+            Intent::FrameLogBudget(mb) => {
+                self.frame_log.set_budget(mb.saturating_mul(1024 * 1024));
+                self.settings.frame_log_budget_mb = Some(mb);
+            }
+            Intent::ClearFrameLog => self.frame_log.clear(),
+            Intent::CaptureSettings(c) => {
+                self.settings.captures = c;
+                self.samples.captures.settings = c;
+            }
+            Intent::ClearCaptures => self.samples.captures.list.clear(),
+            Intent::UiScale(scale) => {
+                self.settings.ui_scale = (scale.is_finite() && (scale - 1.0).abs() > 1e-3)
+                    .then(|| scale.clamp(UI_SCALES.0, UI_SCALES.1));
+            }
+            Intent::FileUsed(path) => {
+                self.settings.last_folder = path.parent().map(std::path::Path::to_path_buf);
+            }
+            Intent::Axes(intent) => {
+                if let Some((level, text)) = self.axes.apply(intent, &mut self.settings.rmc, now) {
+                    self.say(level, text, now);
+                }
+            }
+            Intent::SendRaw(body) => {
+                // The outcome is kept for the frame log pane and said in Messages.
+                self.raw_sent = Some(self.send_raw(&body, now).map(|c| c.id().to_string()));
+            }
+        }
+    }
+
+    /// Applies a frame's intents: the jog inputs' states first (so a STOP latches every
+    /// input down this frame), then STOPs, then the rest in order.
+    pub fn apply_all(&mut self, intents: impl IntoIterator<Item = Intent>, now: Instant) {
+        let rank = |i: &Intent| match i {
+            Intent::Jog(..) | Intent::FocusLost | Intent::Axes(axes::AxisIntent::Jog(..)) => 0,
+            Intent::Stop(_) => 1,
+            _ => 2,
+        };
+        let mut intents: Vec<Intent> = intents.into_iter().collect();
+        intents.sort_by_key(rank);
+        for intent in intents {
+            self.apply(intent, now);
+        }
+    }
+
+    /// Applies one Positions intent: the table decides, Go to No. N moves through the
+    /// jog state; the words go to Messages.
+    pub fn apply_positions(&mut self, intent: positions::PositionsIntent, now: Instant) {
+        if let positions::PositionsIntent::Go(n) = intent {
+            return self.position_go(n, now);
+        }
+        let jog_cx = jog_cx!(self);
+        let arm = self.jog.arm_now(&jog_cx, now);
+        let settings = self.jog.sent(&jog_cx);
+        let check = |rec: &crate::protocol::PositionRecord| match &arm {
+            Ok(arm) => jog::plan_position_go(&self.model, &self.kin, &settings, rec, arm)
+                .map(|_| ())
+                .map_err(|why| why.to_string()),
+            Err(why) => Err(format!("not checked: {why}")),
+        };
+        let cx = positions::PositionsCx {
+            line_up: self.line.is_up(),
+            program_running: self.program_running(),
+            controller: &self.controller,
+            check: &check,
+        };
+        let said = self.positions.apply(intent, &cx, now);
+        self.tell(said, now);
+        let requests = self.positions.take_requests();
+        self.requests.extend(requests);
+    }
+
+    /// 215H says a program runs (or nothing is known: counted as running, to be safe).
+    pub fn program_running(&self) -> bool {
+        self.controller
+            .system
+            .as_ref()
+            .is_none_or(|s| s.value.status2.program_running())
+    }
+
+    /// Go to No. `n`: 2D6H to what the controller holds there, after the checks of a
+    /// step; an arm flip asks for a second press.
+    fn position_go(&mut self, n: u16, now: Instant) {
+        let cx = jog_cx!(self);
+        let mut out = out!(self);
+        let rec = match self.positions.row(n) {
+            positions::Row::Held(r) => *r,
+            positions::Row::Empty => {
+                let text = format!("refused: No. {n} holds no data");
+                return self.jog.says(&mut out, Level::Warning, text, now);
+            }
+            _ => {
+                let text = format!(
+                    "refused: No. {n} has not been read: read it first (Go checks the controller's own record)"
+                );
+                return self.jog.says(&mut out, Level::Warning, text, now);
+            }
+        };
+        if !self.jog.may_send_move(&cx, &mut out, "move", now) {
+            return;
+        }
+        let plan = self.jog.arm_now(&cx, now).and_then(|arm| {
+            jog::plan_position_go(cx.model, cx.kin, &self.jog.sent(&cx), &rec, &arm)
+        });
+        let plan = match plan {
+            Ok(plan) => plan,
+            Err(why) => return self.jog.refused(&mut out, &why, now),
+        };
+        let confirmed = self
+            .positions
+            .go_confirm
+            .take()
+            .is_some_and(|(m, at)| m == n && now.duration_since(at) < CONFIRM_FOR);
+        if plan.flips_arm && !confirmed {
+            self.positions.go_confirm = Some((n, now));
+            let text = format!(
+                "Go to No. {n} flips the arm system: press again within {} s to confirm",
+                CONFIRM_FOR.as_secs()
+            );
+            return self.jog.says(&mut out, Level::Warning, text, now);
+        }
+        let differs = if self.positions.differs(n) {
+            " (the controller's record: the draft's row differs and is not written)"
+        } else {
+            ""
+        };
+        self.jog.send(&mut out, plan);
+        let text = format!("go to No. {n}: sent{differs}");
+        self.jog.says(&mut out, Level::Info, text, now);
+    }
+
     /// Applies one Signals intent: the sub-model decides; its words go to Messages.
     pub fn apply_signals(&mut self, intent: signals::SignalsIntent, now: Instant) {
         let cx = self.signals_cx(now);
@@ -926,7 +1028,8 @@ impl Pendant {
                 match self.positions.start_read(1..=self.positions.capacity()) {
                     Ok(()) => {
                         self.snapshots.handed_over();
-                        self.positions_out();
+                        let requests = self.positions.take_requests();
+                        self.requests.extend(requests);
                         None
                     }
                     Err(why) => self.snapshots.part_read(|s| {
@@ -1059,6 +1162,305 @@ impl Pendant {
                 Request::Spare(command)
             });
         }
+    }
+}
+
+impl Pendant {
+    // ---- jogging: the jog state decides; the pendant lends it the rest ----
+
+    /// What a step of `axis` in `dir` would do now, without sending it.
+    pub fn preview_step(
+        &self,
+        axis: JogAxis,
+        dir: crate::protocol::Direction,
+        now: Instant,
+    ) -> Result<PlannedStep, Refusal> {
+        self.jog.preview_step(&jog_cx!(self), axis, dir, now)
+    }
+
+    /// A click on a jog button in step mode: plan, check, send (or refuse, or ask to
+    /// confirm an arm flip).
+    pub fn jog_step(&mut self, axis: JogAxis, dir: crate::protocol::Direction, now: Instant) {
+        let cx = jog_cx!(self);
+        self.jog.step(&cx, &mut out!(self), axis, dir, now);
+    }
+
+    /// One jog input's state this frame (the hold-to-run machine decides what it means).
+    fn jog_input(&mut self, input: JogInput, press: Press, now: Instant) {
+        let cx = jog_cx!(self);
+        self.jog.input(&cx, &mut out!(self), input, press, now);
+    }
+
+    /// The window lost focus: it cannot see a key or button come up, so every jog stops.
+    fn focus_lost(&mut self, now: Instant) {
+        if let Some((level, text)) = self.axes.focus_lost_at(now) {
+            self.say(level, text, now);
+        }
+        self.jog.focus_lost(&mut out!(self), now);
+    }
+
+    /// The continuous jog running on a held input.
+    pub fn held_jog(&self) -> Option<HeldJog> {
+        self.jog.held_jog()
+    }
+
+    /// The control `input` is held on now, if any (the pad lights it).
+    pub fn held_on(&self, input: JogInput) -> Option<JogTarget> {
+        self.jog.held_on(input)
+    }
+
+    /// The STOP latch beside the pad: "STOP (Esc): release the jog controls".
+    pub fn stop_latch(&self) -> Option<String> {
+        self.jog.stop_latch()
+    }
+
+    /// New jog choices; a refusal or an armed confirmation made under the old ones goes.
+    fn set_jog_settings(&mut self, settings: JogSettings) {
+        if settings != self.settings.jog {
+            self.settings.jog = settings;
+            self.jog.settings_changed();
+        }
+    }
+
+    /// The jog settings as they go on the line: speeds within the cap.
+    pub fn jog_sent(&self) -> JogSettings {
+        self.jog.sent(&jog_cx!(self))
+    }
+
+    /// The jog speed cap at the tool, mm/s.
+    pub fn speed_cap(&self) -> f64 {
+        self.jog.speed_cap()
+    }
+
+    /// The motion phase of the move being followed.
+    pub fn motion_phase(&self, now: Instant) -> MotionPhase {
+        self.jog.motion_phase(&self.controller, now)
+    }
+
+    /// Whether the controller ended the held jog by itself (see
+    /// [`jog::JogState::held_jog_ended`]).
+    pub fn held_jog_ended(&self) -> bool {
+        self.jog.held_jog_ended(&self.controller)
+    }
+
+    /// The polled joints within the model's positioning band of the command position.
+    pub fn in_position(&self) -> Option<bool> {
+        self.jog.in_position(&self.controller, &self.model)
+    }
+
+    /// The planned move being followed, for the arm view's ghost.
+    pub fn followed_move(&self) -> Option<&crate::robot::Move> {
+        self.jog.followed_move()
+    }
+
+    /// The target set from the arm view, if any.
+    pub fn step_target(&self) -> Option<&jog::target::StepTarget> {
+        self.jog.step_target()
+    }
+
+    /// Sets the target to the tool tip at `pose` in the selected work frame.
+    pub fn set_step_target(&mut self, pose: crate::robot::Pose, now: Instant) {
+        self.jog
+            .set_step_target(&self.controller, &mut out!(self), pose, now);
+    }
+
+    /// What "Go to target" would do now.
+    pub fn preview_target(&self, now: Instant) -> Option<jog::target::StepPreview> {
+        self.jog.preview_target(&jog_cx!(self), now)
+    }
+
+    /// What "Go" on taught point `index` would do now, for its ghost.
+    pub fn preview_go(&self, index: usize, now: Instant) -> Option<jog::target::StepPreview> {
+        let point = self.teach.list().get(index)?;
+        Some(self.jog.preview_go(&jog_cx!(self), point, now))
+    }
+
+    /// What a move to position record `rec` would do now, for its ghost.
+    pub fn preview_position(
+        &self,
+        rec: &crate::protocol::PositionRecord,
+        now: Instant,
+    ) -> Option<jog::target::StepPreview> {
+        self.jog.preview_position(&jog_cx!(self), rec, now)
+    }
+
+    /// "Go to target": 2D4H after the readiness, frame and move checks.
+    pub fn go_to_target(&mut self, now: Instant) {
+        let cx = jog_cx!(self);
+        self.jog.go_to_target(&cx, &mut out!(self), now);
+    }
+
+    /// What a click on a jog button would do now, for the ghost.
+    pub fn preview_jog(
+        &self,
+        axis: JogAxis,
+        dir: crate::protocol::Direction,
+        now: Instant,
+    ) -> Option<jog::target::StepPreview> {
+        self.jog.preview_jog(&jog_cx!(self), axis, dir, now)
+    }
+
+    /// The move in progress (sent and not yet ended), as a preview of its end.
+    pub fn preview_followed(&self, now: Instant) -> Option<jog::target::StepPreview> {
+        self.jog.preview_followed(&jog_cx!(self), now)
+    }
+
+    /// "Go" on a taught point: 2D4H after the frame check and the same checks as a step;
+    /// the RMC axes it names move with it.
+    pub fn teach_go(&mut self, index: usize, now: Instant) {
+        let Some(point) = self.teach.list().get(index).cloned() else {
+            return;
+        };
+        let cx = jog_cx!(self);
+        let mut out = out!(self);
+        if !self.jog.may_send_move(&cx, &mut out, "move", now) {
+            return;
+        }
+        let refused = |jog: &mut jog::JogState, out: &mut Out, why: String| {
+            jog.says(out, Level::Warning, format!("refused: {why}"), now);
+        };
+        if let Some((work, tool)) = cx.controller.frame_numbers()
+            && let Err(why) = teach::check_go(&point, work, tool)
+        {
+            return refused(&mut self.jog, &mut out, why.to_string());
+        }
+        // The RMC axes the point names are checked first: nothing moves unless all may.
+        let axis_moves = if point.axes.is_empty() {
+            Vec::new()
+        } else {
+            match self.axes.go_moves(&point.axes, &self.settings.rmc) {
+                Ok(moves) => moves,
+                Err(why) => return refused(&mut self.jog, &mut out, why.to_string()),
+            }
+        };
+        let plan = self
+            .jog
+            .arm_now(&cx, now)
+            .and_then(|arm| jog::plan_go(cx.model, cx.kin, &self.jog.sent(&cx), &point, &arm));
+        match plan {
+            Ok(plan) => {
+                self.jog.send(&mut out, plan);
+                self.axes.queue(axis_moves);
+                let text = format!("go to \"{}\": sent", point.name);
+                self.jog.says(&mut out, Level::Info, text, now);
+            }
+            Err(why) => self.jog.refused(&mut out, &why, now),
+        }
+    }
+
+    /// "Record": the current pose, arm system and frame numbers under `name` (a free
+    /// name is made up when it is empty).
+    pub fn teach_record(&mut self, name: &str, now: Instant) {
+        let Some(status) = self.controller.work.as_ref().map(|s| s.value) else {
+            return self.say(Level::Warning, "not recorded: no position read yet", now);
+        };
+        if self.controller.is_stale(now) {
+            return self.say(
+                Level::Warning,
+                "not recorded: the position is out of date",
+                now,
+            );
+        }
+        let Some(pose) = self.controller.work_position() else {
+            return self.say(Level::Warning, "not recorded: no position read yet", now);
+        };
+        let name = if name.trim().is_empty() {
+            self.teach.list().unique_name("P")
+        } else {
+            name.trim().to_owned()
+        };
+        let at = teach::TaughtPose {
+            pose: pose.to_wire(),
+            arm: status.common.arm,
+            work: status.work,
+            tool: status.tool,
+        };
+        let axes = if self.settings.rmc.teach_axes {
+            match self.axes.taught_positions() {
+                Ok(axes) => axes,
+                Err(why) => return self.say(Level::Warning, format!("not recorded: {why}"), now),
+            }
+        } else {
+            Vec::new()
+        };
+        match self.teach.edit(|l| l.record_with_axes(&name, at, axes)) {
+            Ok(_) => self.say(Level::Info, format!("recorded \"{name}\""), now),
+            Err(e) => self.say(Level::Warning, format!("not recorded: {e}"), now),
+        }
+    }
+}
+
+impl Pendant {
+    // ---- the coordinate tables: the editor decides; the pendant lends it the rest ----
+
+    /// Applies one of the coordinate pane's intents.
+    pub fn apply_coords(&mut self, intent: coords::CoordsIntent, now: Instant) {
+        let cx = coords::CoordsCx {
+            line_up: self.line.is_up(),
+            controller: &self.controller,
+            model: &self.model,
+        };
+        self.coords.apply(intent, &cx, &mut out!(self), now);
+    }
+
+    /// The controller's table as read, if it was.
+    pub fn read_table(&self, kind: crate::robot::FrameKind) -> Option<&controller::ReadTable> {
+        coords::read_table(&self.controller, kind)
+    }
+
+    /// Reads a whole table from the controller again (the draft keeps its edits).
+    pub fn reload_table(&mut self, kind: CoordKind, now: Instant) {
+        let line_up = self.line.is_up();
+        self.coords.reload(line_up, &mut out!(self), kind, now);
+    }
+
+    /// Stops the read in progress; what was read so far is kept, the rest shown unread.
+    pub fn cancel_table_read(&mut self) {
+        self.coords.cancel_read(&mut out!(self));
+    }
+
+    /// The record ranges of a table not read (empty when all were, or none was read).
+    pub fn unread_ranges(&self, kind: crate::robot::FrameKind) -> Vec<std::ops::Range<u16>> {
+        coords::unread_ranges(&self.controller, kind)
+    }
+
+    /// Reads again only the records a read missed, range by range.
+    pub fn retry_unread(&mut self, kind: CoordKind, now: Instant) {
+        let cx = coords::CoordsCx {
+            line_up: self.line.is_up(),
+            controller: &self.controller,
+            model: &self.model,
+        };
+        self.coords.retry_unread(&cx, &mut out!(self), kind, now);
+    }
+
+    /// The draft becomes the controller's table (one undo step).
+    pub fn draft_from_controller(&mut self, kind: crate::robot::FrameKind) {
+        self.coords.draft_from_controller(&self.controller, kind);
+    }
+
+    /// Frames to draw over the arm (see [`coords::CoordEditor::frames_over_arm`]).
+    pub fn frames_over_arm(&self) -> Vec<(crate::robot::FrameKind, u8, crate::robot::CoordSystem)> {
+        self.coords.frames_over_arm(&self.controller)
+    }
+
+    /// Both drafts in a file format.
+    pub fn export_tables(&self, format: coords::file::TableFormat) -> String {
+        self.coords.export(format)
+    }
+
+    /// Reads a file into the drafts (see [`coords::CoordEditor::import`]).
+    pub fn import_tables(
+        &mut self,
+        bytes: &[u8],
+        format: coords::file::TableFormat,
+    ) -> Result<usize, teach::file::FileError> {
+        self.coords.import(bytes, format, &self.model)
+    }
+
+    /// Asks the window to give the drafts to the built-in simulator as its tables.
+    pub fn give_draft_to_simulator(&mut self, _now: Instant) {
+        self.coords.give_to_simulator(&mut out!(self));
     }
 }
 

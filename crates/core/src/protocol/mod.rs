@@ -43,7 +43,9 @@ pub use ids::{ErrorCode, Header, MessageId, Role, Station, StationParseError};
 pub use messages::basic::{
     ErrorDetail, ErrorDetailQuery, TestData, UnitType, VersionInfo, VersionQuery,
 };
-pub use messages::coords::{CoordKind, CoordQuery, CoordQuery2, CoordTable, CoordTable2, XyzR};
+pub use messages::coords::{
+    COORD_RECORDS, CoordKind, CoordQuery, CoordQuery2, CoordTable, CoordTable2, XyzR,
+};
 pub use messages::motion::{
     AxisMove, Direction, Home, Jog, JogFrame, JogMotion, Servo, SpeedChange, Stop,
 };

@@ -16,6 +16,10 @@ pub mod simulator {
 }
 pub use crate::sim::SimHandle;
 
+/// What the window's wake filter needs of the X-SEL link: how many events its channel
+/// holds, and the last answer to each polled command (to tell a change from a repeat).
+pub use crate::link::{EVENT_BACKLOG, PollAnswers};
+
 /// Connection auto-detect: a serial port tried at several settings (a probe opens lines,
 /// so the window reaches it here).
 pub mod probe {

@@ -1,13 +1,14 @@
-//! What the coordinate tables pane asks of the pendant, and the answers it shows: a
+//! What the coordinate tables pane asks of the editor, and the answers it shows: a
 //! refused cell entry (kept with its text) and the result of the last file read or write.
 
 use std::time::Instant;
 
 use super::cell::Column;
 use super::file::TableFormat;
-use crate::pendant::Pendant;
+use super::{CoordEditor, CoordsCx};
+use crate::pendant::Out;
 use crate::protocol::CoordKind;
-use crate::robot::FrameKind;
+use crate::robot::{FrameKind, RobotModel};
 
 /// One thing asked of the coordinate-table editor.
 #[derive(Clone, Debug, PartialEq)]
@@ -105,53 +106,51 @@ pub struct FileOutcome {
 /// What the file row says when the path names no format it knows.
 pub const NAME_A_FILE: &str = "name a file ending .csv, .json or .toml (the simulator's file)";
 
-impl Pendant {
+impl CoordEditor {
     /// Applies one of the coordinate pane's intents.
-    pub fn apply_coords(&mut self, intent: CoordsIntent, now: Instant) {
+    pub fn apply(&mut self, intent: CoordsIntent, cx: &CoordsCx, out: &mut Out, now: Instant) {
         // Any change but a new refusal takes the old one away.
         if !matches!(
             intent,
             CoordsIntent::SetCell(_) | CoordsIntent::OverArm { .. }
         ) {
-            self.coords.refused = None;
+            self.refused = None;
         }
         match intent {
-            CoordsIntent::Reload(kind) => self.reload_table(kind, now),
-            CoordsIntent::RetryUnread(kind) => self.retry_unread(kind, now),
-            CoordsIntent::CancelRead => self.cancel_table_read(),
+            CoordsIntent::Reload(kind) => self.reload(cx.line_up, out, kind, now),
+            CoordsIntent::RetryUnread(kind) => self.retry_unread(cx, out, kind, now),
+            CoordsIntent::CancelRead => self.cancel_read(out),
             CoordsIntent::Undo(kind) => {
-                self.coords.draft_mut(kind).undo();
+                self.draft_mut(kind).undo();
             }
             CoordsIntent::Redo(kind) => {
-                self.coords.draft_mut(kind).redo();
+                self.draft_mut(kind).redo();
             }
-            CoordsIntent::DraftFromController(kind) => self.draft_from_controller(kind),
-            CoordsIntent::SetCell(entry) => self.set_coord_cell(entry),
+            CoordsIntent::DraftFromController(kind) => {
+                self.draft_from_controller(cx.controller, kind)
+            }
+            CoordsIntent::SetCell(entry) => self.set_cell(entry),
             CoordsIntent::DismissRefusal => {}
             CoordsIntent::ResetCell {
                 kind,
                 number,
                 column,
             } => {
-                let controller = self
-                    .read_table(kind)
+                let controller = super::read_table(cx.controller, kind)
                     .map(|t| t.records.clone())
                     .unwrap_or_default();
-                let _ = self
-                    .coords
-                    .draft_mut(kind)
-                    .reset_cell(number, column, &controller);
+                let _ = self.draft_mut(kind).reset_cell(number, column, &controller);
             }
             CoordsIntent::OverArm { kind, number, on } => {
-                self.coords.set_over_arm(kind, number, on);
+                self.set_over_arm(kind, number, on);
             }
             CoordsIntent::Import {
                 path,
                 format,
                 bytes,
-            } => self.coords.file_result = Some(self.import_file(&path, format, bytes)),
+            } => self.file_result = Some(self.import_file(&path, format, bytes, cx.model)),
             CoordsIntent::Exported { path, result } => {
-                self.coords.file_result = Some(match result {
+                self.file_result = Some(match result {
                     Ok(()) => FileOutcome {
                         ok: true,
                         text: format!("exported the work and tool drafts to {path}"),
@@ -161,24 +160,23 @@ impl Pendant {
                 });
             }
             CoordsIntent::FileRefused(text) => {
-                self.coords.file_result = Some(FileOutcome { ok: false, text });
+                self.file_result = Some(FileOutcome { ok: false, text });
             }
             CoordsIntent::FileNotNamed => {
-                self.coords.file_result = Some(FileOutcome {
+                self.file_result = Some(FileOutcome {
                     ok: false,
                     text: NAME_A_FILE.to_owned(),
                 });
             }
-            CoordsIntent::TryOnSimulator => self.give_draft_to_simulator(now),
+            CoordsIntent::TryOnSimulator => self.give_to_simulator(out),
         }
     }
 
     /// Puts a typed entry in the draft, or keeps it with the reason it was refused.
-    fn set_coord_cell(&mut self, entry: CellEntry) {
-        self.coords.refused = None;
+    fn set_cell(&mut self, entry: CellEntry) {
+        self.refused = None;
         // Unchanged text (the value as shown, or an unread cell left empty) is no edit.
         let shown = self
-            .coords
             .draft(entry.kind)
             .get(entry.number)
             .map_or_else(String::new, |cs| super::cell::show(entry.column.get(&cs)));
@@ -186,12 +184,11 @@ impl Pendant {
         if typed == shown || (typed.is_empty() && shown.is_empty()) {
             return;
         }
-        let result =
-            self.coords
-                .draft_mut(entry.kind)
-                .set_cell(entry.number, entry.column, &entry.text);
+        let result = self
+            .draft_mut(entry.kind)
+            .set_cell(entry.number, entry.column, &entry.text);
         if let Err(why) = result {
-            self.coords.refused = Some(CellRefusal { entry, why });
+            self.refused = Some(CellRefusal { entry, why });
         }
     }
 
@@ -200,6 +197,7 @@ impl Pendant {
         path: &str,
         format: TableFormat,
         bytes: Result<Vec<u8>, String>,
+        model: &RobotModel,
     ) -> FileOutcome {
         let refused = |text: String| FileOutcome { ok: false, text };
         let bytes = match bytes {
@@ -207,7 +205,7 @@ impl Pendant {
             // The reader's sentence names the file.
             Err(e) => return refused(e),
         };
-        match self.import_tables(&bytes, format) {
+        match self.import(&bytes, format, model) {
             Ok(n) => FileOutcome {
                 ok: true,
                 text: format!("imported {n} rows from {path} (Undo takes them back)"),
@@ -220,7 +218,7 @@ impl Pendant {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pendant::Settings;
+    use crate::pendant::{Pendant, Settings};
     use crate::robot::RobotModel;
 
     fn pendant() -> Pendant {

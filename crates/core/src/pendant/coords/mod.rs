@@ -13,10 +13,10 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use super::controller::ReadTable;
-use super::{Level, Pendant, Request};
+use super::controller::{ControllerState, ReadTable};
+use super::{Level, Out, Request};
 use crate::protocol::{AxisPattern, CoordKind};
-use crate::robot::{CoordSystem, FrameKind};
+use crate::robot::{CoordSystem, FrameKind, RobotModel};
 pub use cell::Column;
 pub use draft::{DraftTable, RowDiff, Rows, diff};
 pub use file::TablePair;
@@ -177,104 +177,125 @@ impl CoordEditor {
     }
 }
 
-impl Pendant {
-    /// The controller's table as read, if it was.
-    pub fn read_table(&self, kind: FrameKind) -> Option<&ReadTable> {
-        match kind {
-            FrameKind::Work => self.controller.work_table.as_ref(),
-            FrameKind::Tool => self.controller.tool_table.as_ref(),
+/// A finished read of a table, as the link reports it.
+pub struct TableDone<'a> {
+    pub kind: CoordKind,
+    /// The axis pattern the table was answered with.
+    pub axes: AxisPattern,
+    /// The first record read.
+    pub first: u16,
+    pub records: &'a [Option<crate::protocol::PerAxis<crate::protocol::Milli>>],
+    /// The record ranges that could not be read.
+    pub missing: &'a [Range<u16>],
+}
+
+/// What the coordinate-table editor needs to know of the rest of the model.
+pub struct CoordsCx<'a> {
+    pub line_up: bool,
+    /// The controller's tables as read.
+    pub controller: &'a ControllerState,
+    /// The robot (the simulator's file names its axes).
+    pub model: &'a RobotModel,
+}
+
+/// The controller's table as read, if it was.
+pub fn read_table(controller: &ControllerState, kind: FrameKind) -> Option<&ReadTable> {
+    match kind {
+        FrameKind::Work => controller.work_table.as_ref(),
+        FrameKind::Tool => controller.tool_table.as_ref(),
+    }
+}
+
+/// The record ranges of a table not read (empty when all were, or none was read).
+pub fn unread_ranges(controller: &ControllerState, kind: FrameKind) -> Vec<Range<u16>> {
+    let Some(t) = read_table(controller, kind) else {
+        return Vec::new();
+    };
+    let mut holes: Vec<Range<u16>> = Vec::new();
+    for (i, r) in t.records.iter().enumerate() {
+        let i = i as u16;
+        if r.is_none() {
+            match holes.last_mut() {
+                Some(h) if h.end == i => h.end = i + 1,
+                _ => holes.push(i..i + 1),
+            }
         }
     }
+    holes
+}
 
+impl CoordEditor {
     /// Reads a whole table from the controller again (the draft keeps its edits).
-    pub fn reload_table(&mut self, kind: CoordKind, now: Instant) {
-        if !self.line.is_up() {
-            return self.say(
+    pub fn reload(&mut self, line_up: bool, out: &mut Out, kind: CoordKind, now: Instant) {
+        if !line_up {
+            return out.say(
                 Level::Warning,
                 format!("{kind:?} table not read: the line is down"),
                 now,
             );
         }
-        self.coords.retries.clear();
-        let total = self.coords.draft(FrameKind::from(kind)).rows().len() as u16;
-        self.coords.reading = Some(Reading {
+        self.retries.clear();
+        let total = self.draft(FrameKind::from(kind)).rows().len() as u16;
+        self.reading = Some(Reading {
             kind,
             received: 0,
             total,
         });
-        self.requests.push(Request::ReadTable(kind));
+        out.push(Request::ReadTable(kind));
     }
 
     /// Stops the read in progress; what was read so far is kept, the rest shown unread.
-    pub fn cancel_table_read(&mut self) {
-        self.coords.retries.clear();
-        if self.coords.reading.is_some() {
-            self.requests.push(Request::CancelTableRead);
+    pub fn cancel_read(&mut self, out: &mut Out) {
+        self.retries.clear();
+        if self.reading.is_some() {
+            out.push(Request::CancelTableRead);
         }
-    }
-
-    /// The record ranges of a table not read (empty when all were, or none was read).
-    pub fn unread_ranges(&self, kind: FrameKind) -> Vec<Range<u16>> {
-        let Some(t) = self.read_table(kind) else {
-            return Vec::new();
-        };
-        let mut holes: Vec<Range<u16>> = Vec::new();
-        for (i, r) in t.records.iter().enumerate() {
-            let i = i as u16;
-            if r.is_none() {
-                match holes.last_mut() {
-                    Some(h) if h.end == i => h.end = i + 1,
-                    _ => holes.push(i..i + 1),
-                }
-            }
-        }
-        holes
     }
 
     /// Reads again only the records a read missed, range by range.
-    pub fn retry_unread(&mut self, kind: CoordKind, now: Instant) {
-        if !self.line.is_up() {
-            return self.say(Level::Warning, "records not read: the line is down", now);
+    pub fn retry_unread(&mut self, cx: &CoordsCx, out: &mut Out, kind: CoordKind, now: Instant) {
+        if !cx.line_up {
+            return out.say(Level::Warning, "records not read: the line is down", now);
         }
-        let holes = self.unread_ranges(FrameKind::from(kind));
-        self.coords
-            .retries
-            .extend(holes.into_iter().map(|r| (kind, r)));
-        if self.coords.reading.is_none() {
-            self.next_retry();
+        let holes = unread_ranges(cx.controller, FrameKind::from(kind));
+        self.retries.extend(holes.into_iter().map(|r| (kind, r)));
+        if self.reading.is_none() {
+            self.next_retry(out);
         }
     }
 
-    fn next_retry(&mut self) {
-        if let Some((kind, range)) = self.coords.retries.pop_front() {
-            self.coords.reading = Some(Reading {
+    fn next_retry(&mut self, out: &mut Out) {
+        if let Some((kind, range)) = self.retries.pop_front() {
+            self.reading = Some(Reading {
                 kind,
                 received: 0,
                 total: range.len() as u16,
             });
-            self.requests.push(Request::ReadRecords(kind, range));
+            out.push(Request::ReadRecords(kind, range));
         }
     }
 
     /// The draft becomes the controller's table (one undo step).
-    pub fn draft_from_controller(&mut self, kind: FrameKind) {
-        let Some(rows) = self.read_table(kind).map(|t| t.records.clone()) else {
+    pub fn draft_from_controller(&mut self, controller: &ControllerState, kind: FrameKind) {
+        let Some(rows) = read_table(controller, kind).map(|t| t.records.clone()) else {
             return;
         };
-        self.coords.draft_mut(kind).reset_all(&rows);
+        self.draft_mut(kind).reset_all(&rows);
     }
 
     /// Frames to draw over the arm, the rows whose "over the arm" toggle is on: the
     /// number and the definition. The draft's values are used (an edited row shows as
     /// edited; a row not edited holds the controller's values); a row neither read nor
     /// set is left out.
-    pub fn frames_over_arm(&self) -> Vec<(FrameKind, u8, CoordSystem)> {
+    pub fn frames_over_arm(
+        &self,
+        controller: &ControllerState,
+    ) -> Vec<(FrameKind, u8, CoordSystem)> {
         let mut out = Vec::new();
         for kind in [FrameKind::Work, FrameKind::Tool] {
-            for &n in self.coords.over(kind) {
-                let draft = self.coords.draft(kind).get(usize::from(n));
-                let read = self
-                    .read_table(kind)
+            for &n in self.over(kind) {
+                let draft = self.draft(kind).get(usize::from(n));
+                let read = read_table(controller, kind)
                     .and_then(|t| t.records.get(usize::from(n)).copied().flatten());
                 if let Some(cs) = draft.or(read) {
                     out.push((kind, n, cs));
@@ -285,8 +306,8 @@ impl Pendant {
     }
 
     /// Both drafts in a file format.
-    pub fn export_tables(&self, format: file::TableFormat) -> String {
-        let t = self.coords.tables();
+    pub fn export(&self, format: file::TableFormat) -> String {
+        let t = self.tables();
         match format {
             file::TableFormat::Csv => file::to_csv(&t),
             file::TableFormat::Json => file::to_json(&t),
@@ -297,16 +318,17 @@ impl Pendant {
     /// Reads a file into the drafts: the rows it lists replace the drafts' (one undo
     /// step per table); a file with an error anywhere changes nothing. The number of
     /// rows the file lists.
-    pub fn import_tables(
+    pub fn import(
         &mut self,
         bytes: &[u8],
         format: file::TableFormat,
+        model: &RobotModel,
     ) -> Result<usize, crate::pendant::teach::file::FileError> {
-        let (w, t) = (self.coords.work.rows().len(), self.coords.tool.rows().len());
+        let (w, t) = (self.work.rows().len(), self.tool.rows().len());
         let pair = match format {
             file::TableFormat::Csv => file::from_csv(bytes, w, t)?,
             file::TableFormat::Json => file::from_json(bytes, w, t)?,
-            file::TableFormat::SimToml => file::from_sim_toml(bytes, &self.model)?,
+            file::TableFormat::SimToml => file::from_sim_toml(bytes, model)?,
         };
         let count = pair
             .work
@@ -314,20 +336,19 @@ impl Pendant {
             .chain(&pair.tool)
             .filter(|r| r.is_some())
             .count();
-        self.coords.draft_mut(FrameKind::Work).import(&pair.work);
-        self.coords.draft_mut(FrameKind::Tool).import(&pair.tool);
+        self.draft_mut(FrameKind::Work).import(&pair.work);
+        self.draft_mut(FrameKind::Tool).import(&pair.tool);
         Ok(count)
     }
 
     /// Asks the window to give the drafts to the built-in simulator as its tables.
-    pub fn give_draft_to_simulator(&mut self, _now: Instant) {
-        self.requests.push(Request::SimulatorTables(
-            self.coords.tables().to_coord_tables(),
-        ));
+    pub fn give_to_simulator(&self, out: &mut Out) {
+        out.push(Request::SimulatorTables(self.tables().to_coord_tables()));
     }
 
-    pub(super) fn table_progress(&mut self, kind: CoordKind, received: u16, total: u16) {
-        self.coords.reading = Some(Reading {
+    /// A read's progress.
+    pub fn table_progress(&mut self, kind: CoordKind, received: u16, total: u16) {
+        self.reading = Some(Reading {
             kind,
             received,
             total,
@@ -336,21 +357,25 @@ impl Pendant {
 
     /// Files a finished read: the controller's table, the drafts' unedited rows, the
     /// next retry.
-    pub(super) fn table_done(
+    pub fn table_done(
         &mut self,
-        kind: CoordKind,
-        axes: AxisPattern,
-        first: u16,
-        records: &[Option<crate::protocol::PerAxis<crate::protocol::Milli>>],
-        missing: &[Range<u16>],
+        controller: &mut ControllerState,
+        out: &mut Out,
+        done: TableDone<'_>,
         now: Instant,
     ) {
+        let TableDone {
+            kind,
+            axes,
+            first,
+            records,
+            missing,
+        } = done;
         let fk = FrameKind::from(kind);
-        let before = self.read_table(fk).map(|t| t.records.clone());
-        let size = self.coords.draft(fk).rows().len();
-        self.controller.table(kind, first, size, records, now);
-        let read: Rows = self
-            .read_table(fk)
+        let before = read_table(controller, fk).map(|t| t.records.clone());
+        let size = self.draft(fk).rows().len();
+        controller.table(kind, first, size, records, now);
+        let read: Rows = read_table(controller, fk)
             .map(|t| {
                 t.records
                     .iter()
@@ -360,14 +385,14 @@ impl Pendant {
                     .collect()
             })
             .unwrap_or_default();
-        self.coords.revision += 1;
-        self.coords.answered[usize::from(fk == FrameKind::Tool)] = Some(axes);
+        self.revision += 1;
+        self.answered[usize::from(fk == FrameKind::Tool)] = Some(axes);
         let draft = match fk {
-            FrameKind::Work => &mut self.coords.work,
-            FrameKind::Tool => &mut self.coords.tool,
+            FrameKind::Work => &mut self.work,
+            FrameKind::Tool => &mut self.tool,
         };
         draft.adopt(before.as_ref(), usize::from(first), &read);
-        self.coords.reading = None;
+        self.reading = None;
         if !missing.is_empty() {
             let list: Vec<String> = missing
                 .iter()
@@ -376,7 +401,7 @@ impl Pendant {
                     _ => format!("{}-{}", r.start, r.end - 1),
                 })
                 .collect();
-            self.say(
+            out.say(
                 Level::Warning,
                 format!(
                     "{fk} table: No. {} could not be read (shown as unread)",
@@ -385,7 +410,7 @@ impl Pendant {
                 now,
             );
         }
-        self.next_retry();
+        self.next_retry(out);
     }
 }
 

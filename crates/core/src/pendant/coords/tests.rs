@@ -5,7 +5,7 @@ use proptest::prelude::*;
 use super::file::{self, TableFormat, TablePair};
 use super::*;
 use crate::link::LinkEvent;
-use crate::pendant::{Settings, teach::file::FileError};
+use crate::pendant::{Pendant, Settings, teach::file::FileError};
 use crate::protocol::{Axis, Milli, PerAxis};
 use crate::robot::RobotModel;
 

@@ -10,7 +10,7 @@ mod entry;
 pub mod file;
 pub mod filter;
 mod packed;
-mod raw_send;
+pub mod raw_send;
 mod row;
 
 use std::collections::VecDeque;

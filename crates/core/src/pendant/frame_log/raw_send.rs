@@ -1,30 +1,30 @@
-//! Feeding the frame log from link events, and sending a raw frame typed by the user: it
-//! becomes a typed command and goes through the link like any other, so STOP, the
+//! Feeding the frame log from link events, and reading a raw frame typed by the user: it
+//! becomes a typed command that goes through the link like any other, so STOP, the
 //! one-outstanding rule and (for motion) the jog panel's readiness checks all hold.
 
-use std::time::Instant;
-
 use crate::link::LinkEvent;
-use crate::pendant::{Level, Pendant, Request, name};
-use crate::protocol::{Command, Frame, ScMode, checksum};
+use crate::pendant::controller::readiness::NotReady;
+use crate::pendant::{Level, name};
+use crate::protocol::{Command, Frame, ScMode, Station, checksum};
 
-impl Pendant {
-    /// Records traffic (frames, garbage, time-outs, left-out counts) in the frame log.
-    pub(in crate::pendant) fn log_traffic(&mut self, event: &LinkEvent) {
-        let log = &mut self.frame_log;
+use super::FrameLog;
+
+impl FrameLog {
+    /// Records traffic (frames, garbage, time-outs, left-out counts) from a link event.
+    pub fn record_event(&mut self, event: &LinkEvent) {
         match event {
-            LinkEvent::FrameSent { bytes, at, .. } => log.sent(bytes, *at),
+            LinkEvent::FrameSent { bytes, at, .. } => self.sent(bytes, *at),
             LinkEvent::FrameReceived {
                 bytes, first_byte, ..
-            } => log.received(bytes, *first_byte),
+            } => self.received(bytes, *first_byte),
             LinkEvent::Garbage {
                 bytes,
                 more,
                 error,
                 at,
             } => match more {
-                0 => log.garbage(bytes, &error.to_string(), *at),
-                n => log.garbage(bytes, &format!("{error} (+{n} bytes not kept)"), *at),
+                0 => self.garbage(bytes, &error.to_string(), *at),
+                n => self.garbage(bytes, &format!("{error} (+{n} bytes not kept)"), *at),
             },
             LinkEvent::Timeout {
                 command,
@@ -38,72 +38,80 @@ impl Pendant {
                     name(command),
                     if *retrying { ", sent again" } else { "" }
                 );
-                log.timeout(&text, *at);
+                self.timeout(&text, *at);
             }
-            LinkEvent::Dropped { frames } => log.link_dropped(*frames),
-            LinkEvent::Interrupted { .. } | LinkEvent::Disconnected { .. } => log.line_lost(),
+            LinkEvent::Dropped { frames } => self.link_dropped(*frames),
+            LinkEvent::Interrupted { .. } | LinkEvent::Disconnected { .. } => self.line_lost(),
             _ => {}
         }
     }
+}
 
-    /// Sends a frame typed as its body: station, message ID and data, e.g. `99215`
-    /// (no header, SC or CR LF: the link adds them, with the checksum or `@@` as the
-    /// connection settings say). Returns what was sent, or why not.
-    pub fn send_raw(&mut self, body: &str, now: Instant) -> Result<Command, String> {
-        let result = self.raw_command(body.trim(), now);
-        match &result {
-            Ok(c) => {
-                self.requests.push(Request::Submit(c.clone()));
-                let station = crate::protocol::Station(self.settings.connection.station);
-                let canonical = c.to_bytes(station, ScMode::Computed).unwrap_or_default();
-                let typed = format!("!{}", body.trim());
-                let note = if canonical.starts_with(typed.as_bytes()) {
-                    String::new()
-                } else {
-                    // Lower-case hex, say: the link encodes the command its own way.
-                    format!(", written as {}", canonical.escape_ascii())
-                };
-                self.say(
-                    Level::Info,
-                    format!("raw frame sent: {} ({}){note}", c.id(), name(c)),
-                    now,
-                );
-            }
-            Err(why) => self.say(Level::Warning, format!("raw frame not sent: {why}"), now),
-        }
-        result
-    }
+/// What a raw frame's checks need to know of the line and the controller.
+pub struct RawCx {
+    /// The line's station.
+    pub station: Station,
+    pub line_up: bool,
+    /// Whether the controller may be asked to move now.
+    pub motion: Result<(), NotReady>,
+}
 
-    fn raw_command(&self, body: &str, now: Instant) -> Result<Command, String> {
-        if body.is_empty() {
-            return Err("type the frame's body, e.g. 99215".into());
+/// Reads a frame typed as its body: station, message ID and data, e.g. `99215` (no
+/// header, SC or CR LF: the link adds them, with the checksum or `@@` as the connection
+/// settings say). The command to send and the operator's word on it, or why not (said
+/// too).
+pub fn raw_command(body: &str, cx: &RawCx) -> (Result<Command, String>, (Level, String)) {
+    let body = body.trim();
+    let result = parse(body, cx);
+    let said = match &result {
+        Ok(c) => {
+            let canonical = c.to_bytes(cx.station, ScMode::Computed).unwrap_or_default();
+            let typed = format!("!{body}");
+            let note = if canonical.starts_with(typed.as_bytes()) {
+                String::new()
+            } else {
+                // Lower-case hex, say: the link encodes the command its own way.
+                format!(", written as {}", canonical.escape_ascii())
+            };
+            (
+                Level::Info,
+                format!("raw frame sent: {} ({}){note}", c.id(), name(c)),
+            )
         }
-        if !body.is_ascii() || body.bytes().any(|b| b.is_ascii_control()) {
-            return Err("the body must be printable ASCII".into());
-        }
-        if !self.line.is_up() {
-            return Err("the line is down".into());
-        }
-        let mut frame = Vec::with_capacity(body.len() + 5);
-        frame.push(b'!');
-        frame.extend_from_slice(body.as_bytes());
-        let sc = checksum(&frame);
-        frame.extend_from_slice(format!("{sc:02X}\r\n").as_bytes());
-        let parsed = Frame::parse(&frame).map_err(|e| e.to_string())?;
-        let station = crate::protocol::Station(self.settings.connection.station);
-        if parsed.station() != station {
-            return Err(format!(
-                "station {} is not the line's station {station}",
-                parsed.station()
-            ));
-        }
-        let command = Command::decode(&parsed).map_err(|e| e.to_string())?;
-        if command.moves_arm() {
-            self.motion_ready(now)
-                .map_err(|why| format!("{} is motion, and {why}", command.id()))?;
-        }
-        Ok(command)
+        Err(why) => (Level::Warning, format!("raw frame not sent: {why}")),
+    };
+    (result, said)
+}
+
+fn parse(body: &str, cx: &RawCx) -> Result<Command, String> {
+    if body.is_empty() {
+        return Err("type the frame's body, e.g. 99215".into());
     }
+    if !body.is_ascii() || body.bytes().any(|b| b.is_ascii_control()) {
+        return Err("the body must be printable ASCII".into());
+    }
+    if !cx.line_up {
+        return Err("the line is down".into());
+    }
+    let mut frame = Vec::with_capacity(body.len() + 5);
+    frame.push(b'!');
+    frame.extend_from_slice(body.as_bytes());
+    let sc = checksum(&frame);
+    frame.extend_from_slice(format!("{sc:02X}\r\n").as_bytes());
+    let parsed = Frame::parse(&frame).map_err(|e| e.to_string())?;
+    let station = cx.station;
+    if parsed.station() != station {
+        return Err(format!(
+            "station {} is not the line's station {station}",
+            parsed.station()
+        ));
+    }
+    let command = Command::decode(&parsed).map_err(|e| e.to_string())?;
+    if command.moves_arm() {
+        cx.motion
+            .map_err(|why| format!("{} is motion, and {why}", command.id()))?;
+    }
+    Ok(command)
 }
 
 #[cfg(test)]

@@ -6,7 +6,10 @@
 use std::time::{Duration, Instant};
 
 use super::plan::{self as jog, JogAxis, PlannedStep, Refusal};
-use crate::pendant::{Followed, Level, Pendant, Request};
+use super::{JogCx, JogState};
+use crate::pendant::controller::ControllerState;
+use crate::pendant::teach::TeachPoint;
+use crate::pendant::{Level, MotionPhase, Out};
 use crate::protocol::Direction;
 use crate::robot::{Joints, Pose, jog_delta_to_work, tip_in_work};
 
@@ -35,29 +38,37 @@ pub struct StepPreview {
     pub plan: Result<PlannedStep, Refusal>,
 }
 
-impl Pendant {
+impl JogState {
     /// The target set from the arm view, if any.
     pub fn step_target(&self) -> Option<&StepTarget> {
-        self.jog.step_target.as_ref()
+        self.step_target.as_ref()
     }
 
     /// Sets the target to the tool tip at `pose` in the selected work frame. Refused
     /// (with a message) until the frames are known.
-    pub fn set_step_target(&mut self, pose: Pose, now: Instant) {
-        let Some((work, tool)) = self.controller.frame_numbers() else {
-            return self.jog_says(
+    pub fn set_step_target(
+        &mut self,
+        controller: &ControllerState,
+        out: &mut Out,
+        pose: Pose,
+        now: Instant,
+    ) {
+        let Some((work, tool)) = controller.frame_numbers() else {
+            return self.says(
+                out,
                 Level::Warning,
                 "no target: the frames are not known yet",
                 now,
             );
         };
-        self.jog.step_target = Some(StepTarget {
+        self.step_target = Some(StepTarget {
             pose,
             work,
             tool,
             confirm: None,
         });
-        self.jog_says(
+        self.says(
+            out,
             Level::Info,
             format!(
                 "target X {:.3} Y {:.3} (work {work}): press \"Go to target\" to move",
@@ -69,7 +80,7 @@ impl Pendant {
 
     /// Edits the target's pose (the jog panel's fields); a pending confirmation lapses.
     pub fn edit_step_target(&mut self, pose: Pose) {
-        if let Some(t) = self.jog.step_target.as_mut()
+        if let Some(t) = self.step_target.as_mut()
             && t.pose != pose
         {
             t.pose = pose;
@@ -78,30 +89,18 @@ impl Pendant {
     }
 
     pub fn clear_step_target(&mut self) {
-        self.jog.step_target = None;
-    }
-
-    /// The target's frames differ from the selected ones: the same numbers would mean
-    /// another place.
-    fn target_frames_changed(&self, t: &StepTarget) -> Option<String> {
-        let (work, tool) = self.controller.frame_numbers()?;
-        (work != t.work || tool != t.tool).then(|| {
-            format!(
-                "the target was set in work {} / tool {}, work {work} / tool {tool} is selected now",
-                t.work, t.tool
-            )
-        })
+        self.step_target = None;
     }
 
     /// What "Go to target" would do now.
-    pub fn preview_target(&self, now: Instant) -> Option<StepPreview> {
-        let t = self.jog.step_target.as_ref()?;
-        let arm = self.arm_now(now).ok();
+    pub fn preview_target(&self, cx: &JogCx, now: Instant) -> Option<StepPreview> {
+        let t = self.step_target.as_ref()?;
+        let arm = self.arm_now(cx, now).ok();
         let tip_base = arm.map_or(t.pose, |a| a.work.work_to_base(&t.pose));
-        let plan = match (self.target_frames_changed(t), arm) {
+        let plan = match (frames_changed(cx.controller, t), arm) {
             (Some(why), _) => Err(Refusal::FramesChanged(why)),
             (None, None) => Err(Refusal::NoPosition),
-            (None, Some(a)) => jog::plan_to(&self.model, &self.kin, &self.jog_sent(), &t.pose, &a),
+            (None, Some(a)) => jog::plan_to(cx.model, cx.kin, &self.sent(cx), &t.pose, &a),
         };
         Some(StepPreview {
             label: "target".into(),
@@ -111,13 +110,12 @@ impl Pendant {
         })
     }
 
-    /// What "Go" on taught point `index` would do now, for its ghost.
-    pub fn preview_go(&self, index: usize, now: Instant) -> Option<StepPreview> {
-        let point = self.teach.list().get(index)?;
+    /// What "Go" on a taught point would do now, for its ghost.
+    pub fn preview_go(&self, cx: &JogCx, point: &TeachPoint, now: Instant) -> StepPreview {
         let pose = Pose::from_wire(point.pose);
-        let arm = self.arm_now(now).ok();
+        let arm = self.arm_now(cx, now).ok();
         let tip_base = arm.map_or(pose, |a| a.work.work_to_base(&pose));
-        let frames = self.controller.frame_numbers().and_then(|(work, tool)| {
+        let frames = cx.controller.frame_numbers().and_then(|(work, tool)| {
             crate::pendant::teach::check_go(point, work, tool)
                 .err()
                 .map(|e| e.to_string())
@@ -125,33 +123,34 @@ impl Pendant {
         let plan = match (frames, arm) {
             (Some(why), _) => Err(Refusal::FramesChanged(why)),
             (None, None) => Err(Refusal::NoPosition),
-            (None, Some(a)) => jog::plan_go(&self.model, &self.kin, &self.jog_sent(), point, &a),
+            (None, Some(a)) => jog::plan_go(cx.model, cx.kin, &self.sent(cx), point, &a),
         };
-        Some(StepPreview {
+        StepPreview {
             label: point.name.clone(),
             tip_base,
             joints: plan.as_ref().ok().map(|p| p.end),
             plan,
-        })
+        }
     }
 
     /// What a move to position record `rec` would do now, for its ghost: Go to No. N
     /// hovered (the controller's record) or a row of the write preview (the draft's).
     pub fn preview_position(
         &self,
+        cx: &JogCx,
         rec: &crate::protocol::PositionRecord,
         now: Instant,
     ) -> Option<StepPreview> {
-        let arm = self.arm_now(now).ok();
+        let arm = self.arm_now(cx, now).ok();
         let plan = match &arm {
             None => Err(Refusal::NoPosition),
-            Some(a) => jog::plan_position_go(&self.model, &self.kin, &self.jog_sent(), rec, a),
+            Some(a) => jog::plan_position_go(cx.model, cx.kin, &self.sent(cx), rec, a),
         };
         let tip_base = match (&plan, &arm) {
             (Ok(p), Some(a)) => a.work.work_to_base(&p.end_work),
             (Err(_), Some(a)) => {
                 // The record's place as far as it says (axes it lacks stay where they are).
-                let here = crate::robot::tip_in_work(&self.kin, &a.joints, &a.work, &a.tool);
+                let here = crate::robot::tip_in_work(cx.kin, &a.joints, &a.work, &a.tool);
                 let mut w = here.to_wire();
                 for (i, axis) in [
                     crate::protocol::Axis::A1,
@@ -180,31 +179,32 @@ impl Pendant {
 
     /// "Go to target": 2D4H after the readiness, frame and move checks; an arm flip
     /// asks for a second press. The target stays set (a refused one can be edited).
-    pub fn go_to_target(&mut self, now: Instant) {
-        let Some(t) = self.jog.step_target.clone() else {
+    pub fn go_to_target(&mut self, cx: &JogCx, out: &mut Out, now: Instant) {
+        let Some(t) = self.step_target.clone() else {
             return;
         };
-        if !self.may_send_move("move", now) {
+        if !self.may_send_move(cx, out, "move", now) {
             return;
         }
-        if let Some(why) = self.target_frames_changed(&t) {
-            return self.jog_says(Level::Warning, format!("refused: {why}"), now);
+        if let Some(why) = frames_changed(cx.controller, &t) {
+            return self.says(out, Level::Warning, format!("refused: {why}"), now);
         }
         let plan = self
-            .arm_now(now)
-            .and_then(|a| jog::plan_to(&self.model, &self.kin, &self.jog_sent(), &t.pose, &a));
+            .arm_now(cx, now)
+            .and_then(|a| jog::plan_to(cx.model, cx.kin, &self.sent(cx), &t.pose, &a));
         let plan = match plan {
             Ok(p) => p,
-            Err(why) => return self.jog_refused(&why, now),
+            Err(why) => return self.refused(out, &why, now),
         };
         let confirmed = t
             .confirm
             .is_some_and(|at| now.duration_since(at) < CONFIRM_FOR);
         if plan.flips_arm && !confirmed {
-            if let Some(st) = self.jog.step_target.as_mut() {
+            if let Some(st) = self.step_target.as_mut() {
                 st.confirm = Some(now);
             }
-            return self.jog_says(
+            return self.says(
+                out,
                 Level::Warning,
                 format!(
                     "the target flips the arm system: press \"Go to target\" again within {} s to confirm",
@@ -214,47 +214,47 @@ impl Pendant {
             );
         }
         // Sent: the ghost now shows the move in progress.
-        self.jog.step_target = None;
-        self.requests.push(Request::Submit(plan.command.clone()));
-        self.jog_says(
+        self.step_target = None;
+        self.send(out, plan);
+        self.says(
+            out,
             Level::Info,
             format!("go to target X {:.3} Y {:.3}: sent", t.pose.x, t.pose.y),
             now,
         );
-        self.jog.followed = Some(Followed {
-            plan,
-            accepted: None,
-            stopped: None,
-        });
     }
 
     /// What a click on a jog button would do now: the planner's answer, and where the
     /// step aims even when it is refused (a joint step's end joints; a Cartesian step's
     /// tool tip from the actual position).
-    pub fn preview_jog(&self, axis: JogAxis, dir: Direction, now: Instant) -> Option<StepPreview> {
-        let arm = self.arm_now(now).ok()?;
-        let plan = self.preview_step(axis, dir, now);
-        let settings = &self.settings.jog;
+    pub fn preview_jog(
+        &self,
+        cx: &JogCx,
+        axis: JogAxis,
+        dir: Direction,
+        now: Instant,
+    ) -> Option<StepPreview> {
+        let arm = self.arm_now(cx, now).ok()?;
+        let plan = self.preview_step(cx, axis, dir, now);
+        let settings = cx.settings;
         let step = if dir == Direction::Positive {
             settings.step
         } else {
             -settings.step
         };
+        let kin = cx.kin;
         let (tip_base, joints) = match &plan {
-            Ok(p) => (
-                arm.tool.flange_to_tip(&self.kin.forward(&p.end)),
-                Some(p.end),
-            ),
+            Ok(p) => (arm.tool.flange_to_tip(&kin.forward(&p.end)), Some(p.end)),
             Err(_) if axis.is_joint() => {
                 let mut end = arm.joints.to_array();
                 end[axis.index()] += step;
                 let end = Joints::from_array(end);
-                (arm.tool.flange_to_tip(&self.kin.forward(&end)), Some(end))
+                (arm.tool.flange_to_tip(&kin.forward(&end)), Some(end))
             }
             Err(_) => {
                 let mut delta = [0.0; 4];
                 delta[axis.index()] = step;
-                let flange_r = self.kin.forward(&arm.joints).r;
+                let flange_r = kin.forward(&arm.joints).r;
                 let d = jog_delta_to_work(
                     &Pose::from_array(delta),
                     settings.frame,
@@ -262,7 +262,7 @@ impl Pendant {
                     &arm.tool,
                     flange_r,
                 );
-                let now_work = tip_in_work(&self.kin, &arm.joints, &arm.work, &arm.tool);
+                let now_work = tip_in_work(kin, &arm.joints, &arm.work, &arm.tool);
                 let end = Pose::new(
                     now_work.x + d.x,
                     now_work.y + d.y,
@@ -287,26 +287,38 @@ impl Pendant {
     }
 
     /// The move in progress (sent and not yet ended), as a preview of its end.
-    pub fn preview_followed(&self, now: Instant) -> Option<StepPreview> {
-        let f = self.jog.followed.as_ref().filter(|f| f.stopped.is_none())?;
-        if f.accepted.is_some() && self.motion_phase(now) == super::MotionPhase::Done {
+    pub fn preview_followed(&self, cx: &JogCx, now: Instant) -> Option<StepPreview> {
+        let f = self.followed.as_ref().filter(|f| f.stopped.is_none())?;
+        if f.accepted.is_some() && self.motion_phase(cx.controller, now) == MotionPhase::Done {
             return None;
         }
-        let tool = self.controller.tool_frame()?;
+        let tool = cx.controller.tool_frame()?;
         Some(StepPreview {
             label: "moving to".into(),
-            tip_base: tool.flange_to_tip(&self.kin.forward(&f.plan.end)),
+            tip_base: tool.flange_to_tip(&cx.kin.forward(&f.plan.end)),
             joints: Some(f.plan.end),
             plan: Ok(f.plan.clone()),
         })
     }
 }
 
+/// The target's frames differ from the selected ones: the same numbers would mean
+/// another place.
+fn frames_changed(controller: &ControllerState, t: &StepTarget) -> Option<String> {
+    let (work, tool) = controller.frame_numbers()?;
+    (work != t.work || tool != t.tool).then(|| {
+        format!(
+            "the target was set in work {} / tool {}, work {work} / tool {tool} is selected now",
+            t.work, t.tool
+        )
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pendant::Settings;
     use crate::pendant::tests::submitted;
+    use crate::pendant::{Pendant, Settings};
     use crate::protocol::Command;
     use crate::robot::{RobotModel, Scara};
 

@@ -1,10 +1,11 @@
-//! What the Positions view asks of the pendant, and how the pendant answers it (teach
-//! here, read, edit, preview, write, Go to No. N).
+//! What the Positions view asks of the pendant, and how the position table answers it
+//! (teach here, read, edit, preview, write; Go to No. N is a move, the jog state's).
 
 use std::time::Instant;
 
-use super::{Column, Row, record_of_pose};
-use crate::pendant::{Level, Pendant, Request};
+use super::{Column, Positions, record_of_pose};
+use crate::pendant::controller::ControllerState;
+use crate::pendant::{Level, Request};
 use crate::protocol::{ArmSystem, PositionRecord, RecordArm};
 
 /// One thing the operator asked of the position table.
@@ -55,29 +56,58 @@ pub enum PositionsIntent {
     },
 }
 
-impl Pendant {
-    /// Applies one Positions intent.
-    pub fn apply_positions(&mut self, intent: PositionsIntent, now: Instant) {
-        let result: Result<Option<String>, String> = match intent {
+/// What the position table's intents need to know of the rest of the model.
+pub struct PositionsCx<'a> {
+    pub line_up: bool,
+    /// 215H says a program runs (or nothing is known: counted as running, to be safe).
+    pub program_running: bool,
+    /// The polled pose, for "teach here".
+    pub controller: &'a ControllerState,
+    /// Whether the arm could go to a record now (the checks of a step), for the preview.
+    pub check: &'a dyn Fn(&PositionRecord) -> Result<(), String>,
+}
+
+/// An intent's word for the operator: news, or why it was refused.
+pub type Answer = Result<Option<String>, String>;
+
+impl Positions {
+    /// Applies one Positions intent but Go (a move: the pendant's, through the jog
+    /// state); the answer is kept beside the table and returned, to be said.
+    pub fn apply(
+        &mut self,
+        intent: PositionsIntent,
+        cx: &PositionsCx,
+        now: Instant,
+    ) -> Option<(Level, String)> {
+        let answer = self.answer(intent, cx, now);
+        let said = match answer {
+            Ok(Some(text)) => (Level::Info, text),
+            Ok(None) => return None,
+            Err(text) => (Level::Warning, text),
+        };
+        self.feedback = Some(said.clone());
+        Some(said)
+    }
+
+    fn answer(&mut self, intent: PositionsIntent, cx: &PositionsCx, now: Instant) -> Answer {
+        match intent {
             PositionsIntent::Read { from, to } => {
-                if !self.line.is_up() {
+                if !cx.line_up {
                     Err("not connected".into())
                 } else {
-                    self.positions
-                        .start_read(from..=to)
+                    self.start_read(from..=to)
                         .map(|()| Some(format!("reading positions {from}-{to}")))
                 }
             }
-            PositionsIntent::CancelRead => Ok(self.positions.cancel_read()),
-            PositionsIntent::TeachHere { number, name } => self.teach_here(number, name, now),
+            PositionsIntent::CancelRead => Ok(self.cancel_read()),
+            PositionsIntent::TeachHere { number, name } => {
+                self.teach_here(cx.controller, number, name, now)
+            }
             PositionsIntent::SetCell {
                 number,
                 column,
                 text,
-            } => self
-                .positions
-                .set_cell(number, column, &text)
-                .map(|()| None),
+            } => self.set_cell(number, column, &text).map(|()| None),
             PositionsIntent::SetName { number, name } => {
                 let name = name.trim().to_owned();
                 if name.chars().count() > crate::pendant::teach::MAX_NAME_CHARS
@@ -88,81 +118,67 @@ impl Pendant {
                         crate::pendant::teach::MAX_NAME_CHARS
                     ))
                 } else {
-                    self.positions
-                        .set_name(number, Some(name).filter(|n| !n.is_empty()));
+                    self.set_name(number, Some(name).filter(|n| !n.is_empty()));
                     Ok(None)
                 }
             }
             PositionsIntent::Revert(n) => {
-                self.positions.revert(n);
+                self.revert(n);
                 Ok(None)
             }
-            PositionsIntent::Undo => Ok((!self.positions.undo()).then(|| "nothing to undo".into())),
-            PositionsIntent::Redo => Ok((!self.positions.redo()).then(|| "nothing to redo".into())),
-            PositionsIntent::PreviewWrite => self.preview_positions(now),
+            PositionsIntent::Undo => Ok((!self.undo()).then(|| "nothing to undo".into())),
+            PositionsIntent::Redo => Ok((!self.redo()).then(|| "nothing to redo".into())),
+            PositionsIntent::PreviewWrite => {
+                self.preview(cx.program_running, cx.check).map(|()| None)
+            }
             PositionsIntent::ConfirmWrite { take_the_risk } => {
-                self.write_positions(take_the_risk, now)
+                self.write_confirmed(cx, take_the_risk)
             }
             PositionsIntent::CancelPreview => {
-                self.positions.cancel_preview();
+                self.cancel_preview();
                 Ok(None)
             }
-            PositionsIntent::Go(n) => {
-                self.position_go(n, now);
-                Ok(None)
-            }
+            // A move: the pendant sends it through the jog state.
+            PositionsIntent::Go(_) => Ok(None),
             PositionsIntent::Import { path, read } => read
-                .and_then(|records| self.positions.import(records))
+                .and_then(|records| self.import(records))
                 .map(|n| {
                     Some(format!(
                         "{path}: {n} rows into the draft (Undo takes them out)"
                     ))
                 })
                 .map_err(|e| format!("{path}: nothing imported: {e}")),
-        };
-        match result {
-            Ok(Some(text)) => {
-                self.positions.feedback = Some((Level::Info, text.clone()));
-                self.say(Level::Info, text, now);
-            }
-            Ok(None) => {}
-            Err(text) => {
-                self.positions.feedback = Some((Level::Warning, text.clone()));
-                self.say(Level::Warning, text, now);
-            }
         }
-        self.positions_out();
     }
 
-    /// Moves the position table's commands to the requests, in order (reads in the
-    /// background, writes at the user's priority, behind any STOP already asked for).
-    pub(crate) fn positions_out(&mut self) {
-        for (command, user) in self.positions.take_commands() {
-            self.requests.push(if user {
+    /// The table's commands as requests, in order (reads in the background, writes at
+    /// the user's priority, behind any STOP already asked for).
+    pub fn take_requests(&mut self) -> impl Iterator<Item = Request> + use<> {
+        self.take_commands().into_iter().map(|(command, user)| {
+            if user {
                 Request::Submit(command)
             } else {
                 Request::Background(command)
-            });
-        }
+            }
+        })
     }
 
     fn teach_here(
         &mut self,
+        controller: &ControllerState,
         number: u16,
         name: String,
         now: Instant,
-    ) -> Result<Option<String>, String> {
-        let status = self
-            .controller
+    ) -> Answer {
+        let status = controller
             .work
             .as_ref()
             .map(|s| s.value)
             .ok_or("not taught: no position read yet")?;
-        if self.controller.is_stale(now) {
+        if controller.is_stale(now) {
             return Err("not taught: the position is out of date".into());
         }
-        let pose = self
-            .controller
+        let pose = controller
             .work_position()
             .ok_or("not taught: no position read yet")?;
         let arm = match status.common.arm {
@@ -172,15 +188,14 @@ impl Pendant {
         };
         let mut rec = record_of_pose(number, pose.to_wire(), arm);
         // Rates the row had stay: teaching moves the place, not how it is reached.
-        if let Some(old) = self.positions.shown(number) {
+        if let Some(old) = self.shown(number) {
             rec.speed = old.speed;
             rec.accel = old.accel;
             rec.decel = old.decel;
         }
-        self.positions.put(rec)?;
+        self.put(rec)?;
         if !name.trim().is_empty() {
-            self.positions
-                .set_name(number, Some(name.trim().to_owned()));
+            self.set_name(number, Some(name.trim().to_owned()));
         }
         Ok(Some(format!(
             "taught No. {number}: X {:.3} Y {:.3} Z {:.3} R {:.3} (work {}, tool {}) into the draft: Write to store it in the controller",
@@ -188,30 +203,12 @@ impl Pendant {
         )))
     }
 
-    fn preview_positions(&mut self, now: Instant) -> Result<Option<String>, String> {
-        let running = self.program_running();
-        let arm = self.arm_now(now);
-        let (model, kin, settings) = (&self.model, &self.kin, self.jog_sent());
-        self.positions.preview(running, |rec| match &arm {
-            Ok(arm) => crate::pendant::jog::plan_position_go(model, kin, &settings, rec, arm)
-                .map(|_| ())
-                .map_err(|why| why.to_string()),
-            Err(why) => Err(format!("not checked: {why}")),
-        })?;
-        Ok(None)
-    }
-
-    fn write_positions(
-        &mut self,
-        take_the_risk: bool,
-        now: Instant,
-    ) -> Result<Option<String>, String> {
-        if !self.line.is_up() {
+    fn write_confirmed(&mut self, cx: &PositionsCx, take_the_risk: bool) -> Answer {
+        if !cx.line_up {
             return Err("not written: not connected".into());
         }
-        let running = self.program_running();
-        let n = self.positions.confirm_write(running, take_the_risk)?;
-        let _ = now;
+        let running = cx.program_running;
+        let n = self.confirm_write(running, take_the_risk)?;
         Ok(Some(format!(
             "writing {n} positions{}",
             if running && take_the_risk {
@@ -220,78 +217,5 @@ impl Pendant {
                 ""
             }
         )))
-    }
-
-    /// 215H says a program runs (or nothing is known: counted as running, to be safe).
-    pub fn program_running(&self) -> bool {
-        self.controller
-            .system
-            .as_ref()
-            .is_none_or(|s| s.value.status2.program_running())
-    }
-
-    /// Go to No. `n`: 2D6H to what the controller holds there, after the checks of a
-    /// step; an arm flip asks for a second press.
-    pub fn position_go(&mut self, n: u16, now: Instant) {
-        let rec = match self.positions.row(n) {
-            Row::Held(r) => *r,
-            Row::Empty => {
-                return self.jog_says(
-                    Level::Warning,
-                    format!("refused: No. {n} holds no data"),
-                    now,
-                );
-            }
-            _ => {
-                return self.jog_says(
-                    Level::Warning,
-                    format!("refused: No. {n} has not been read: read it first (Go checks the controller's own record)"),
-                    now,
-                );
-            }
-        };
-        if !self.may_send_move("move", now) {
-            return;
-        }
-        let plan = self.arm_now(now).and_then(|arm| {
-            crate::pendant::jog::plan_position_go(
-                &self.model,
-                &self.kin,
-                &self.jog_sent(),
-                &rec,
-                &arm,
-            )
-        });
-        let plan = match plan {
-            Ok(plan) => plan,
-            Err(why) => return self.jog_refused(&why, now),
-        };
-        let confirmed =
-            self.positions.go_confirm.take().is_some_and(|(m, at)| {
-                m == n && now.duration_since(at) < crate::pendant::CONFIRM_FOR
-            });
-        if plan.flips_arm && !confirmed {
-            self.positions.go_confirm = Some((n, now));
-            return self.jog_says(
-                Level::Warning,
-                format!(
-                    "Go to No. {n} flips the arm system: press again within {} s to confirm",
-                    crate::pendant::CONFIRM_FOR.as_secs()
-                ),
-                now,
-            );
-        }
-        let differs = if self.positions.differs(n) {
-            " (the controller's record: the draft's row differs and is not written)"
-        } else {
-            ""
-        };
-        self.requests.push(Request::Submit(plan.command.clone()));
-        self.jog_says(Level::Info, format!("go to No. {n}: sent{differs}"), now);
-        self.jog.followed = Some(crate::pendant::Followed {
-            plan,
-            accepted: None,
-            stopped: None,
-        });
     }
 }

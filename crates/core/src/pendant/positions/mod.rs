@@ -12,7 +12,7 @@ use std::collections::BTreeMap;
 use std::ops::RangeInclusive;
 use std::time::Instant;
 
-pub use intent::PositionsIntent;
+pub use intent::{Answer, PositionsCx, PositionsIntent};
 
 use crate::link::{LinkEvent, NotSentReason};
 use crate::protocol::{

@@ -2,10 +2,8 @@
 //! loaded file waiting for the operator's yes before it replaces the list, and the list a
 //! load replaced (Undo load).
 
-use std::time::Instant;
-
 use super::TeachList;
-use crate::pendant::{Level, Pendant};
+use crate::pendant::Level;
 
 /// A file's points read and checked, waiting for "Replace".
 #[derive(Clone, Debug, PartialEq)]
@@ -23,6 +21,8 @@ pub struct TeachBook {
     pending: Option<PendingLoad>,
     /// The list the last load replaced, and the file it came from.
     before_load: Option<(String, TeachList)>,
+    /// The last word on a file (loaded, refused, undone).
+    feedback: Option<(Level, String)>,
 }
 
 impl TeachBook {
@@ -68,79 +68,88 @@ impl TeachBook {
     }
 }
 
-impl Pendant {
+/// What a teach-file action says: the operator's word, also kept beside the list.
+type Said = Option<(Level, String)>;
+
+impl TeachBook {
+    /// The pane's last word on a file (loaded, refused, undone).
+    pub fn feedback(&self) -> Option<&(Level, String)> {
+        self.feedback.as_ref()
+    }
+
     /// A teach file was read: its points wait for "Replace", or the reason it is refused
     /// is said. A file with no points never replaces the list.
-    pub fn teach_loaded(&mut self, path: &str, read: Result<TeachList, String>, now: Instant) {
+    pub fn loaded(&mut self, path: &str, read: Result<TeachList, String>) -> Said {
         let list = match read {
             Ok(list) if list.is_empty() => {
                 let text = format!("{path}: the file has no points; the list is unchanged");
-                return self.teach_says(Level::Warning, text, now);
+                return self.says(Level::Warning, text);
             }
             Ok(list) => list,
-            Err(e) => {
-                return self.teach_says(Level::Warning, format!("{e} (nothing changed)"), now);
-            }
+            Err(e) => return self.says(Level::Warning, format!("{e} (nothing changed)")),
         };
-        let pending = PendingLoad {
+        self.pending = Some(PendingLoad {
             path: path.to_owned(),
             list,
-        };
-        if self.teach.list.is_empty() {
+        });
+        if self.list.is_empty() {
             // Nothing to lose: replaced at once (and still undoable).
-            self.teach.pending = Some(pending);
-            return self.teach_confirm_load(now);
+            return self.confirm_load();
         }
-        self.teach.pending = Some(pending);
+        None
     }
 
     /// "Replace": the waiting file's points become the list; Undo load brings it back.
-    pub fn teach_confirm_load(&mut self, now: Instant) {
-        let Some(PendingLoad { path, list }) = self.teach.pending.take() else {
-            return;
-        };
-        let (n, old) = (list.len(), self.teach.list.len());
-        let before = std::mem::replace(&mut self.teach.list, list);
-        self.teach.revision += 1;
-        self.teach.before_load = Some((path.clone(), before));
+    pub fn confirm_load(&mut self) -> Said {
+        let PendingLoad { path, list } = self.pending.take()?;
+        let (n, old) = (list.len(), self.list.len());
+        let before = std::mem::replace(&mut self.list, list);
+        self.revision += 1;
+        self.before_load = Some((path.clone(), before));
         let text =
             format!("loaded {n} points from {path}, replacing {old} (Undo load brings them back)");
-        self.teach_says(Level::Info, text, now);
+        self.says(Level::Info, text)
     }
 
     /// "Cancel": the waiting file is forgotten; the list stays.
-    pub fn teach_cancel_load(&mut self) {
-        self.teach.pending = None;
+    pub fn cancel_load(&mut self) {
+        self.pending = None;
     }
 
     /// "Undo load": the list as it was before the last load.
-    pub fn teach_undo_load(&mut self, now: Instant) {
-        let Some((path, before)) = self.teach.before_load.take() else {
-            return;
-        };
+    pub fn undo_load(&mut self) -> Said {
+        let (path, before) = self.before_load.take()?;
         let n = before.len();
-        self.teach.list = before;
-        self.teach.revision += 1;
-        self.teach_says(
+        self.list = before;
+        self.revision += 1;
+        self.says(
             Level::Info,
             format!("load of {path} undone: {n} points back"),
-            now,
-        );
+        )
     }
 
-    fn teach_says(&mut self, level: Level, text: String, now: Instant) {
-        self.teach_feedback = Some((level, text.clone()));
-        self.say(level, text, now);
+    fn says(&mut self, level: Level, text: String) -> Said {
+        self.feedback = Some((level, text.clone()));
+        Some((level, text))
     }
 }
 
 #[cfg(test)]
 mod tests {
+    use std::time::Instant;
+
     use super::*;
-    use crate::pendant::Settings;
     use crate::pendant::teach::TaughtPose;
+    use crate::pendant::{Intent, Pendant, Settings};
     use crate::protocol::ArmSystem;
     use crate::robot::RobotModel;
+
+    fn loaded(path: &str, read: Result<TeachList, String>) -> Intent {
+        Intent::TeachLoaded {
+            path: path.into(),
+            read,
+        }
+    }
 
     fn list(names: &[&str]) -> TeachList {
         let mut l = TeachList::new();
@@ -162,21 +171,21 @@ mod tests {
         let mut p = Pendant::new(Settings::default(), RobotModel::default_model());
         p.teach.set(list(&["A", "B"]));
         let before = p.teach.revision();
-        p.teach_loaded("new.json", Ok(list(&["X", "Y", "Z"])), now);
+        p.apply(loaded("new.json", Ok(list(&["X", "Y", "Z"]))), now);
         assert_eq!(
             p.teach.list().len(),
             2,
             "replaced before the operator said yes"
         );
         assert_eq!(p.teach.pending().map(|l| l.list.len()), Some(3));
-        p.teach_confirm_load(now);
+        p.apply(Intent::TeachConfirmLoad, now);
         assert_eq!(p.teach.list().len(), 3);
         assert!(p.teach.revision() > before, "the autosave would not see it");
         assert_eq!(p.teach.undoable_load(), Some(("new.json", 2)));
-        p.teach_undo_load(now);
+        p.apply(Intent::TeachUndoLoad, now);
         assert_eq!(p.teach.list(), &list(&["A", "B"]));
-        p.teach_loaded("other.csv", Ok(list(&["Q"])), now);
-        p.teach_cancel_load();
+        p.apply(loaded("other.csv", Ok(list(&["Q"]))), now);
+        p.apply(Intent::TeachCancelLoad, now);
         assert_eq!(
             p.teach.list(),
             &list(&["A", "B"]),
@@ -189,10 +198,9 @@ mod tests {
         let now = Instant::now();
         let mut p = Pendant::new(Settings::default(), RobotModel::default_model());
         p.teach.set(list(&["A"]));
-        p.teach_loaded("empty.json", Ok(TeachList::new()), now);
-        p.teach_loaded(
-            "bad.json",
-            Err("bad.json: line 3: expected a name".into()),
+        p.apply(loaded("empty.json", Ok(TeachList::new())), now);
+        p.apply(
+            loaded("bad.json", Err("bad.json: line 3: expected a name".into())),
             now,
         );
         assert_eq!(p.teach.pending(), None);

@@ -148,6 +148,9 @@ impl CoordTable {
     }
 }
 
+/// How many definitions of one table 2A4H can name: the first number is one byte (0-255).
+pub const COORD_RECORDS: u16 = 256;
+
 /// 2A4H command: read definitions for the axes of `axes` (`0F`, `F0` or `FF`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct CoordQuery2 {
