@@ -1,5 +1,7 @@
 //! Simulator figures (issue 4): 2A1H queries per second in process, motion simulation
-//! speed against real time, and reply timing with `--baud 115200` pacing over a pty.
+//! speed against real time, and reply timing with `--baud 115200` pacing over a pty;
+//! (issue 38) the SEL parser on the demo and on a 9999-step program, and one advance of
+//! a program that never waits (the bounded 2000 steps).
 //!
 //! `cargo bench --bench sim` (criterion for the first two; the timing one prints its own
 //! median). `cargo bench --bench sim -- --quick` for a short run.
@@ -125,6 +127,42 @@ mod pty {
     }
 }
 
+/// The SEL parser and interpreter.
+fn programs(c: &mut Criterion) {
+    use xsel_pendant::sel;
+    use xsel_pendant::sim::programs::MAX_STEPS_PER_ADVANCE;
+    let mut g = c.benchmark_group("sim programs");
+    g.bench_function("parse the demo (15 steps)", |b| {
+        b.iter(|| black_box(sel::parse(black_box(sel::DEMO))))
+    });
+    let long = format!(
+        "PROGRAM 1 long\n{}",
+        "CPLT 1 5 900\n900 ADD 1 1\nBTON 300 307 - 610\n".repeat(sel::MAX_STEPS / 3)
+    );
+    g.throughput(Throughput::Elements(sel::MAX_STEPS as u64));
+    g.bench_function("parse 9999 steps", |b| {
+        b.iter(|| black_box(sel::parse(black_box(&long))))
+    });
+    let forever = "PROGRAM 8 forever\nTAG 1\nADD 1 1\nCPLT 1 100 600\nGOTO 1\n";
+    let mut ctl = Controller::new(SimSetup {
+        programs: sel::parse(forever).programs,
+        ..SimSetup::default()
+    });
+    let mut t = Duration::ZERO;
+    assert!(
+        ctl.handle(&frame("!9925308"), t)
+            .is_some_and(|r| r[0] == b'#')
+    );
+    g.throughput(Throughput::Elements(u64::from(MAX_STEPS_PER_ADVANCE)));
+    g.bench_function("one advance of an endless loop", |b| {
+        b.iter(|| {
+            t += Duration::from_secs(10);
+            ctl.advance(black_box(t));
+        })
+    });
+    g.finish();
+}
+
 fn main() {
     let mut c = Criterion::default()
         .configure_from_args()
@@ -132,6 +170,7 @@ fn main() {
         .warm_up_time(Duration::from_secs(1));
     status_queries(&mut c);
     motion(&mut c);
+    programs(&mut c);
     c.final_summary();
     #[cfg(unix)]
     pty::pacing_timing();
