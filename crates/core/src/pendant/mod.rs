@@ -321,7 +321,7 @@ impl Pendant {
 
     /// The window started at `now` (`wall` on the clock): the frame log's times count
     /// from here.
-    pub fn started(&mut self, now: Instant, wall: std::time::SystemTime) {
+    pub fn window_started(&mut self, now: Instant, wall: std::time::SystemTime) {
         self.frame_log.set_origin(Some(now), wall);
     }
 
@@ -864,8 +864,16 @@ impl Pendant {
     /// jog state; the words go to Messages.
     pub fn apply_positions(&mut self, intent: positions::PositionsIntent, now: Instant) {
         if let positions::PositionsIntent::Go(n) = intent {
-            return self.position_go(n, now);
+            self.position_go(n, now);
+        } else {
+            self.apply_to_table(intent, now);
         }
+        let requests = self.positions.take_requests();
+        self.requests.extend(requests);
+    }
+
+    /// A Positions intent the table answers itself (all but Go), given what it checks.
+    fn apply_to_table(&mut self, intent: positions::PositionsIntent, now: Instant) {
         let jog_cx = jog_cx!(self);
         let arm = self.jog.arm_now(&jog_cx, now);
         let settings = self.jog.sent(&jog_cx);
@@ -883,8 +891,6 @@ impl Pendant {
         };
         let said = self.positions.apply(intent, &cx, now);
         self.tell(said, now);
-        let requests = self.positions.take_requests();
-        self.requests.extend(requests);
     }
 
     /// 215H says a program runs (or nothing is known: counted as running, to be safe).
