@@ -233,9 +233,8 @@ impl Pendant {
 
     /// Applies one event from the RMC151's link.
     pub fn handle_axes_event(&mut self, now: Instant, event: crate::rmc::RmcEvent) {
-        use crate::pendant::frame_log::Dir;
         use crate::rmc::RmcEvent;
-        let log = &mut self.frame_log;
+        self.frame_log.record_rmc_event(&event);
         match &event {
             RmcEvent::Status {
                 axis, status, at, ..
@@ -249,15 +248,9 @@ impl Pendant {
                     self.say(level, text, now);
                 }
             }
-            RmcEvent::FrameSent { bytes, at } => log.modbus(Dir::Sent, bytes, "", *at),
-            RmcEvent::FrameReceived { bytes, at } => log.modbus(Dir::Received, bytes, "", *at),
-            RmcEvent::Garbage { bytes, error, at } => log.modbus(Dir::Garbage, bytes, error, *at),
-            RmcEvent::Timeout { what, at } => log.modbus(Dir::Timeout, b"", what, *at),
-            RmcEvent::LineDown { .. } => log.modbus_line_lost(),
             RmcEvent::Sent {
                 axis, command, at, ..
             } if command.moves() => self.samples.rmc_moved(*at, *axis, command),
-            RmcEvent::Dropped(n) => log.link_dropped(*n),
             _ => {}
         }
         if let Some((level, text)) = self.axes.handle_event(now, event) {
