@@ -184,7 +184,7 @@ impl Start {
         }
         let mut pendant = Pendant::new(settings, model);
         // Frame log times count from the window's start.
-        pendant.started(now, std::time::SystemTime::now());
+        pendant.window_started(now, std::time::SystemTime::now());
         for text in notes.drain(..) {
             pendant.say(Level::Warning, text, now);
         }

@@ -237,9 +237,8 @@ impl Pendant {
 
     /// Applies one event from the RMC151's link.
     pub fn handle_axes_event(&mut self, now: Instant, event: crate::rmc::RmcEvent) {
-        use crate::pendant::frame_log::Dir;
         use crate::rmc::RmcEvent;
-        let log = &mut self.frame_log;
+        self.frame_log.record_rmc_event(&event);
         match &event {
             RmcEvent::Status {
                 axis, status, at, ..
@@ -253,15 +252,9 @@ impl Pendant {
                     self.say(level, text, now);
                 }
             }
-            RmcEvent::FrameSent { bytes, at } => log.modbus(Dir::Sent, bytes, "", *at),
-            RmcEvent::FrameReceived { bytes, at } => log.modbus(Dir::Received, bytes, "", *at),
-            RmcEvent::Garbage { bytes, error, at } => log.modbus(Dir::Garbage, bytes, error, *at),
-            RmcEvent::Timeout { what, at } => log.modbus(Dir::Timeout, b"", what, *at),
-            RmcEvent::LineDown { .. } => log.modbus_line_lost(),
             RmcEvent::Sent {
                 axis, command, at, ..
             } if command.moves() => self.samples.rmc_moved(*at, *axis, command),
-            RmcEvent::Dropped(n) => log.link_dropped(*n),
             _ => {}
         }
         if let Some((level, text)) = self.axes.handle_event(now, event) {
@@ -325,7 +318,7 @@ impl Pendant {
 
     /// The window started at `now` (`wall` on the clock): the frame log's times count
     /// from here.
-    pub fn started(&mut self, now: Instant, wall: std::time::SystemTime) {
+    pub fn window_started(&mut self, now: Instant, wall: std::time::SystemTime) {
         self.frame_log.set_origin(Some(now), wall);
     }
 
@@ -879,8 +872,16 @@ impl Pendant {
     /// jog state; the words go to Messages.
     pub fn apply_positions(&mut self, intent: positions::PositionsIntent, now: Instant) {
         if let positions::PositionsIntent::Go(n) = intent {
-            return self.position_go(n, now);
+            self.position_go(n, now);
+        } else {
+            self.apply_to_table(intent, now);
         }
+        let requests = self.positions.take_requests();
+        self.requests.extend(requests);
+    }
+
+    /// A Positions intent the table answers itself (all but Go), given what it checks.
+    fn apply_to_table(&mut self, intent: positions::PositionsIntent, now: Instant) {
         let jog_cx = jog_cx!(self);
         let arm = self.jog.arm_now(&jog_cx, now);
         let settings = self.jog.sent(&jog_cx);
@@ -898,8 +899,6 @@ impl Pendant {
         };
         let said = self.positions.apply(intent, &cx, now);
         self.tell(said, now);
-        let requests = self.positions.take_requests();
-        self.requests.extend(requests);
     }
 
     /// 215H says a program runs (or nothing is known: counted as running, to be safe).

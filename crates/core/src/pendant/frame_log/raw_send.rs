@@ -1,4 +1,4 @@
-//! Feeding the frame log from link events, and reading a raw frame typed by the user: it
+//! Feeding the frame log from both links' events, and reading a raw frame typed by the user: it
 //! becomes a typed command that goes through the link like any other, so STOP, the
 //! one-outstanding rule and (for motion) the jog panel's readiness checks all hold.
 
@@ -6,8 +6,9 @@ use crate::link::LinkEvent;
 use crate::pendant::controller::readiness::NotReady;
 use crate::pendant::{Level, name};
 use crate::protocol::{Command, Frame, ScMode, Station, checksum};
+use crate::rmc::RmcEvent;
 
-use super::FrameLog;
+use super::{Dir, FrameLog};
 
 impl FrameLog {
     /// Records traffic (frames, garbage, time-outs, left-out counts) from a link event.
@@ -42,6 +43,20 @@ impl FrameLog {
             }
             LinkEvent::Dropped { frames } => self.link_dropped(*frames),
             LinkEvent::Interrupted { .. } | LinkEvent::Disconnected { .. } => self.line_lost(),
+            _ => {}
+        }
+    }
+
+    /// Records the RMC151 link's traffic (Modbus/TCP frames, garbage, time-outs,
+    /// left-out counts).
+    pub fn record_rmc_event(&mut self, event: &RmcEvent) {
+        match event {
+            RmcEvent::FrameSent { bytes, at } => self.modbus(Dir::Sent, bytes, "", *at),
+            RmcEvent::FrameReceived { bytes, at } => self.modbus(Dir::Received, bytes, "", *at),
+            RmcEvent::Garbage { bytes, error, at } => self.modbus(Dir::Garbage, bytes, error, *at),
+            RmcEvent::Timeout { what, at } => self.modbus(Dir::Timeout, b"", what, *at),
+            RmcEvent::LineDown { .. } => self.modbus_line_lost(),
+            RmcEvent::Dropped(n) => self.link_dropped(*n),
             _ => {}
         }
     }
