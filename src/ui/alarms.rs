@@ -13,7 +13,7 @@ use super::file_field::{Browse, FieldSpec, FileAsk, Purpose};
 use super::file_work::{Done, FileButton, FileWork, write_job};
 use super::pane::{Pane, PaneCx};
 use super::snapshots::SnapshotsSection;
-use super::widgets::{GREY, RED, level_color, reserved_line};
+use super::widgets::{GREY, RED, said_line};
 use crate::files::job::Job;
 use crate::pendant::alarms::{Alarms, AlarmsIntent, ListKind, LiveAlarm, to_csv};
 use crate::pendant::frame_log::{Dir, FrameLog};
@@ -127,11 +127,7 @@ impl AlarmsPanel {
                 ask.push(AlarmsIntent::Kind(kind));
             }
         });
-        let outcome = alarms
-            .outcome
-            .as_ref()
-            .map(|(level, text)| (level_color(*level), text.as_str()));
-        reserved_line(ui, outcome, outcome.map(|(_, t)| t));
+        said_line(ui, &alarms.outcome);
         self.poll_job(now, out);
         self.file.row(ui, folder, now, &FILE_BUTTONS, |ask| {
             start_job(ask, alarms, now)

@@ -11,7 +11,7 @@ use egui_extras::{Column as Col, TableBuilder};
 use super::file_field::{Browse, FieldSpec, FileAsk, Purpose};
 use super::file_work::{Done, FileButton, FileWork, is_json, read_job, write_job};
 use super::pane::{Pane, PaneCx};
-use super::widgets::{AMBER, GREEN, GREY, RED, level_color, reserved_line};
+use super::widgets::{AMBER, GREEN, GREY, RED, said_line};
 use crate::files::job::Job;
 use crate::pendant::positions::write::Outcome;
 use crate::pendant::positions::{Column, Filter, Positions, PositionsIntent, Preview, Row, file};
@@ -235,11 +235,7 @@ impl PositionsPanel {
         self.filter_bar(ui, positions);
         self.teach_row(ui, pendant, now, &mut ask);
         self.files(ui, pendant, folder, now, out);
-        let feedback = positions
-            .feedback
-            .as_ref()
-            .map(|(level, text)| (level_color(*level), text.as_str()));
-        reserved_line(ui, feedback, feedback.map(|(_, t)| t));
+        said_line(ui, &positions.feedback);
         ui.separator();
         // Filtered again only when the table, the draft or the filter changed.
         let key = (

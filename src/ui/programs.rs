@@ -11,7 +11,7 @@ use egui_extras::{Column as Col, TableBuilder};
 use super::file_field::{Browse, FieldSpec, FileAsk, Purpose};
 use super::file_work::{Done, FileButton, FileWork, read_job};
 use super::pane::{Pane, PaneCx};
-use super::widgets::{AMBER, GREEN, GREY, RED, level_color, reserved_line};
+use super::widgets::{AMBER, GREEN, GREY, RED, said_line};
 use crate::files::job::Job;
 use crate::pendant::programs::{
     Listing, MAX_FILE_BYTES, ProgramState, Programs, ProgramsIntent, Proposal,
@@ -116,11 +116,7 @@ impl ProgramsPanel {
         }
         self.controls(ui, programs, &mut ask);
         ui.label(RichText::new(SPEED_NOTE).color(GREY).small());
-        let feedback = programs
-            .feedback
-            .as_ref()
-            .map(|(level, text)| (level_color(*level), text.as_str()));
-        reserved_line(ui, feedback, feedback.map(|(_, t)| t));
+        said_line(ui, &programs.feedback);
         self.poll_job(now, out);
         ui.horizontal(|ui| {
             if ui

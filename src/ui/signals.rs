@@ -13,7 +13,7 @@ use super::file_field::{Browse, FieldSpec, FileAsk, Purpose};
 use super::file_work::{Done, FileButton, FileWork, is_json, read_job, write_job};
 use super::pane::{Pane, PaneCx};
 use super::plots::PlotsPanel;
-use super::widgets::{AMBER, GREEN, GREY, RED, level_color, reserved_line};
+use super::widgets::{AMBER, GREEN, GREY, RED, said_line};
 use crate::files::job::Job;
 use crate::pendant::signals::{
     HIGHLIGHT_FOR, MAX_ROWS, MAX_TEXT_CHARS, Proposal, Signal, SignalKind, Signals, SignalsIntent,
@@ -235,11 +235,7 @@ impl SignalsPanel {
         self.add_row(ui, &mut ask);
         self.list_row(ui, pendant, &mut ask);
         self.files(ui, pendant, folder, now, out);
-        let feedback = signals
-            .feedback
-            .as_ref()
-            .map(|(level, text)| (level_color(*level), text.as_str()));
-        reserved_line(ui, feedback, feedback.map(|(_, t)| t));
+        said_line(ui, &signals.feedback);
         let key = (
             signals.revision(),
             signals.rows().len(),

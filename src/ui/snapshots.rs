@@ -9,7 +9,7 @@ use egui_extras::{Column as Col, TableBuilder};
 
 use super::file_field::{Browse, FieldSpec, FileAsk, Purpose};
 use super::file_work::{Done, FileButton, FileWork, read_job, write_job};
-use super::widgets::{AMBER, GREY, level_color, reserved_line};
+use super::widgets::{AMBER, GREY, said_line};
 use crate::files::job::Job;
 use crate::pendant::snapshot::{MAX_FILE_BYTES, Part, Snapshot, SnapshotIntent, Snapshots};
 use crate::pendant::{Intent, Pendant};
@@ -138,11 +138,7 @@ impl SnapshotsSection {
                 ask.push(SnapshotIntent::CompareLast);
             }
         });
-        let feedback = snapshots
-            .feedback
-            .as_ref()
-            .map(|(level, text)| (level_color(*level), text.as_str()));
-        reserved_line(ui, feedback, feedback.map(|(_, t)| t));
+        said_line(ui, &snapshots.feedback);
         self.poll_job(now, out);
         self.file.row(ui, folder, now, &FILE_BUTTONS, |ask| {
             start_job(ask, snapshots, now)

@@ -37,6 +37,15 @@ pub fn reason(ui: &mut Ui, text: impl std::fmt::Display) {
 
 /// One line of text in space that is always there: empty when `text` is `None`, cut to
 /// the width when too long (the whole of it on hover), so nothing below it moves.
+/// A view's last word (the model's level and text) on its reserved line, the whole of it
+/// on hover; an empty line when there is none.
+pub fn said_line(ui: &mut Ui, said: &Option<(crate::pendant::Level, String)>) {
+    let text = said
+        .as_ref()
+        .map(|(level, text)| (level_color(*level), text.as_str()));
+    reserved_line(ui, text, text.map(|(_, t)| t));
+}
+
 pub fn reserved_line(ui: &mut Ui, text: Option<(Color32, &str)>, hover: Option<&str>) {
     let height = ui.text_style_height(&egui::TextStyle::Body) + 2.0;
     let width = ui.available_width();
