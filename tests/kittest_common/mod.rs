@@ -65,6 +65,18 @@ pub fn click(h: &mut Harness<'_, PendantApp>, label: &str) {
     h.step();
 }
 
+/// Clicks the first button with this label through its accessible action, wherever the
+/// layout has put it this frame (a pane whose content moves as data arrives cannot shift
+/// it from under the pointer), then lets the layout settle (two frames).
+pub fn click_button(h: &mut Harness<'_, PendantApp>, label: &str) {
+    h.get_all_by_role_and_label(egui::accesskit::Role::Button, label)
+        .next()
+        .unwrap_or_else(|| panic!("no button labelled {label:?}"))
+        .click_accesskit();
+    h.step();
+    h.step();
+}
+
 /// Brings the centre tab with this title to the front (as assistive technology does: in
 /// a narrow tab bar the title may be partly scrolled out of sight).
 pub fn show_tab(h: &mut Harness<'_, PendantApp>, title: &str) {

@@ -10,7 +10,7 @@ use egui_kittest::kittest::Queryable;
 use xsel_pendant::protocol::{Axis, Milli};
 use xsel_pendant::ui::PendantApp;
 
-use crate::kittest_common::{click, show_tab, step_until, step_until_shown};
+use crate::kittest_common::{click_button, show_tab, step_until, step_until_shown};
 use crate::main_window::app;
 
 fn sim<R>(a: &PendantApp, f: impl FnOnce(&mut xsel_pendant::sim::Controller) -> R) -> R {
@@ -80,7 +80,7 @@ fn alarms_arrive_with_their_frames_and_two_snapshots_show_exactly_what_changed()
     step_until(&mut h, "the second snapshot", |a| {
         a.pendant().snapshots.previous.is_some() && a.pendant().snapshots.part().is_none()
     });
-    click(&mut h, "Compare the last two");
+    click_button(&mut h, "Compare the last two");
     step_until_shown(&mut h, "2 difference(s)");
     let c = h.state().pendant().snapshots.comparison.clone().unwrap();
     let rows: Vec<(&str, &str)> = c

@@ -12,7 +12,7 @@ use xsel_pendant::pendant::programs::ProgramState;
 use xsel_pendant::sim::programs::TaskState;
 use xsel_pendant::ui::PendantApp;
 
-use crate::kittest_common::{click, show_tab, step_until, step_until_shown};
+use crate::kittest_common::{click_button, show_tab, step_until, step_until_shown};
 use crate::main_window::{app, ready, sim_in_frames};
 
 /// The simulator's program 1: state and 213H's step.
@@ -47,7 +47,7 @@ fn confirm(h: &mut Harness<'_, PendantApp>, verb: &str) {
 
 /// Clicks `label`; if the model asks first, confirms with the same word.
 fn press(h: &mut Harness<'_, PendantApp>, label: &str) {
-    click(h, label);
+    click_button(h, label);
     if h.state().pendant().programs.proposal.is_some() {
         confirm(h, label);
     }
@@ -58,12 +58,16 @@ fn run_pause_three_single_steps_resume_end_and_stop_mid_program() {
     let mut h = app();
     ready(&mut h);
     show_tab(&mut h, "Programs");
-    click(&mut h, "Demo listing");
+    click_button(&mut h, "Demo listing");
     step_until_shown(&mut h, "Program 1 pick and place");
     step_until_shown(&mut h, "MOVP  1");
 
+    // The view reads program 1 first (Run is refused until its state is known).
+    step_until(&mut h, "program 1's state read", |a| {
+        a.pendant().programs.row(1).status.is_some()
+    });
     // Run asks first, naming the program and that the jog speed cap does not apply.
-    click(&mut h, "Run");
+    click_button(&mut h, "Run");
     step_until_shown(&mut h, "Automatic operation");
     let asked = h
         .state()
@@ -138,7 +142,7 @@ fn run_pause_three_single_steps_resume_end_and_stop_mid_program() {
     step_until(&mut h, "the arm at rest", |a| !arm_moving(a));
 
     // Run again; STOP (Esc) while the arm moves: the arm brakes and the program ends.
-    click(&mut h, "Run");
+    click_button(&mut h, "Run");
     confirm(&mut h, "Run");
     step_until(&mut h, "the arm moving under the program", arm_moving);
     h.key_press(egui::Key::Escape);
