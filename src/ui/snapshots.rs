@@ -1,5 +1,6 @@
 //! The snapshots section of the Alarms view: take one (progress, Cancel), compare the
-//! last two or a file with the latest, save the latest; the differences table by table.
+//! last two or a file with the latest, save the latest; the differences table by table;
+//! a support bundle written to a new folder.
 
 use std::path::Path;
 use std::time::Instant;
@@ -11,6 +12,7 @@ use super::file_field::{Browse, FieldSpec, FileAsk, Purpose};
 use super::file_work::{Done, FileButton, FileWork, read_job, write_job};
 use super::widgets::{AMBER, GREY, said_line};
 use crate::files::job::Job;
+use crate::pendant::bundle;
 use crate::pendant::snapshot::{MAX_FILE_BYTES, Part, Snapshot, SnapshotIntent, Snapshots};
 use crate::pendant::{Intent, Pendant};
 
@@ -55,15 +57,20 @@ static FILE_BUTTONS: [FileButton<SnapshotFile>; 2] = [
     ),
 ];
 
-/// The section's own state: its file field.
+/// The section's own state: its file field, and a support bundle being written and
+/// the last word on it.
 pub struct SnapshotsSection {
     file: FileWork<SnapshotFile, Done<Box<Snapshot>>>,
+    bundle: Option<Job<Result<String, String>>>,
+    bundle_said: Option<(bool, String)>,
 }
 
 impl Default for SnapshotsSection {
     fn default() -> Self {
         Self {
             file: FileWork::new(&FILE_FIELD),
+            bundle: None,
+            bundle_said: None,
         }
     }
 }
@@ -143,6 +150,7 @@ impl SnapshotsSection {
         self.file.row(ui, folder, now, &FILE_BUTTONS, |ask| {
             start_job(ask, snapshots, now)
         });
+        self.bundle_row(ui, pendant, folder, now);
         if let Some(latest) = &snapshots.latest {
             ui.label(RichText::new(format!("Latest: {}", latest.summary())).color(GREY));
         }
@@ -181,6 +189,62 @@ impl SnapshotsSection {
             }
         }
         out.extend(ask.into_iter().map(Intent::Snapshot));
+    }
+
+    /// "Write support bundle": a new folder in the files folder with the latest snapshot,
+    /// the alarm history, the last frames, Messages, the settings and the versions; what
+    /// became of it beside the button.
+    fn bundle_row(&mut self, ui: &mut Ui, pendant: &Pendant, folder: &Path, now: Instant) {
+        if let Some(done) = Job::take(&mut self.bundle, now) {
+            self.bundle_said = Some(match done {
+                Ok(Ok(said)) => (true, said),
+                Ok(Err(why)) => (false, why),
+                Err(lost) => (false, format!("support bundle: {lost}")),
+            });
+        }
+        ui.horizontal_wrapped(|ui| {
+            let idle = self.bundle.is_none();
+            let r = ui
+                .add_enabled(idle, egui::Button::new("Write support bundle"))
+                .on_hover_text(format!(
+                    "A new folder in {} with the latest snapshot, the alarm history, the \
+                     last {} frames (JSON Lines), Messages, the settings and the versions, \
+                     to keep or send with a support request",
+                    folder.display(),
+                    bundle::LAST_FRAMES
+                ));
+            if r.clicked() {
+                let wall = std::time::SystemTime::now();
+                let files = bundle::gather(pendant, now, wall);
+                let target = folder.join(bundle::folder_name(wall));
+                let job = Job::spawn_opening("writing the support bundle", now, move |ctl| {
+                    let written = bundle::write(&target, &files);
+                    ctl.opened();
+                    written.map(|bytes| {
+                        format!(
+                            "support bundle written: {} ({} files, {:.1} kB)",
+                            target.display(),
+                            files.len(),
+                            bytes as f64 / 1e3
+                        )
+                    })
+                });
+                match job {
+                    Ok(job) => self.bundle = Some(job),
+                    Err(why) => self.bundle_said = Some((false, why)),
+                }
+            }
+            if !idle {
+                ui.spinner();
+            } else if let Some((ok, said)) = &self.bundle_said {
+                let color = if *ok {
+                    GREY
+                } else {
+                    ui.visuals().error_fg_color
+                };
+                ui.colored_label(color, said);
+            }
+        });
     }
 
     /// A finished file job: an opened snapshot goes to the model; a write's words stay

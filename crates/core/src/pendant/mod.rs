@@ -5,6 +5,7 @@
 
 pub mod alarms;
 pub mod axes;
+pub mod bundle;
 pub mod connection;
 pub mod controller;
 pub mod coords;
