@@ -20,8 +20,8 @@
 )]
 
 pub use xsel_pendant_core::{
-    cli, files, flags, headless, line, link, pendant, protocol, rmc, robot, robot_wire, sel,
-    session, sim,
+    cli, files, first_contact, flags, headless, line, link, pendant, protocol, rmc, robot,
+    robot_wire, sel, session, sim,
 };
 
 pub mod render;

@@ -7,6 +7,7 @@ mod bin_common;
 #[path = "../wait/mod.rs"]
 mod wait;
 
+mod first_contact;
 mod flags;
 mod lean;
 mod pendant;

@@ -133,6 +133,12 @@ pub struct Args {
     /// For --plot-png: the capture file (CSV) to paint.
     #[arg(long, value_name = "FILE", requires = "plot_png")]
     pub capture: Option<std::path::PathBuf>,
+    /// Run the first-contact report against the controller on --port / --tcp (or the
+    /// built-in simulator) and write it to this new text file, then exit: only queries
+    /// are sent (no motion, no writes). An existing file is never written over; its
+    /// folder must exist.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["render_png", "plot_png", "headless", "watch"])]
+    pub first_contact: Option<std::path::PathBuf>,
     /// How the window is drawn: glow (OpenGL, the default: the least memory) or wgpu
     /// (Vulkan, DirectX 12, Metal or OpenGL; builds with the `wgpu` feature), for a
     /// graphics driver that fails with one.
@@ -143,9 +149,11 @@ pub struct Args {
     pub given: Vec<String>,
 }
 
-/// What the pendant does with its flags: one of four modes, chosen by them.
+/// What the pendant does with its flags: one of five modes, chosen by them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Mode {
+    /// `--first-contact`: the read-only report written to a file.
+    Contact,
     /// `--plot-png`: a saved capture painted into a PNG.
     Plot,
     /// `--render-png`: the arm view drawn into a PNG.
@@ -160,6 +168,7 @@ impl Mode {
     /// "with --plot-png", as the refusal of a flag says it.
     fn phrase(self) -> &'static str {
         match self {
+            Mode::Contact => "with --first-contact",
             Mode::Plot => "with --plot-png",
             Mode::Render => "with --render-png",
             Mode::Text => "in the text mode (--headless, --watch)",
@@ -172,23 +181,24 @@ impl Mode {
 /// is for (said when it is refused elsewhere). Flags not listed serve every mode.
 const SERVES: &[(&str, &[Mode], &str)] = {
     use Mode::*;
-    const LINE: &str = "it sets the X-SEL's line, which only the window and the text mode open";
+    const LINE: &str =
+        "it sets the X-SEL's line, which only the window, the text mode and --first-contact open";
     const RENDER: &str = "it is for --render-png only";
     const PICTURE: &str = "it is for --render-png and --plot-png only";
     const RMC: &str = "only the window connects the RMC151 (the text mode reads the X-SEL alone)";
     &[
-        ("--port", &[Text, Window], LINE),
-        ("--tcp", &[Text, Window], LINE),
-        ("--baud", &[Text, Window], LINE),
-        ("--data-bits", &[Text, Window], LINE),
-        ("--parity", &[Text, Window], LINE),
-        ("--stop-bits", &[Text, Window], LINE),
-        ("--station", &[Text, Window], LINE),
-        ("--sim", &[Text, Window], LINE),
+        ("--port", &[Text, Window, Contact], LINE),
+        ("--tcp", &[Text, Window, Contact], LINE),
+        ("--baud", &[Text, Window, Contact], LINE),
+        ("--data-bits", &[Text, Window, Contact], LINE),
+        ("--parity", &[Text, Window, Contact], LINE),
+        ("--stop-bits", &[Text, Window, Contact], LINE),
+        ("--station", &[Text, Window, Contact], LINE),
+        ("--sim", &[Text, Window, Contact], LINE),
         (
             "--robot",
-            &[Text, Window, Render],
-            "it names the robot of the window, the text mode and --render-png",
+            &[Text, Window, Render, Contact],
+            "it names the robot of the window, the text mode, --render-png and the built-in simulator of --first-contact",
         ),
         (
             "--no-guardian",
@@ -361,7 +371,9 @@ impl Args {
 
     /// The mode the flags choose (as `main` runs them: a picture first, then text).
     pub fn mode(&self) -> Mode {
-        if self.plot_png.is_some() {
+        if self.first_contact.is_some() {
+            Mode::Contact
+        } else if self.plot_png.is_some() {
             Mode::Plot
         } else if self.render_png.is_some() {
             Mode::Render
@@ -388,6 +400,15 @@ impl Args {
         }
         if let Some(path) = &self.plot_png {
             output_folder("--plot-png", path)?;
+        }
+        if let Some(path) = &self.first_contact {
+            output_folder("--first-contact", path)?;
+            if path.exists() {
+                return Err(format!(
+                    "--first-contact {}: the file exists (a report never replaces one)",
+                    path.display()
+                ));
+            }
         }
         Ok(())
     }
@@ -582,6 +603,18 @@ mod tests {
                 "window only",
             ),
             (&[], &["--light"], "--light", "--plot-png only"),
+            (
+                &["--first-contact", "report.txt"],
+                &["--rmc", "sim"],
+                "--rmc",
+                "only the window",
+            ),
+            (
+                &["--first-contact", "report.txt"],
+                &["--no-guardian"],
+                "--no-guardian",
+                "only the window",
+            ),
         ] {
             let mut argv = mode.to_vec();
             argv.extend(extra);

@@ -35,6 +35,7 @@
 
 pub mod cli;
 pub mod files;
+pub mod first_contact;
 pub mod flags;
 pub mod headless;
 pub mod line;

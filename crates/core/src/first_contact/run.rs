@@ -1,0 +1,110 @@
+//! Running the questions on a real line (a serial port, a TCP bridge or the built-in
+//! simulator's pipe) on the caller's thread, and writing the report as a new file.
+
+use std::io::Write as _;
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use super::{Exchange, FirstContact};
+use crate::line::is_timeout;
+use crate::link::transport::Transport;
+use crate::protocol::Station;
+
+/// The longest single read, so a cancel is seen promptly.
+const READ_SLICE: Duration = Duration::from_millis(20);
+
+/// Questions asked so far, and how many there are.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Progress {
+    pub asked: usize,
+    pub total: usize,
+}
+
+/// Why no report could be written.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    #[error("{0}")]
+    Open(String),
+    #[error("{0}")]
+    Write(String),
+}
+
+/// Asks every question on `line`, one at a time; a set `cancel` ends the run between
+/// reads (what was not asked says so). A failing line ends it too. `progress` hears of
+/// each question as it goes out.
+pub fn run_on(
+    line: &mut dyn Transport,
+    station: Station,
+    byte_time: Duration,
+    cancel: &AtomicBool,
+    mut progress: impl FnMut(Progress),
+) -> Vec<Exchange> {
+    // Whatever waited on the line belongs to nobody's question.
+    let _ = line.discard_input();
+    let mut run = FirstContact::new(station, byte_time, Instant::now());
+    let mut buf = [0u8; 4096];
+    loop {
+        if cancel.load(Ordering::Relaxed) {
+            run.end("cancelled");
+            break;
+        }
+        if let Some(bytes) = run.poll_transmit(Instant::now()) {
+            if let Err(e) = line.write_all_bytes(&bytes) {
+                run.end(&format!("the line failed: {e}"));
+                break;
+            }
+            let (asked, total) = run.progress();
+            progress(Progress { asked, total });
+        }
+        if run.is_done() {
+            break;
+        }
+        let wait = run
+            .poll_timeout()
+            .map_or(READ_SLICE, |t| t.saturating_duration_since(Instant::now()))
+            .clamp(Duration::from_millis(1), READ_SLICE);
+        match line.read_timeout(&mut buf, wait) {
+            Ok(0) => {
+                run.end("the line was closed by the other end");
+                break;
+            }
+            Ok(n) => run.handle_input(Instant::now(), &buf[..n]),
+            Err(e) if is_timeout(&e) => {}
+            Err(e) => {
+                run.end(&format!("the line failed: {e}"));
+                break;
+            }
+        }
+        run.handle_timeout(Instant::now());
+    }
+    run.exchanges().to_vec()
+}
+
+/// Writes `text` to `path` as a new file (an existing file is never written over),
+/// flushed to the disk; the error names the file, and a file cut short is removed.
+pub fn write_new(path: &Path, text: &str) -> Result<(), RunError> {
+    let fail = |e: std::io::Error| RunError::Write(format!("{}: {e}", path.display()));
+    let mut file = std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(path)
+        .map_err(|e| {
+            if e.kind() == std::io::ErrorKind::AlreadyExists {
+                RunError::Write(format!(
+                    "{}: the file exists (a report never replaces one): choose another name",
+                    path.display()
+                ))
+            } else {
+                fail(e)
+            }
+        })?;
+    let written = file.write_all(text.as_bytes()).and_then(|_| file.sync_all());
+    if let Err(e) = written {
+        // A report cut short (a full disk) is not left behind as if it were whole.
+        drop(file);
+        let _ = std::fs::remove_file(path);
+        return Err(fail(e));
+    }
+    Ok(())
+}
