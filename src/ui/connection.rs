@@ -1,9 +1,10 @@
 //! The connection panel: simulator, serial port or TCP bridge; line settings; station;
-//! robot model; connect and disconnect; live link health.
+//! robot model; connect and disconnect; the first-contact report; live link health.
 
 use egui::{ComboBox, RichText, Ui};
 
 use super::detect::Detect;
+use super::first_contact::FirstContactRow;
 use super::pane::{Pane, PaneCx};
 use super::ports::PortList;
 use super::widgets::{AMBER, GREEN, GREY, RED, reserved_line};
@@ -18,12 +19,14 @@ pub struct ConnectionPanel {
     pub ports: PortList,
     detect: Detect,
     station_text: Option<String>,
+    first_contact: FirstContactRow,
 }
 
 impl ConnectionPanel {
     /// Draws the panel, editing a copy of the connection settings: a change, Connect and
     /// Disconnect go to `intents`.
-    pub fn show(&mut self, ui: &mut Ui, pendant: &Pendant, intents: &mut Vec<Intent>) {
+    pub fn show(&mut self, ui: &mut Ui, cx: &mut PaneCx<'_>) {
+        let (pendant, intents) = (cx.pendant, &mut *cx.intents);
         self.ports.poll();
         if !self.ports.listed_once && !self.ports.is_listing() {
             let ctx = ui.ctx().clone();
@@ -207,6 +210,7 @@ impl ConnectionPanel {
                 intents.push(Intent::Disconnect);
             }
         });
+        self.first_contact.show(ui, pendant, cx.folder, cx.now);
         owner(ui, pendant);
         health(ui, pendant);
     }
@@ -290,6 +294,6 @@ fn health(ui: &mut Ui, pendant: &Pendant) {
 
 impl Pane for ConnectionPanel {
     fn ui(&mut self, ui: &mut Ui, cx: &mut PaneCx<'_>) {
-        self.show(ui, cx.pendant, cx.intents);
+        self.show(ui, cx);
     }
 }

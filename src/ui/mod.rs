@@ -14,6 +14,7 @@ mod coords_table;
 mod detect;
 mod file_field;
 mod file_work;
+mod first_contact;
 pub mod frame_log;
 mod inbox;
 mod jog;

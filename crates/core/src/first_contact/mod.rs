@@ -19,8 +19,8 @@ use std::time::{Duration, Instant};
 use crate::protocol::{ErrorCode, Header, OwnedFrame, Station, StreamDecoder};
 
 pub use probes::{Ask, QUESTIONS, Question};
-pub use report::{ReportHeader, render};
-pub use run::{Progress, RunError, run_on, write_new};
+pub use report::{ReportHeader, render, summary_text};
+pub use run::{Progress, RunError, file_name, report_on, run_on, write_new};
 
 /// How long a reply may take to begin, beyond the wire time of the longest reply
 /// `[inferred]`: the spec's time-out section was not retrieved (PROTOCOL.md 5 row 20);

@@ -74,6 +74,13 @@ pub fn render(header: &ReportHeader, exchanges: &[Exchange]) -> String {
     s
 }
 
+/// The summary alone (what the CLI prints and the window shows).
+pub fn summary_text(exchanges: &[Exchange]) -> String {
+    let mut s = String::new();
+    summary(&mut s, exchanges);
+    s
+}
+
 /// One line per kind of question: the five status queries as one.
 fn summary(s: &mut String, exchanges: &[Exchange]) {
     let _ = writeln!(s, "Summary");

@@ -3,13 +3,13 @@
 
 use std::io::Write as _;
 use std::path::Path;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::time::{Duration, Instant, SystemTime};
 
-use super::{Exchange, FirstContact};
+use super::{Exchange, FirstContact, ReportHeader};
 use crate::line::is_timeout;
 use crate::link::transport::Transport;
 use crate::protocol::Station;
+use crate::session::Connection;
 
 /// The longest single read, so a cancel is seen promptly.
 const READ_SLICE: Duration = Duration::from_millis(20);
@@ -30,14 +30,53 @@ pub enum RunError {
     Write(String),
 }
 
-/// Asks every question on `line`, one at a time; a set `cancel` ends the run between
-/// reads (what was not asked says so). A failing line ends it too. `progress` hears of
-/// each question as it goes out.
+/// Opens the line of `conn` (the built-in simulator starts with it) and asks every
+/// question on it: the report's header and the exchanges, or why the line did not open.
+pub fn report_on(
+    conn: &mut Connection,
+    station: Station,
+    cancelled: impl Fn() -> bool,
+    progress: impl FnMut(Progress),
+) -> Result<(ReportHeader, Vec<Exchange>), RunError> {
+    let mut line = (conn.connector)(conn.line).map_err(|e| RunError::Open(conn.open_error(&e)))?;
+    let header = ReportHeader {
+        written: SystemTime::now(),
+        pendant: env!("CARGO_PKG_VERSION").to_owned(),
+        line: conn.target.clone(),
+        settings: conn.line.to_string(),
+        station,
+    };
+    let exchanges = run_on(
+        line.as_mut(),
+        station,
+        conn.line.byte_time(),
+        cancelled,
+        progress,
+    );
+    Ok((header, exchanges))
+}
+
+/// The name of a report written at `wall` in a folder the user did not choose.
+pub fn file_name(wall: SystemTime) -> String {
+    let stamp = humantime::format_rfc3339_seconds(wall).to_string();
+    let digits: String = stamp
+        .chars()
+        .filter(|c| c.is_ascii_digit() || *c == 'T')
+        .collect();
+    format!(
+        "xsel-pendant-first-contact-{}.txt",
+        digits.replace('T', "-")
+    )
+}
+
+/// Asks every question on `line`, one at a time; `cancelled` answering true ends the
+/// run between reads (what was not asked says so). A failing line ends it too.
+/// `progress` hears of each question as it goes out.
 pub fn run_on(
     line: &mut dyn Transport,
     station: Station,
     byte_time: Duration,
-    cancel: &AtomicBool,
+    cancelled: impl Fn() -> bool,
     mut progress: impl FnMut(Progress),
 ) -> Vec<Exchange> {
     // Whatever waited on the line belongs to nobody's question.
@@ -45,7 +84,7 @@ pub fn run_on(
     let mut run = FirstContact::new(station, byte_time, Instant::now());
     let mut buf = [0u8; 4096];
     loop {
-        if cancel.load(Ordering::Relaxed) {
+        if cancelled() {
             run.end("cancelled");
             break;
         }
@@ -99,7 +138,9 @@ pub fn write_new(path: &Path, text: &str) -> Result<(), RunError> {
                 fail(e)
             }
         })?;
-    let written = file.write_all(text.as_bytes()).and_then(|_| file.sync_all());
+    let written = file
+        .write_all(text.as_bytes())
+        .and_then(|_| file.sync_all());
     if let Err(e) = written {
         // A report cut short (a full disk) is not left behind as if it were whole.
         drop(file);
