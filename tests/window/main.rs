@@ -10,6 +10,7 @@ mod wire;
 mod alarms;
 mod axes;
 mod coords;
+mod first_contact;
 mod frame_log;
 mod frame_log_replay;
 mod jog_panel;
