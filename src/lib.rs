@@ -20,7 +20,7 @@
 )]
 
 pub use xsel_pendant_core::{
-    cli, files, first_contact, flags, headless, line, link, pendant, protocol, rmc, robot,
+    cli, driven, files, first_contact, flags, headless, line, link, pendant, protocol, rmc, robot,
     robot_wire, sel, session, sim,
 };
 

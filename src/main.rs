@@ -1,7 +1,8 @@
 //! The pendant binary: the window (`ui::run_window`), or text mode with `--headless` /
 //! `--watch` (`headless::run`), or the arm view or a saved capture to a PNG with
 //! `--render-png` / `--plot-png` (`render_cli::run`), or the first-contact report with
-//! `--first-contact` (`first_contact::command_line::run`). Flags, their checks and line set-up
+//! `--first-contact` (`first_contact::command_line::run`), or a controller snapshot with
+//! `--snapshot` (`driven::snapshot`). Flags, their checks and line set-up
 //! live in `cli`, shared by all.
 
 use std::io::Write;
@@ -22,6 +23,9 @@ fn main() -> ExitCode {
     // Every flag checked whole before any mode starts (values, addresses, output
     // folders, flags that do nothing in the mode chosen): exit code 2 and one line.
     let args = cli::parse_or_exit();
+    if args.snapshot.is_some() {
+        return xsel_pendant::driven::snapshot(&args);
+    }
     if args.first_contact.is_some() {
         return xsel_pendant::first_contact::command_line::run(&args);
     }

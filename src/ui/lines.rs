@@ -10,7 +10,6 @@ use super::inbox::{Inbox, Next};
 use super::wake::{LINK_REPAINT, RmcWake, Wake, WakeFilter};
 use crate::pendant::axes::AxisCall;
 use crate::pendant::{Pendant, Request};
-use crate::protocol::CoordKind;
 use crate::session::closing::Closing;
 use crate::session::rmc::RmcSession;
 use crate::session::simulator::FrontPanel;
@@ -228,33 +227,15 @@ impl Lines {
                         closing.stop_all();
                     }
                 }
-                Request::Submit(command) => {
+                Request::Submit(_)
+                | Request::Background(_)
+                | Request::Spare(_)
+                | Request::RenewJogLease
+                | Request::ReadTable(_)
+                | Request::ReadRecords(..)
+                | Request::CancelTableRead => {
                     if let Some(s) = &self.session {
-                        s.submit(command);
-                    }
-                }
-                Request::Background(command) => {
-                    if let Some(s) = &self.session {
-                        s.submit_background(command);
-                    }
-                }
-                Request::Spare(command) => {
-                    if let Some(s) = &self.session {
-                        s.submit_spare(command);
-                    }
-                }
-                Request::RenewJogLease => {
-                    if let Some(s) = &self.session {
-                        s.renew_jog_lease();
-                    }
-                }
-                Request::ReadTable(kind) => {
-                    self.read_records(kind, pendant.table_records(kind));
-                }
-                Request::ReadRecords(kind, range) => self.read_records(kind, range),
-                Request::CancelTableRead => {
-                    if let Some(s) = &self.session {
-                        s.cancel_table_read();
+                        crate::driven::forward(s, request, |kind| pendant.table_records(kind));
                     }
                 }
                 Request::SimulatorTables(tables) => match self.panel() {
@@ -330,12 +311,6 @@ impl Lines {
         match RmcSession::open(&pendant.settings.rmc, repaint, &self.owner) {
             Ok(session) => self.rmc = Some(session),
             Err(e) => pendant.rmc_connect_failed(e, now),
-        }
-    }
-
-    fn read_records(&self, kind: CoordKind, range: std::ops::Range<u16>) {
-        if let Some(s) = &self.session {
-            s.read_table(kind, range);
         }
     }
 

@@ -13,3 +13,4 @@ mod lean;
 mod pendant;
 mod render_png;
 mod sim;
+mod snapshot;

@@ -139,6 +139,12 @@ pub struct Args {
     /// folder must exist.
     #[arg(long, value_name = "FILE", conflicts_with_all = ["render_png", "plot_png", "headless", "watch"])]
     pub first_contact: Option<std::path::PathBuf>,
+    /// Take a controller snapshot (versions, position table, coordinate tables, global
+    /// flags and variables, alarm history) on --port / --tcp (or the built-in
+    /// simulator) and write it to this new JSON file, then exit: only queries are sent.
+    /// An existing file is never written over; its folder must exist.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["render_png", "plot_png", "headless", "watch", "first_contact"])]
+    pub snapshot: Option<std::path::PathBuf>,
     /// How the window is drawn: glow (OpenGL, the default: the least memory) or wgpu
     /// (Vulkan, DirectX 12, Metal or OpenGL; builds with the `wgpu` feature), for a
     /// graphics driver that fails with one.
@@ -149,9 +155,11 @@ pub struct Args {
     pub given: Vec<String>,
 }
 
-/// What the pendant does with its flags: one of five modes, chosen by them.
+/// What the pendant does with its flags: one of six modes, chosen by them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Mode {
+    /// `--snapshot`: a controller snapshot written to a file.
+    Snapshot,
     /// `--first-contact`: the read-only report written to a file.
     Contact,
     /// `--plot-png`: a saved capture painted into a PNG.
@@ -169,6 +177,7 @@ impl Mode {
     fn phrase(self) -> &'static str {
         match self {
             Mode::Contact => "with --first-contact",
+            Mode::Snapshot => "with --snapshot",
             Mode::Plot => "with --plot-png",
             Mode::Render => "with --render-png",
             Mode::Text => "in the text mode (--headless, --watch)",
@@ -181,24 +190,23 @@ impl Mode {
 /// is for (said when it is refused elsewhere). Flags not listed serve every mode.
 const SERVES: &[(&str, &[Mode], &str)] = {
     use Mode::*;
-    const LINE: &str =
-        "it sets the X-SEL's line, which only the window, the text mode and --first-contact open";
+    const LINE: &str = "it sets the X-SEL's line, which only the window, the text mode, --first-contact and --snapshot open";
     const RENDER: &str = "it is for --render-png only";
     const PICTURE: &str = "it is for --render-png and --plot-png only";
     const RMC: &str = "only the window connects the RMC151 (the text mode reads the X-SEL alone)";
     &[
-        ("--port", &[Text, Window, Contact], LINE),
-        ("--tcp", &[Text, Window, Contact], LINE),
-        ("--baud", &[Text, Window, Contact], LINE),
-        ("--data-bits", &[Text, Window, Contact], LINE),
-        ("--parity", &[Text, Window, Contact], LINE),
-        ("--stop-bits", &[Text, Window, Contact], LINE),
-        ("--station", &[Text, Window, Contact], LINE),
-        ("--sim", &[Text, Window, Contact], LINE),
+        ("--port", &[Text, Window, Contact, Snapshot], LINE),
+        ("--tcp", &[Text, Window, Contact, Snapshot], LINE),
+        ("--baud", &[Text, Window, Contact, Snapshot], LINE),
+        ("--data-bits", &[Text, Window, Contact, Snapshot], LINE),
+        ("--parity", &[Text, Window, Contact, Snapshot], LINE),
+        ("--stop-bits", &[Text, Window, Contact, Snapshot], LINE),
+        ("--station", &[Text, Window, Contact, Snapshot], LINE),
+        ("--sim", &[Text, Window, Contact, Snapshot], LINE),
         (
             "--robot",
-            &[Text, Window, Render, Contact],
-            "it names the robot of the window, the text mode, --render-png and the built-in simulator of --first-contact",
+            &[Text, Window, Render, Contact, Snapshot],
+            "it names the robot of the window, the text mode, --render-png and the built-in simulator of --first-contact and --snapshot",
         ),
         (
             "--no-guardian",
@@ -373,6 +381,8 @@ impl Args {
     pub fn mode(&self) -> Mode {
         if self.first_contact.is_some() {
             Mode::Contact
+        } else if self.snapshot.is_some() {
+            Mode::Snapshot
         } else if self.plot_png.is_some() {
             Mode::Plot
         } else if self.render_png.is_some() {
@@ -401,13 +411,18 @@ impl Args {
         if let Some(path) = &self.plot_png {
             output_folder("--plot-png", path)?;
         }
-        if let Some(path) = &self.first_contact {
-            output_folder("--first-contact", path)?;
-            if path.exists() {
-                return Err(format!(
-                    "--first-contact {}: the file exists (a report never replaces one)",
-                    path.display()
-                ));
+        for (flag, path) in [
+            ("--first-contact", &self.first_contact),
+            ("--snapshot", &self.snapshot),
+        ] {
+            if let Some(path) = path {
+                output_folder(flag, path)?;
+                if path.exists() {
+                    return Err(format!(
+                        "{flag} {}: the file exists (it is never written over)",
+                        path.display()
+                    ));
+                }
             }
         }
         Ok(())

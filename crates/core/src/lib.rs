@@ -23,8 +23,10 @@
 //!   import each other.
 //! - [`protocol`] (the Format B codec) and [`robot`] (SCARA math) import nothing of the
 //!   project; `line` imports nothing of it either.
-//! - [`cli`] (the pendant's flags and line set-up) and [`headless`] (its text mode) sit
-//!   above `link` and `sim`, for the binaries; [`flags`] answers a bad flag for both.
+//! - [`cli`] (the pendant's flags and line set-up), [`headless`] (its text mode),
+//!   [`driven`] (the model on a line with no window: `--snapshot`) and [`first_contact`]
+//!   (the read-only report) sit above `link`, `sim` and `pendant`, for the binaries;
+//!   [`flags`] answers a bad flag for all.
 
 #![forbid(unsafe_code)]
 // Library code answers bad input instead of panicking (unit tests may unwrap).
@@ -34,6 +36,7 @@
 )]
 
 pub mod cli;
+pub mod driven;
 pub mod files;
 pub mod first_contact;
 pub mod flags;
