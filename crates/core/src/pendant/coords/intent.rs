@@ -6,7 +6,7 @@ use std::time::Instant;
 use super::cell::Column;
 use super::file::TableFormat;
 use super::{CoordEditor, CoordsCx};
-use crate::pendant::Out;
+use crate::pendant::{Level, Out};
 use crate::protocol::CoordKind;
 use crate::robot::{FrameKind, RobotModel};
 
@@ -148,28 +148,41 @@ impl CoordEditor {
                 path,
                 format,
                 bytes,
-            } => self.file_result = Some(self.import_file(&path, format, bytes, cx.model)),
+            } => {
+                let outcome = self.import_file(&path, format, bytes, cx.model);
+                self.file_said(outcome, out, now);
+            }
             CoordsIntent::Exported { path, result } => {
-                self.file_result = Some(match result {
+                let outcome = match result {
                     Ok(()) => FileOutcome {
                         ok: true,
                         text: format!("exported the work and tool drafts to {path}"),
                     },
                     // The writer's sentence names the file.
                     Err(e) => FileOutcome { ok: false, text: e },
-                });
+                };
+                self.file_said(outcome, out, now);
             }
             CoordsIntent::FileRefused(text) => {
-                self.file_result = Some(FileOutcome { ok: false, text });
+                self.file_said(FileOutcome { ok: false, text }, out, now);
             }
             CoordsIntent::FileNotNamed => {
-                self.file_result = Some(FileOutcome {
-                    ok: false,
-                    text: NAME_A_FILE.to_owned(),
-                });
+                let text = NAME_A_FILE.to_owned();
+                self.file_said(FileOutcome { ok: false, text }, out, now);
             }
             CoordsIntent::TryOnSimulator => self.give_to_simulator(out),
         }
+    }
+
+    /// A file's outcome under the file row (one line) and, whole, in Messages.
+    fn file_said(&mut self, outcome: FileOutcome, out: &mut Out, now: Instant) {
+        let level = if outcome.ok {
+            Level::Info
+        } else {
+            Level::Warning
+        };
+        out.say(level, format!("coordinate tables: {}", outcome.text), now);
+        self.file_result = Some(outcome);
     }
 
     /// Puts a typed entry in the draft, or keeps it with the reason it was refused.
@@ -206,6 +219,10 @@ impl CoordEditor {
             Err(e) => return refused(e),
         };
         match self.import(&bytes, format, model) {
+            // `import` changes nothing for a file that lists no rows.
+            Ok(0) => refused(format!(
+                "{path}: the file lists no rows of either table; the drafts are unchanged"
+            )),
             Ok(n) => FileOutcome {
                 ok: true,
                 text: format!("imported {n} rows from {path} (Undo takes them back)"),
@@ -292,5 +309,27 @@ mod tests {
             out.text
         );
         assert!(!p.coords.draft(FrameKind::Work).can_undo(), "draft touched");
+        // A file that lists no rows (`{}`) is no import of zero rows.
+        p.apply_coords(
+            CoordsIntent::Import {
+                path: "empty.json".into(),
+                format: TableFormat::Json,
+                bytes: Ok(b"{}".to_vec()),
+            },
+            now,
+        );
+        let out = p.coords.file_result.clone().expect("a result");
+        assert!(!out.ok, "{}", out.text);
+        assert!(out.text.contains("lists no rows"), "{}", out.text);
+        assert!(!p.coords.draft(FrameKind::Work).can_undo(), "draft touched");
+        assert!(!p.coords.draft(FrameKind::Tool).can_undo(), "draft touched");
+        // Each outcome is in Messages whole, not only on the file row's one line.
+        assert!(
+            p.messages
+                .iter()
+                .any(|m| m.text == format!("coordinate tables: {}", out.text)),
+            "{:?}",
+            p.messages
+        );
     }
 }

@@ -316,8 +316,8 @@ impl CoordEditor {
     }
 
     /// Reads a file into the drafts: the rows it lists replace the drafts' (one undo
-    /// step per table); a file with an error anywhere changes nothing. The number of
-    /// rows the file lists.
+    /// step per table); a file with an error anywhere, or listing no row, changes
+    /// nothing. The number of rows the file lists.
     pub fn import(
         &mut self,
         bytes: &[u8],
@@ -336,6 +336,10 @@ impl CoordEditor {
             .chain(&pair.tool)
             .filter(|r| r.is_some())
             .count();
+        if count == 0 {
+            // Nothing to take: no undo step, no change.
+            return Ok(0);
+        }
         self.draft_mut(FrameKind::Work).import(&pair.work);
         self.draft_mut(FrameKind::Tool).import(&pair.tool);
         Ok(count)
