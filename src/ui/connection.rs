@@ -227,7 +227,7 @@ fn owner(ui: &mut Ui, pendant: &Pendant) {
                  killed, it sends 238H STOP and closes the line. It is no enabling switch or \
                  E-stop: a real cell needs those hard-wired.",
             ),
-            None if pendant.settings.connection.kind == LineKind::Simulator => (
+            None if pendant.line_kind == Some(LineKind::Simulator) => (
                 GREY,
                 "Line owner: this window (the built-in simulator stops with it)".to_owned(),
                 "The built-in simulator runs inside this window and ends with it.",

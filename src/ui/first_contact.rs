@@ -51,7 +51,8 @@ impl FirstContactRow {
         }
         let settings = &pendant.settings.connection;
         let busy = !matches!(pendant.line, LineState::Closed | LineState::Down { .. });
-        let refused = (busy && settings.kind != LineKind::Simulator)
+        let window_holds_a_port = busy && pendant.line_kind != Some(LineKind::Simulator);
+        let refused = (window_holds_a_port && settings.kind != LineKind::Simulator)
             .then_some("disconnect first: the report needs the line to itself");
         ui.horizontal_wrapped(|ui| {
             if let Some(job) = &self.job {

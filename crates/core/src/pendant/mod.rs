@@ -131,6 +131,9 @@ pub struct Pendant {
     pub model: RobotModel,
     kin: Scara,
     pub line: LineState,
+    /// The kind of line asked for at the last Connect (the settings may have been edited
+    /// since): who owns the open line follows from it.
+    pub line_kind: Option<LineKind>,
     pub controller: ControllerState,
     pub health: Option<LinkHealth>,
     /// Time-out and error counts of the health reports of the last minute.
@@ -190,6 +193,7 @@ impl Pendant {
             model,
             settings,
             line: LineState::Closed,
+            line_kind: None,
             controller: ControllerState::default(),
             health: None,
             health_window: VecDeque::new(),
@@ -290,6 +294,7 @@ impl Pendant {
     /// Opens the line in the settings (closing the current one).
     pub fn connect(&mut self, now: Instant) {
         self.line = LineState::Opening;
+        self.line_kind = Some(self.settings.connection.kind);
         self.line_gone(now);
         self.requests.push(Request::Connect);
     }
@@ -298,6 +303,7 @@ impl Pendant {
     pub fn disconnect(&mut self, now: Instant) {
         self.requests.push(Request::Disconnect);
         self.line = LineState::Closed;
+        self.line_kind = None;
         self.line_gone(now);
     }
 
