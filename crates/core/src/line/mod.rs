@@ -65,6 +65,21 @@ impl Line for Box<dyn serialport::SerialPort> {
     }
 }
 
+/// How long a TCP connection may be quiet before the OS probes the peer, and how often
+/// it probes again `[inferred]`: well inside the simulators' 60 s idle time-out, so a
+/// peer that vanished without a FIN (a PC that lost its network) is found even when
+/// the idle time-out is turned off.
+pub const KEEPALIVE_IDLE: Duration = Duration::from_secs(30);
+pub const KEEPALIVE_INTERVAL: Duration = Duration::from_secs(10);
+
+/// Turns TCP keepalive on for `stream` ([`KEEPALIVE_IDLE`], [`KEEPALIVE_INTERVAL`]).
+pub fn keepalive(stream: &TcpStream) -> io::Result<()> {
+    let probes = socket2::TcpKeepalive::new()
+        .with_time(KEEPALIVE_IDLE)
+        .with_interval(KEEPALIVE_INTERVAL);
+    socket2::SockRef::from(stream).set_tcp_keepalive(&probes)
+}
+
 /// Whether a read error only means "nothing yet".
 pub fn is_timeout(err: &io::Error) -> bool {
     matches!(
@@ -102,5 +117,15 @@ mod tests {
         assert!(is_timeout(&io::Error::from(io::ErrorKind::TimedOut)));
         assert!(is_timeout(&io::Error::from(io::ErrorKind::WouldBlock)));
         assert!(!is_timeout(&io::Error::from(io::ErrorKind::BrokenPipe)));
+    }
+
+    #[test]
+    fn keepalive_is_turned_on() {
+        let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+        let stream = TcpStream::connect(listener.local_addr().unwrap()).unwrap();
+        let sock = socket2::SockRef::from(&stream);
+        assert!(!sock.keepalive().unwrap());
+        keepalive(&stream).unwrap();
+        assert!(sock.keepalive().unwrap());
     }
 }

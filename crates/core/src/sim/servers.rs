@@ -288,6 +288,7 @@ pub fn start_tcp(core: SimCore, addr: &str, mut opts: RunOptions) -> io::Result<
                 Ok((stream, peer)) => {
                     let _ = stream.set_nonblocking(false);
                     let _ = stream.set_nodelay(true);
+                    let _ = crate::line::keepalive(&stream);
                     opts.notify(&format!("client {peer} connected"));
                     let mut client = TcpClient {
                         stream,

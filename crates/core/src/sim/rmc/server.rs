@@ -295,6 +295,7 @@ fn serve(mut stream: TcpStream, shared: &Shared) -> String {
         return e.to_string();
     }
     let _ = stream.set_nodelay(true);
+    let _ = crate::line::keepalive(&stream);
     let mut connection = RmcConnection::new();
     let mut buf = [0u8; 1024];
     let mut heard = Instant::now();
