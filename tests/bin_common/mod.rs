@@ -123,3 +123,53 @@ pub fn rss_kb(pid: u32) -> Option<u64> {
 pub fn rss_kb(_pid: u32) -> Option<u64> {
     None
 }
+
+/// `xsel-sim --tcp 127.0.0.1:0` with `flags`, ready for a client: the process (killed
+/// when dropped), the address it listens on, and its log lines (stderr) as they come.
+pub struct TcpSim {
+    pub child: Child,
+    pub addr: String,
+    pub log: Receiver<String>,
+}
+
+impl TcpSim {
+    pub fn start(flags: &[&str]) -> TcpSim {
+        let mut child = Command::new(SIM)
+            .args(["--tcp", "127.0.0.1:0"])
+            .args(flags)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("xsel-sim starts");
+        let out = lines_of(child.stdout.take().expect("stdout"));
+        let log = lines_of(child.stderr.take().expect("stderr"));
+        let addr = out
+            .recv_timeout(crate::wait::PROCESS)
+            .expect("the address on stdout")
+            .trim()
+            .to_owned();
+        TcpSim { child, addr, log }
+    }
+}
+
+impl Drop for TcpSim {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// Runs the pendant with `flag FILE` where FILE exists: exit 2, one line saying so, and
+/// the file as it was.
+pub fn assert_existing_file_refused(flag: &str, path: &std::path::Path) {
+    std::fs::write(path, "keep me").expect("write");
+    let run = run(
+        PENDANT,
+        &[flag, path.to_str().expect("UTF-8")],
+        crate::wait::PROCESS,
+    );
+    assert_eq!(run.status.and_then(|s| s.code()), Some(2), "{}", run.stderr);
+    assert!(run.stderr.contains("the file exists"), "{}", run.stderr);
+    assert_eq!(std::fs::read_to_string(path).expect("kept"), "keep me");
+    let _ = std::fs::remove_file(path);
+}

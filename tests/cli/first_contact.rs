@@ -4,7 +4,6 @@
 
 use std::io::{BufRead, BufReader};
 use std::net::TcpListener;
-use std::process::{Command, Stdio};
 
 use crate::bin_common::*;
 use crate::wait::PROCESS;
@@ -34,19 +33,11 @@ impl Drop for Report {
 
 #[test]
 fn the_report_against_xsel_sim_says_what_answered_and_only_queries_reach_it() {
-    let mut sim = Command::new(SIM)
-        .args(["--tcp", "127.0.0.1:0", "--ready"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("xsel-sim starts");
-    let out = lines_of(sim.stdout.take().expect("stdout"));
-    let log = lines_of(sim.stderr.take().expect("stderr"));
-    let addr = out.recv_timeout(PROCESS).expect("the address on stdout");
+    let sim = TcpSim::start(&["--ready"]);
     let report = Report::new("sim");
     let run = run(
         PENDANT,
-        &["--first-contact", report.arg(), "--tcp", addr.trim()],
+        &["--first-contact", report.arg(), "--tcp", &sim.addr],
         PROCESS,
     );
     // The simulator's log of the frames it received, up to the last question (2A2H).
@@ -54,13 +45,12 @@ fn the_report_against_xsel_sim_says_what_answered_and_only_queries_reach_it() {
     let deadline = std::time::Instant::now() + PROCESS;
     while !seen.iter().any(|l: &String| l.contains("rx !992A2")) {
         let left = deadline.saturating_duration_since(std::time::Instant::now());
-        match log.recv_timeout(left) {
+        match sim.log.recv_timeout(left) {
             Ok(line) => seen.push(line),
             Err(_) => break,
         }
     }
-    let _ = sim.kill();
-    let _ = sim.wait();
+    drop(sim);
     assert_eq!(run.status.and_then(|s| s.code()), Some(0), "{}", run.stderr);
     assert_no_panic(&run.stderr);
     assert!(
@@ -95,17 +85,7 @@ fn the_report_against_xsel_sim_says_what_answered_and_only_queries_reach_it() {
 
 #[test]
 fn an_existing_file_is_refused_before_anything_is_sent_and_a_silent_peer_is_said() {
-    let report = Report::new("exists");
-    std::fs::write(&report.0, "keep me").expect("write");
-    let run1 = run(PENDANT, &["--first-contact", report.arg()], PROCESS);
-    assert_eq!(
-        run1.status.and_then(|s| s.code()),
-        Some(2),
-        "{}",
-        run1.stderr
-    );
-    assert!(run1.stderr.contains("the file exists"), "{}", run1.stderr);
-    assert_eq!(std::fs::read_to_string(&report.0).expect("kept"), "keep me");
+    assert_existing_file_refused("--first-contact", &Report::new("exists").0);
 
     // A peer that accepts and never answers: three status queries, then the report.
     let listener = TcpListener::bind("127.0.0.1:0").expect("bind");

@@ -2,8 +2,6 @@
 //! every part read, written as a new JSON file the window can open; an existing file
 //! refused before anything is sent; a line that cannot be opened said at once.
 
-use std::process::{Command, Stdio};
-
 use xsel_pendant::pendant::snapshot::Snapshot;
 
 use crate::bin_common::*;
@@ -18,25 +16,17 @@ fn temp(name: &str) -> std::path::PathBuf {
 
 #[test]
 fn a_snapshot_of_xsel_sim_is_written_whole_and_reads_back() {
-    let mut sim = Command::new(SIM)
-        .args(["--tcp", "127.0.0.1:0", "--ready", "--quiet"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("xsel-sim starts");
-    let out = lines_of(sim.stdout.take().expect("stdout"));
-    let addr = out.recv_timeout(PROCESS).expect("the address on stdout");
+    let sim = TcpSim::start(&["--ready", "--quiet"]);
     let path = temp("sim");
     let file = path.to_str().expect("UTF-8");
     // About 10 s on an idle machine (every position number is read at 115200 baud):
     // the bound only ends a run that hangs.
     let run = run(
         PENDANT,
-        &["--snapshot", file, "--tcp", addr.trim()],
+        &["--snapshot", file, "--tcp", &sim.addr],
         PROCESS * 6,
     );
-    let _ = sim.kill();
-    let _ = sim.wait();
+    drop(sim);
     assert_eq!(run.status.and_then(|s| s.code()), Some(0), "{}", run.stderr);
     assert!(run.stdout.contains("snapshot written"), "{}", run.stdout);
     assert!(
@@ -54,19 +44,7 @@ fn a_snapshot_of_xsel_sim_is_written_whole_and_reads_back() {
 
 #[test]
 fn an_existing_file_and_a_refused_line_end_it_at_once() {
-    let path = temp("exists");
-    std::fs::write(&path, "keep me").expect("write");
-    let file = path.to_str().expect("UTF-8");
-    let run1 = run(PENDANT, &["--snapshot", file], PROCESS);
-    assert_eq!(
-        run1.status.and_then(|s| s.code()),
-        Some(2),
-        "{}",
-        run1.stderr
-    );
-    assert!(run1.stderr.contains("the file exists"), "{}", run1.stderr);
-    assert_eq!(std::fs::read_to_string(&path).expect("kept"), "keep me");
-    let _ = std::fs::remove_file(&path);
+    assert_existing_file_refused("--snapshot", &temp("exists"));
 
     let fresh = temp("refused");
     let tcp = refused_addr();
