@@ -199,19 +199,12 @@ impl JogState {
         let confirmed = t
             .confirm
             .is_some_and(|at| now.duration_since(at) < CONFIRM_FOR);
-        if plan.flips_arm && !confirmed {
+        if !confirmed && let Some(text) = plan.confirm_text("the target", "\"Go to target\" again")
+        {
             if let Some(st) = self.step_target.as_mut() {
                 st.confirm = Some(now);
             }
-            return self.says(
-                out,
-                Level::Warning,
-                format!(
-                    "the target flips the arm system: press \"Go to target\" again within {} s to confirm",
-                    CONFIRM_FOR.as_secs()
-                ),
-                now,
-            );
+            return self.says(out, Level::Warning, text, now);
         }
         // Sent: the ghost now shows the move in progress.
         self.step_target = None;
