@@ -24,7 +24,12 @@ pub struct LabelBox {
 pub fn rank(role: Role) -> u8 {
     match role {
         Role::Warning => 0,
-        Role::GhostRefused | Role::GhostFlip | Role::GhostReachable | Role::CpLine => 1,
+        Role::GhostRefused
+        | Role::GhostFlip
+        | Role::GhostReachable
+        | Role::CpLine
+        | Role::ZoneEntered => 1,
+        Role::Zone => 2,
         Role::Tool | Role::FrameTool | Role::FrameWork | Role::FrameBase | Role::FrameOverlay => 2,
         Role::Gauge | Role::GaugeValue => 3,
         Role::Label | Role::Base | Role::Link | Role::Joint | Role::Trail => 4,

@@ -130,10 +130,11 @@ impl ArmView {
             ghost: ghost.as_ref(),
             trail: &self.trail[trail_from..],
             reported_tip: c.sample().map(|(_, base)| base),
+            zones: pendant.zones.boxes(),
         };
         let scene = build_scene(&input);
         let palette = Palette::for_theme(ui.visuals().dark_mode);
-        self.toolbar(ui, &scene, &palette, folder, now, intents);
+        self.toolbar(ui, pendant, &scene, &palette, folder, now, intents);
         let readout_h = 3.0 * ui.text_style_height(&egui::TextStyle::Body) + 10.0;
         let avail = ui.available_rect_before_wrap();
         let rect = egui::Rect::from_min_max(
@@ -156,9 +157,11 @@ impl ArmView {
         self.scene = Some(scene);
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn toolbar(
         &mut self,
         ui: &mut Ui,
+        pendant: &Pendant,
         scene: &Scene,
         palette: &Palette,
         folder: &std::path::Path,
@@ -176,6 +179,8 @@ impl ArmView {
             if ui.button("Clear trail").clicked() {
                 self.trail.clear();
             }
+            ui.separator();
+            zones_status(ui, pendant, intents);
             ui.separator();
             let pane = self.view.map_or([1280, 800], |v| {
                 [v.size[0].round() as u32, v.size[1].round() as u32]
@@ -323,24 +328,83 @@ impl ArmView {
     }
 }
 
-/// The ghost of a preview, coloured by its check.
-fn ghost_of(p: &StepPreview) -> Ghost {
-    let (check, line) = match &p.plan {
-        Ok(plan) if plan.flips_arm => (GhostCheck::ArmFlip, None),
-        Ok(plan) => (
-            GhostCheck::Reachable,
-            plan.line
-                .map(|(a, b)| (Mm::new(a.x, a.y), Mm::new(b.x, b.y))),
-        ),
-        Err(why) => (GhostCheck::Refused(why.short()), None),
+/// The zones as read (or why not) and "Read zones" (2A2H again).
+fn zones_status(ui: &mut Ui, pendant: &Pendant, intents: &mut Vec<Intent>) {
+    let z = &pendant.zones;
+    let text = match (&z.outcome, z.reading()) {
+        (_, true) => RichText::new("Zones: reading..."),
+        (Some((crate::pendant::Level::Warning | crate::pendant::Level::Error, why)), _) => {
+            RichText::new(format!("Zones: {why}")).color(Color32::from_rgb(230, 90, 80))
+        }
+        (Some(_), _) if z.boxes().is_empty() => RichText::new("Zones: none defined"),
+        (Some(_), _) => RichText::new(format!(
+            "Zones: {}",
+            z.boxes()
+                .iter()
+                .map(|b| b.number.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )),
+        (None, _) => RichText::new("Zones: not read"),
     };
-    Ghost {
-        label: p.label.clone(),
-        joints: p.joints,
-        tip: p.tip_base,
-        check,
-        line,
+    let hover: Vec<String> = z
+        .read()
+        .iter()
+        .filter(|r| z.boxes().iter().any(|b| b.number == r.number))
+        .map(|r| {
+            let b = crate::robot_wire::zone_box(r.number, &r.record);
+            format!("{}: {}", b.label(), r.action())
+        })
+        .collect();
+    let label = ui.label(text);
+    if !hover.is_empty() {
+        label.on_hover_text(hover.join("\n"));
     }
+    let read = ui
+        .add_enabled(
+            pendant.line.is_up() && !z.reading(),
+            egui::Button::new("Read zones"),
+        )
+        .on_hover_text("Read the controller's interference zones again (2A2H)");
+    if read.clicked() {
+        intents.push(Intent::ReadZones);
+    }
+}
+
+/// The ghost of a preview, coloured by its check, with the whole path the checks
+/// followed and the first point that fails one.
+pub fn ghost_of(p: &StepPreview) -> Ghost {
+    use crate::pendant::jog::Refusal;
+    use crate::robot::MoveError;
+    let mm = |t: &Pose| Mm::new(t.x, t.y);
+    let mut g = Ghost::at(p.label.clone(), p.tip_base, p.joints, GhostCheck::Reachable);
+    match &p.plan {
+        Ok(plan) => {
+            g.check = match plan.second_press() {
+                Some(why) if !plan.path.zones.is_empty() => GhostCheck::Zone(why),
+                Some(_) => GhostCheck::ArmFlip,
+                None => GhostCheck::Reachable,
+            };
+            g.line = plan.line.map(|(a, b)| (mm(&a), mm(&b)));
+            g.path = plan.path.tips.iter().map(mm).collect();
+            g.mark = plan
+                .path
+                .first
+                .as_ref()
+                .map(|m| (mm(&m.tip), m.fault.to_string()));
+            g.zones = plan.path.zones.clone();
+        }
+        Err(why) => {
+            g.check = GhostCheck::Refused(why.short());
+            if let Refusal::Move(MoveError::CpLine {
+                position, reason, ..
+            }) = why
+            {
+                g.mark = Some((mm(position), format!("fails ({reason})")));
+            }
+        }
+    }
+    g
 }
 
 impl Pane for ArmView {
