@@ -27,3 +27,4 @@ mod simulator;
 mod sizes;
 #[cfg(feature = "wgpu")]
 mod snapshots;
+mod zones;
