@@ -1,5 +1,5 @@
-//! Arm view figures: building the scene with a 10,000-point trail, 8 zones and a PTP
-//! ghost's whole path, painting it with egui (shapes and tessellation), a 1920x1080 PNG
+//! Arm view figures: building the scene with a 10,000-point trail, 200 taught positions,
+//! 8 zones and a PTP ghost's whole path, painting it with egui (shapes and tessellation), a 1920x1080 PNG
 //! with tiny-skia, encoding included; the path check of a PTP move (joint interpolation
 //! at 1 mm of the tool) against 8 zones; and the p99 of a whole frame (scene, egui
 //! shapes, tessellation; no AccessKit), printed.
@@ -15,8 +15,8 @@ use std::hint::black_box;
 use criterion::{Criterion, criterion_group, criterion_main};
 use xsel_pendant::render::paint_png::PngPainter;
 use xsel_pendant::render::{
-    Ghost, GhostCheck, Mm, OverlayFrame, Palette, SceneInput, SelectedFrame, View, build_scene,
-    paint_egui,
+    Ghost, GhostCheck, Marker, Mm, OverlayFrame, Palette, SceneInput, SelectedFrame, View,
+    build_scene, paint_egui,
 };
 use xsel_pendant::robot::{
     CoordSystem, FrameKind, Joints, Move, PATH_SPACING_MM, Pose, PtpMove, PtpParams, RobotModel,
@@ -31,6 +31,7 @@ struct Inputs {
     overlays: Vec<OverlayFrame>,
     ghost: Ghost,
     zones: Vec<ZoneBox>,
+    markers: Vec<Marker>,
 }
 
 /// 8 zones of 80 x 60 mm around the reach.
@@ -95,12 +96,24 @@ fn inputs() -> Inputs {
         .as_ref()
         .map(|m| (mm(&m.tip), m.fault.to_string()));
     ghost.zones = path.zones.clone();
+    // 200 taught positions over the reach, one selected.
+    let markers = (0..200)
+        .map(|i| Marker {
+            at: Mm::ORIGIN.polar(
+                160.0 + f64::from(i % 10) * 30.0,
+                -110.0 + f64::from(i / 10) * 11.0,
+            ),
+            label: (i + 1).to_string(),
+            selected: i == 57,
+        })
+        .collect();
     Inputs {
         kin,
         trail,
         overlays,
         ghost,
         zones,
+        markers,
     }
 }
 
@@ -122,6 +135,7 @@ fn scene_input(i: &Inputs) -> SceneInput<'_> {
         trail: &i.trail,
         reported_tip: None,
         zones: &i.zones,
+        markers: &i.markers,
     }
 }
 

@@ -90,6 +90,15 @@ impl Ghost {
     }
 }
 
+/// A taught position drawn over the arm: where its tool tip is (base frame), its short
+/// label ("12", "T3") and whether it is the one selected in its table.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Marker {
+    pub at: Mm,
+    pub label: String,
+    pub selected: bool,
+}
+
 /// Everything the scene is built from.
 #[derive(Clone, Copy, Debug)]
 pub struct SceneInput<'a> {
@@ -110,6 +119,8 @@ pub struct SceneInput<'a> {
     pub reported_tip: Option<Pose>,
     /// The controller's interference zones, base frame.
     pub zones: &'a [ZoneBox],
+    /// Taught positions (position table, teach list).
+    pub markers: &'a [Marker],
 }
 
 impl<'a> SceneInput<'a> {
@@ -126,6 +137,7 @@ impl<'a> SceneInput<'a> {
             trail: &[],
             reported_tip: None,
             zones: &[],
+            markers: &[],
         }
     }
 }
@@ -186,6 +198,7 @@ pub fn build_scene(input: &SceneInput<'_>) -> Scene {
             },
         });
     }
+    markers(&mut items, input.markers);
     if let Some(g) = input.ghost {
         ghost(&mut items, kin, g, &tool);
     }
@@ -352,6 +365,34 @@ fn joint_labels(items: &mut Vec<Item>, kin: &Scara, j: &Joints) {
             offset_px: [(c * 4.0) as f32, (-s * 6.0) as f32],
         },
     });
+}
+
+/// Taught positions as dots with their numbers; the selected one larger, in its own
+/// colour, drawn last (over the others).
+fn markers(items: &mut Vec<Item>, markers: &[Marker]) {
+    let (selected, plain): (Vec<&Marker>, Vec<&Marker>) = markers.iter().partition(|m| m.selected);
+    for (m, role, radius_px) in plain
+        .into_iter()
+        .map(|m| (m, Role::Marker, 3.5))
+        .chain(selected.into_iter().map(|m| (m, Role::MarkerSelected, 6.0)))
+    {
+        items.push(Item {
+            role,
+            shape: Shape::Dot {
+                centre: m.at,
+                radius_px,
+            },
+        });
+        items.push(Item {
+            role,
+            shape: Shape::Text {
+                at: m.at,
+                text: m.label.clone(),
+                anchor: Anchor::LeftBottom,
+                offset_px: [radius_px + 1.0, -1.0],
+            },
+        });
+    }
 }
 
 /// A zone in plan: its X-Y rectangle, filled, and "zone N Z a..b" at its corner; red

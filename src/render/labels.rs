@@ -29,10 +29,11 @@ pub fn rank(role: Role) -> u8 {
         | Role::GhostReachable
         | Role::CpLine
         | Role::ZoneEntered => 1,
-        Role::Zone => 2,
+        Role::Zone | Role::MarkerSelected => 2,
         Role::Tool | Role::FrameTool | Role::FrameWork | Role::FrameBase | Role::FrameOverlay => 2,
         Role::Gauge | Role::GaugeValue => 3,
         Role::Label | Role::Base | Role::Link | Role::Joint | Role::Trail => 4,
+        Role::Marker => 5,
         Role::EnvelopeRight
         | Role::EnvelopeLeft
         | Role::EnvelopeEdge

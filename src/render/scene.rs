@@ -69,6 +69,10 @@ pub enum Role {
     Zone,
     /// A zone the next step's path enters (the pendant asks for a second press).
     ZoneEntered,
+    /// A taught position (position table or teach list), numbered.
+    Marker,
+    /// The taught position selected in its table.
+    MarkerSelected,
     /// The polled actual path, fading with age.
     Trail,
     /// The Z and R gauge's scale.

@@ -278,6 +278,28 @@ impl Palette {
                     13.0,
                 ),
             },
+            Role::Marker => Style {
+                stroke: stroke(
+                    self.pick(Rgba::rgb(120, 200, 255), Rgba::rgb(20, 110, 190)),
+                    1.5,
+                ),
+                text: (
+                    self.pick(Rgba::rgb(150, 210, 255), Rgba::rgb(20, 95, 170)),
+                    11.0,
+                ),
+                ..plain
+            },
+            Role::MarkerSelected => Style {
+                stroke: stroke(
+                    self.pick(Rgba::rgb(255, 240, 120), Rgba::rgb(170, 120, 0)),
+                    2.5,
+                ),
+                text: (
+                    self.pick(Rgba::rgb(255, 240, 140), Rgba::rgb(140, 95, 0)),
+                    13.0,
+                ),
+                ..plain
+            },
             Role::Trail => Style {
                 stroke: stroke(
                     self.pick(Rgba::rgb(236, 100, 200), Rgba::rgb(190, 40, 150)),

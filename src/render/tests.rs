@@ -344,3 +344,39 @@ fn zones_are_boxes_with_their_z_range_and_the_one_a_path_enters_is_red_with_its_
         "{refused:?}"
     );
 }
+
+#[test]
+fn taught_positions_are_numbered_dots_and_the_selected_one_stands_out() {
+    let k = kin();
+    let markers = [
+        Marker {
+            at: Mm::new(350.0, 0.0),
+            label: "1".into(),
+            selected: false,
+        },
+        Marker {
+            at: Mm::new(250.0, -200.0),
+            label: "T2".into(),
+            selected: true,
+        },
+    ];
+    let scene = build_scene(&SceneInput {
+        markers: &markers,
+        ..SceneInput::pose(&k, Some(Joints::new(0.0, 90.0, 0.0, 0.0)))
+    });
+    assert_eq!(texts(&scene, Role::Marker), ["1"]);
+    assert_eq!(texts(&scene, Role::MarkerSelected), ["T2"]);
+    let dot = |role| {
+        scene
+            .with_role(role)
+            .find_map(|s| match s {
+                Shape::Dot { centre, radius_px } => Some((*centre, *radius_px)),
+                _ => None,
+            })
+            .unwrap()
+    };
+    assert_eq!(dot(Role::Marker).0, Mm::new(350.0, 0.0));
+    assert!(dot(Role::MarkerSelected).1 > dot(Role::Marker).1);
+    // The plain markers' numbers are the first labels to go when room is short.
+    assert!(labels::rank(Role::Marker) > labels::rank(Role::Zone));
+}

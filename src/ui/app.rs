@@ -227,7 +227,7 @@ impl eframe::App for PendantApp {
         self.help_open ^= help_clicked;
         let pad = std::mem::take(&mut self.left.jog.pad);
         self.panes
-            .before(pad.hovered.map(|t| (t.axis, t.direction)));
+            .before(pad.hovered.map(|t| (t.axis, t.direction)), cx.pendant);
         egui::CentralPanel::default().show(ui, |ui| {
             layout::show(
                 ui,

@@ -1,14 +1,16 @@
 //! The arm view pane: the scene of `render` painted live with egui, with zoom (wheel,
 //! pinch), pan (drag), fit (double-click or "Fit"), a hover readout in base and work
 //! coordinates with reachability per arm system, a right-click "Step here" that only
-//! fills the jog panel's target, a fading trail of the polled path, and "Export view as
-//! PNG".
+//! fills the jog panel's target, a fading trail of the polled path, the controller's zones,
+//! the taught positions as markers (hover: the row; right-click: Go to, Select in the
+//! table), and "Export view as PNG".
 
 use std::time::Instant;
 
 use egui::{Color32, RichText, Sense, Ui};
 
 use super::arm_export::Export;
+use super::arm_markers::{self, MarkerKey, Placed};
 use super::pane::{Pane, PaneCx};
 use crate::pendant::jog::JogAxis;
 use crate::pendant::jog::target::StepPreview;
@@ -60,6 +62,16 @@ pub struct ArmView {
     pub hovered_position: Option<crate::protocol::PositionRecord>,
     /// Where the context menu was opened, scene mm.
     menu_at: Option<Mm>,
+    /// The taught positions selected in their tables (set by the layout each frame).
+    pub selected_markers: Vec<MarkerKey>,
+    /// "Select in the table" asked on a marker: the layout hands it to the table.
+    pub select_request: Option<MarkerKey>,
+    /// The marker under the pointer (its Go is the ghost), and the one the open context
+    /// menu is for.
+    hovered_marker: Option<MarkerKey>,
+    menu_marker: Option<MarkerKey>,
+    /// The taught positions placed this frame.
+    placed: Vec<Placed>,
     /// The last scene painted (tests read it).
     scene: Option<Scene>,
     export: Export,
@@ -69,6 +81,11 @@ impl ArmView {
     /// The scene painted last.
     pub fn scene(&self) -> Option<&Scene> {
         self.scene.as_ref()
+    }
+
+    /// The view the scene was painted through last (tests find screen points with it).
+    pub fn view(&self) -> Option<View> {
+        self.view
     }
 
     /// Adds the newest polled tool tip to the trail (once per poll).
@@ -108,6 +125,8 @@ impl ArmView {
         intents: &mut Vec<Intent>,
     ) {
         self.record_trail(pendant);
+        self.placed = arm_markers::taught(pendant);
+        let markers = arm_markers::markers(&self.placed, &self.selected_markers);
         let preview = self.preview(pendant, now);
         let ghost = preview.as_ref().map(ghost_of);
         let overlays = overlay_frames(pendant);
@@ -131,6 +150,7 @@ impl ArmView {
             trail: &self.trail[trail_from..],
             reported_tip: c.sample().map(|(_, base)| base),
             zones: pendant.zones.boxes(),
+            markers: &markers,
         };
         let scene = build_scene(&input);
         let palette = Palette::for_theme(ui.visuals().dark_mode);
@@ -227,16 +247,46 @@ impl ArmView {
                 12.0,
             );
         }
+        self.hovered_marker = r
+            .hover_pos()
+            .and_then(|p| arm_markers::pick(&self.placed, view, [p.x, p.y]));
+        if let Some(key) = self.hovered_marker {
+            let row = arm_markers::row_text(pendant, key);
+            r.clone().on_hover_ui_at_pointer(|ui| {
+                ui.label(row);
+            });
+        }
         if r.secondary_clicked()
             && let Some(p) = r.interact_pointer_pos()
         {
             self.menu_at = Some(view.to_scene([p.x, p.y]));
+            self.menu_marker = arm_markers::pick(&self.placed, view, [p.x, p.y]);
         }
-        r.context_menu(|ui| {
+        let menu = r.context_menu(|ui| {
             let Some(at) = self.menu_at else {
                 ui.close();
                 return;
             };
+            if let Some(key) = self.menu_marker {
+                ui.label(arm_markers::row_text(pendant, key));
+                let go = ui.button(arm_markers::go_label(pendant, key)).on_hover_text(
+                    "The same checks as the table's Go: reach, limits, the whole path, zones (a second press where it enters one)",
+                );
+                if go.clicked() {
+                    intents.push(match key {
+                        MarkerKey::Teach(i) => Intent::TeachGo(i),
+                        MarkerKey::Position(n) => Intent::Positions(
+                            crate::pendant::positions::PositionsIntent::Go(n),
+                        ),
+                    });
+                    ui.close();
+                }
+                if ui.button("Select in the table").clicked() {
+                    self.select_request = Some(key);
+                    ui.close();
+                }
+                ui.separator();
+            }
             let work = pendant.controller.work_frame();
             let Some((w, tip)) = work.zip(pendant.controller.work_position()) else {
                 ui.label("The position and frames are not known yet");
@@ -252,6 +302,9 @@ impl ArmView {
                 ui.close();
             }
         });
+        if menu.is_none() {
+            self.menu_marker = None;
+        }
     }
 
     /// The next step's ghost: the jog button under the pointer (in step mode: a
@@ -266,6 +319,16 @@ impl ArmView {
             .or_else(|| {
                 self.hovered_position
                     .and_then(|r| pendant.preview_position(&r, now))
+            })
+            .or_else(|| {
+                let key = self.hovered_marker.or(self.menu_marker)?;
+                match key {
+                    MarkerKey::Teach(i) => pendant.preview_go(i, now),
+                    MarkerKey::Position(n) => match pendant.positions.row(n) {
+                        crate::pendant::positions::Row::Held(r) => pendant.preview_position(r, now),
+                        _ => None,
+                    },
+                }
             })
             .or_else(|| pendant.preview_target(now))
             .or_else(|| pendant.preview_followed(now))

@@ -29,7 +29,7 @@ use super::signals::SignalsPanel;
 use super::simulator::SimulatorPanel;
 use super::status::StatusPane;
 use super::teach::TeachPanel;
-use crate::pendant::JogAxis;
+use crate::pendant::{JogAxis, Pendant};
 use crate::protocol::Direction;
 
 /// One tab of the centre.
@@ -211,8 +211,26 @@ impl Panes {
 
     /// Before drawing: what the arm view's ghost follows this frame (the jog button
     /// under the pointer, the teach row and the position hovered last frame).
-    pub fn before(&mut self, hovered_step: Option<(JogAxis, Direction)>) {
+    pub fn before(&mut self, hovered_step: Option<(JogAxis, Direction)>, pendant: &Pendant) {
+        use super::arm_markers::MarkerKey;
         self.arm.hovered_step = hovered_step;
+        // "Select in the table" on a marker, last frame: the table takes it.
+        match self.arm.select_request.take() {
+            Some(MarkerKey::Teach(i)) => {
+                if let Some(p) = pendant.teach.list().get(i) {
+                    self.teach.select(i, &p.name);
+                }
+            }
+            Some(MarkerKey::Position(n)) => self.positions.select(n),
+            None => {}
+        }
+        self.arm.selected_markers = self
+            .teach
+            .selected()
+            .map(MarkerKey::Teach)
+            .into_iter()
+            .chain(self.positions.selected().map(MarkerKey::Position))
+            .collect();
         self.arm.hovered_point = self.teach.hovered_go;
         // Last frame's hovered Go or preview row; this frame's is found while drawing.
         self.arm.hovered_position = self.positions.hovered.take();

@@ -18,6 +18,7 @@ mod layout_file;
 #[cfg(feature = "wgpu")]
 mod frame_log_snapshot;
 mod main_window;
+mod markers;
 mod plots;
 mod positions;
 mod programs;
