@@ -72,6 +72,9 @@ pub struct ArmView {
     menu_marker: Option<MarkerKey>,
     /// The taught positions placed this frame.
     placed: Vec<Placed>,
+    /// The labels as painted last (shortened and hidden ones too): their whole text on
+    /// hover; the size tests check that none overlap.
+    labels: Vec<crate::render::labels::ShownLabel>,
     /// The last scene painted (tests read it).
     scene: Option<Scene>,
     export: Export,
@@ -81,6 +84,11 @@ impl ArmView {
     /// The scene painted last.
     pub fn scene(&self) -> Option<&Scene> {
         self.scene.as_ref()
+    }
+
+    /// The labels as painted last.
+    pub fn labels(&self) -> &[crate::render::labels::ShownLabel] {
+        &self.labels
     }
 
     /// The view the scene was painted through last (tests find screen points with it).
@@ -172,7 +180,7 @@ impl ArmView {
         };
         self.interact(ui, &response, &mut view, pendant, intents);
         self.view = Some(view);
-        paint_egui::paint(&ui.painter_at(rect), &scene, &palette, &view);
+        self.labels = paint_egui::paint(&ui.painter_at(rect), &scene, &palette, &view);
         self.readout(ui, &response, &view, pendant, preview.as_ref());
         self.scene = Some(scene);
     }
@@ -250,10 +258,17 @@ impl ArmView {
         self.hovered_marker = r
             .hover_pos()
             .and_then(|p| arm_markers::pick(&self.placed, view, [p.x, p.y]));
+        let hidden = r
+            .hover_pos()
+            .and_then(|p| hidden_label(&self.labels, [p.x, p.y]));
         if let Some(key) = self.hovered_marker {
             let row = arm_markers::row_text(pendant, key);
             r.clone().on_hover_ui_at_pointer(|ui| {
                 ui.label(row);
+            });
+        } else if let Some(text) = hidden {
+            r.clone().on_hover_ui_at_pointer(|ui| {
+                ui.label(text);
             });
         }
         if r.secondary_clicked()
@@ -389,6 +404,19 @@ impl ArmView {
         }
         ui.label(text);
     }
+}
+
+/// The whole text of a label shortened under the pointer, or of one hidden (no room)
+/// whose anchor is near it.
+fn hidden_label(labels: &[crate::render::labels::ShownLabel], p: [f32; 2]) -> Option<String> {
+    labels.iter().find_map(|l| {
+        let hit = match l.rect {
+            Some(r) if l.short => p[0] >= r[0] && p[0] <= r[2] && p[1] >= r[1] && p[1] <= r[3],
+            Some(_) => false,
+            None => (l.anchor[0] - p[0]).hypot(l.anchor[1] - p[1]) <= 8.0,
+        };
+        hit.then(|| l.text.clone())
+    })
 }
 
 /// The zones as read (or why not) and "Read zones" (2A2H again).

@@ -49,7 +49,11 @@ fn a_step_toward_a_zone_is_red_with_its_number_before_anything_moves() {
     let mut drawn = texts(h.state(), Role::Zone);
     drawn.sort();
     assert_eq!(drawn, ["zone 1 Z 0..150", "zone 2 Z 0..200"]);
-    assert_eq!(sim_in_frames(h.state(), "2A2").len(), 1, "one query for all");
+    assert_eq!(
+        sim_in_frames(h.state(), "2A2").len(),
+        1,
+        "one query for all"
+    );
 
     // From the home pose (tip X 250, Y 250) one 50 mm X+ step is clear of zone 1
     // (X 330-420, Y 180-320); the next would end in it.
