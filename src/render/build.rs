@@ -463,8 +463,9 @@ fn ghost(items: &mut Vec<Item>, kin: &Scara, g: &Ghost, tool: &CoordSystem) {
             shape: Shape::Text {
                 at: *at,
                 text: format!("{why} here"),
-                anchor: Anchor::LeftCenter,
-                offset_px: [9.0, 0.0],
+                // Below the point: the ghost's own two lines are above its target.
+                anchor: Anchor::CenterTop,
+                offset_px: [0.0, 8.0],
             },
         });
     }

@@ -162,8 +162,8 @@ impl ArmView {
         };
         let scene = build_scene(&input);
         let palette = Palette::for_theme(ui.visuals().dark_mode);
-        self.toolbar(ui, pendant, &scene, &palette, folder, now, intents);
-        let readout_h = 3.0 * ui.text_style_height(&egui::TextStyle::Body) + 10.0;
+        self.toolbar(ui, &scene, &palette, folder, now, intents);
+        let readout_h = 4.0 * ui.text_style_height(&egui::TextStyle::Body) + 14.0;
         let avail = ui.available_rect_before_wrap();
         let rect = egui::Rect::from_min_max(
             avail.min,
@@ -182,14 +182,13 @@ impl ArmView {
         self.view = Some(view);
         self.labels = paint_egui::paint(&ui.painter_at(rect), &scene, &palette, &view);
         self.readout(ui, &response, &view, pendant, preview.as_ref());
+        ui.horizontal_wrapped(|ui| zones_status(ui, pendant, intents));
         self.scene = Some(scene);
     }
 
-    #[allow(clippy::too_many_arguments)]
     fn toolbar(
         &mut self,
         ui: &mut Ui,
-        pendant: &Pendant,
         scene: &Scene,
         palette: &Palette,
         folder: &std::path::Path,
@@ -207,8 +206,6 @@ impl ArmView {
             if ui.button("Clear trail").clicked() {
                 self.trail.clear();
             }
-            ui.separator();
-            zones_status(ui, pendant, intents);
             ui.separator();
             let pane = self.view.map_or([1280, 800], |v| {
                 [v.size[0].round() as u32, v.size[1].round() as u32]
