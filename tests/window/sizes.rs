@@ -346,5 +346,15 @@ fn no_two_labels_of_the_arm_view_overlap_at_any_size() {
                 "{zone} labelled at {size:?} x{ppp}"
             );
         }
+        // A 1920x1080 window takes the wide layout: the arm view has most of the height,
+        // and the Plots are in sight beside the messages.
+        if size[0] >= 1920.0 {
+            let arm = h.state().pane_rect(Tab::Arm).expect("the arm view");
+            assert!(arm.height() > 0.5 * size[1], "{arm:?} at {size:?}");
+            assert!(
+                h.state().pane_rect(Tab::Plots).is_some(),
+                "the plots in sight at {size:?}"
+            );
+        }
     }
 }
