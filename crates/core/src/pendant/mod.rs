@@ -385,8 +385,15 @@ impl Pendant {
             return self.alarms_out();
         }
         if event_command(&event).is_some_and(zones::Zones::owns) {
+            let before = self.zones.revision();
             if let Some((level, text)) = self.zones.handle_event(&event) {
                 self.say(level, text, now);
+            }
+            if self.zones.revision() != before {
+                // A press confirmed against the old zones is asked again.
+                self.jog.confirmations_lapse();
+                self.positions.go_confirm = None;
+                self.teach.go_confirm = None;
             }
             return self.zones_out();
         }

@@ -396,4 +396,46 @@ mod tests {
             [Command::ScaraMoveAbsolute(_)]
         ));
     }
+
+    #[test]
+    fn zones_read_again_take_an_armed_second_press_back() {
+        use crate::pendant::Request;
+        use crate::pendant::jog::JogAxis;
+        use crate::pendant::tests::submitted;
+        use crate::protocol::Direction::Positive;
+        let now = Instant::now();
+        let mut p = ready_with_zones(crate::robot::Joints::new(0.0, 90.0, 0.0, 0.0), now);
+        p.settings.jog.step = 100.0;
+        p.jog_step(JogAxis::X, Positive, now);
+        assert!(submitted(&mut p).is_empty());
+        // Read again through the pendant, answered by the simulator.
+        let mut sim = Controller::new(SimSetup::default());
+        p.read_zones(now);
+        for r in p.take_requests() {
+            let Request::Spare(command @ Command::ZoneQuery(_)) = r else {
+                continue;
+            };
+            let bytes = command
+                .to_bytes(Station::DEFAULT, ScMode::Computed)
+                .unwrap();
+            let out = sim.handle(&bytes, Duration::ZERO).unwrap();
+            let reply = Reply::decode(&Frame::parse(&out).unwrap()).unwrap();
+            let event = LinkEvent::Reply {
+                id: RequestId(9),
+                origin: Origin::User,
+                command,
+                reply,
+                round_trip: Duration::from_millis(2),
+            };
+            p.handle_event(now, event);
+        }
+        assert_eq!(p.zones.boxes().len(), 2);
+        p.jog_step(JogAxis::X, Positive, now + Duration::from_millis(300));
+        assert!(
+            submitted(&mut p).is_empty(),
+            "the press armed before the new read is asked again"
+        );
+        p.jog_step(JogAxis::X, Positive, now + Duration::from_millis(600));
+        assert_eq!(submitted(&mut p).len(), 1);
+    }
 }

@@ -354,6 +354,13 @@ impl JogState {
 
     /// The jog choices changed: a refusal or an armed confirmation made under the old
     /// ones goes.
+    /// What the checks see changed (the zones read again): every armed second press is
+    /// taken back, the step's and the target's.
+    pub fn confirmations_lapse(&mut self) {
+        self.confirm = None;
+        self.lapse_target_confirm();
+    }
+
     pub fn settings_changed(&mut self) {
         self.confirm = None;
         if self

@@ -88,6 +88,13 @@ impl JogState {
         }
     }
 
+    /// A pending "Go to target" confirmation lapses (the target stays).
+    pub(super) fn lapse_target_confirm(&mut self) {
+        if let Some(t) = self.step_target.as_mut() {
+            t.confirm = None;
+        }
+    }
+
     pub fn clear_step_target(&mut self) {
         self.step_target = None;
     }
