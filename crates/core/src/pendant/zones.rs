@@ -395,6 +395,26 @@ mod tests {
             submitted(&mut p).as_slice(),
             [Command::ScaraMoveAbsolute(_)]
         ));
+
+        // A taught point inside zone 1 (work 0, right arm): Go asks, Go again sends.
+        let mut p = ready_with_zones(crate::robot::Joints::new(0.0, 90.0, 0.0, 0.0), now);
+        let at = crate::pendant::teach::TaughtPose {
+            pose: [370_000, 250_000, 0, 90_000],
+            arm: crate::protocol::ArmSystem::Right,
+            work: 0,
+            tool: 0,
+        };
+        p.teach.edit(|l| l.record("feeder", at)).unwrap();
+        p.teach_go(0, now);
+        assert!(submitted(&mut p).is_empty());
+        let said = p.jog.feedback.as_ref().map(|m| m.text.clone()).unwrap();
+        assert!(said.starts_with("Go to \"feeder\" enters zone 1"), "{said}");
+        assert!(said.contains("press Go again"), "{said}");
+        p.teach_go(0, now + Duration::from_secs(1));
+        assert!(matches!(
+            submitted(&mut p).as_slice(),
+            [Command::ScaraMoveAbsolute(_)]
+        ));
     }
 
     #[test]
