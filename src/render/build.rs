@@ -450,25 +450,6 @@ fn ghost(items: &mut Vec<Item>, kin: &Scara, g: &Ghost, tool: &CoordSystem) {
             },
         });
     }
-    if let Some((at, why)) = &g.mark {
-        items.push(Item {
-            role: Role::GhostRefused,
-            shape: Shape::Cross {
-                centre: *at,
-                half_px: 5.0,
-            },
-        });
-        items.push(Item {
-            role: Role::GhostRefused,
-            shape: Shape::Text {
-                at: *at,
-                text: format!("{why} here"),
-                // Below the point: the ghost's own two lines are above its target.
-                anchor: Anchor::CenterTop,
-                offset_px: [0.0, 8.0],
-            },
-        });
-    }
     if let Some(j) = g.joints {
         arm(items, kin, &j, tool, ArmRoles::ghost(role));
     }
@@ -500,6 +481,26 @@ fn ghost(items: &mut Vec<Item>, kin: &Scara, g: &Ghost, tool: &CoordSystem) {
                 text,
                 anchor,
                 offset_px: [dx, dy],
+            },
+        });
+    }
+    // The first failing point after the ghost's own lines: they are placed first.
+    if let Some((at, why)) = &g.mark {
+        items.push(Item {
+            role: Role::GhostRefused,
+            shape: Shape::Cross {
+                centre: *at,
+                half_px: 5.0,
+            },
+        });
+        items.push(Item {
+            role: Role::GhostRefused,
+            shape: Shape::Text {
+                at: *at,
+                text: format!("{why} here"),
+                // Below the point: the ghost's own two lines are above its target.
+                anchor: Anchor::CenterTop,
+                offset_px: [0.0, 8.0],
             },
         });
     }
