@@ -88,7 +88,7 @@ fn inputs() -> Inputs {
         "No. 12",
         Pose::new(300.0, 300.0, 50.0, 100.0),
         Some(Joints::new(90.0, 120.0, 100.0, 180.0)),
-        GhostCheck::Zone("enters zone 1".into()),
+        GhostCheck::Zone("enters zone 1: press twice".into()),
     );
     ghost.path = path.tips.iter().map(mm).collect();
     ghost.mark = path

@@ -145,7 +145,7 @@ fn ghost(
             .map(|m| (mm(&m.tip), m.fault.to_string()));
         g.zones.clone_from(&path.zones);
         if let [n, ..] = path.zones[..] {
-            g.check = GhostCheck::Zone(format!("enters zone {n}"));
+            g.check = GhostCheck::Zone(format!("enters zone {n}: press twice"));
         }
     }
     if flips && g.zones.is_empty() {

@@ -31,8 +31,8 @@ pub enum GhostCheck {
     Reachable,
     /// Reachable, but in the other arm system (the pendant asks for a second press).
     ArmFlip,
-    /// Reachable, but the path enters interference zones: why ("enters zone 2"); the
-    /// pendant asks for a second press.
+    /// Reachable, but the path enters interference zones: the words ("enters zone 2:
+    /// press twice"; the pendant asks for a second press).
     Zone(String),
     /// Refused, with the reason shown to the operator.
     Refused(String),
@@ -464,7 +464,7 @@ fn ghost(items: &mut Vec<Item>, kin: &Scara, g: &Ghost, tool: &CoordSystem) {
     let verdict = match &g.check {
         GhostCheck::Reachable => "reachable".to_string(),
         GhostCheck::ArmFlip => "flips the arm system".to_string(),
-        GhostCheck::Zone(why) => format!("{why}: press twice"),
+        GhostCheck::Zone(why) => why.clone(),
         GhostCheck::Refused(why) => format!("refused: {why}"),
     };
     // Two lines, on the side of the target away from the gauge.

@@ -316,7 +316,7 @@ fn zones_are_boxes_with_their_z_range_and_the_one_a_path_enters_is_red_with_its_
         "X+ 100 mm",
         Pose::new(350.0, 250.0, 0.0, 90.0),
         Some(Joints::new(10.0, 80.0, 0.0, 0.0)),
-        GhostCheck::Zone("enters zone 1".into()),
+        GhostCheck::Zone("enters zone 1: press twice".into()),
     );
     ghost.path = (0..=100)
         .map(|i| Mm::new(250.0 + f64::from(i), 250.0))

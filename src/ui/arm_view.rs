@@ -469,7 +469,12 @@ pub fn ghost_of(p: &StepPreview) -> Ghost {
     match &p.plan {
         Ok(plan) => {
             g.check = match plan.second_press() {
-                Some(why) if !plan.path.zones.is_empty() => GhostCheck::Zone(why),
+                Some(why) if !plan.path.zones.is_empty() && p.in_progress => {
+                    GhostCheck::Zone(format!("{why} (confirmed)"))
+                }
+                Some(why) if !plan.path.zones.is_empty() => {
+                    GhostCheck::Zone(format!("{why}: press twice"))
+                }
                 Some(_) => GhostCheck::ArmFlip,
                 None => GhostCheck::Reachable,
             };

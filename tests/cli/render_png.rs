@@ -311,7 +311,7 @@ fn zones_are_painted_and_the_entered_one_is_red_in_the_png() {
         "X+ 100 mm",
         Pose::new(350.0, 250.0, 0.0, 90.0),
         None,
-        GhostCheck::Zone("enters zone 1".into()),
+        GhostCheck::Zone("enters zone 1: press twice".into()),
     );
     ghost.zones = vec![1];
     let scene = build_scene(&SceneInput {

@@ -33,6 +33,8 @@ pub struct StepTarget {
 #[derive(Clone, Debug)]
 pub struct StepPreview {
     pub label: String,
+    /// The move was sent and runs (its checks were passed, its second press given).
+    pub in_progress: bool,
     pub tip_base: Pose,
     pub joints: Option<Joints>,
     pub plan: Result<PlannedStep, Refusal>,
@@ -111,6 +113,7 @@ impl JogState {
         };
         Some(StepPreview {
             label: "target".into(),
+            in_progress: false,
             tip_base,
             joints: plan.as_ref().ok().map(|p| p.end),
             plan,
@@ -134,6 +137,7 @@ impl JogState {
         };
         StepPreview {
             label: point.name.clone(),
+            in_progress: false,
             tip_base,
             joints: plan.as_ref().ok().map(|p| p.end),
             plan,
@@ -178,6 +182,7 @@ impl JogState {
         };
         Some(StepPreview {
             label: format!("No. {}", rec.number),
+            in_progress: false,
             tip_base,
             joints: plan.as_ref().ok().map(|p| p.end),
             plan,
@@ -274,6 +279,7 @@ impl JogState {
         };
         let sign = if dir == Direction::Positive { "+" } else { "-" };
         Some(StepPreview {
+            in_progress: false,
             label: format!(
                 "{}{sign} {} {}",
                 axis.name(),
@@ -295,6 +301,7 @@ impl JogState {
         let tool = cx.controller.tool_frame()?;
         Some(StepPreview {
             label: "moving to".into(),
+            in_progress: true,
             tip_base: tool.flange_to_tip(&cx.kin.forward(&f.plan.end)),
             joints: Some(f.plan.end),
             plan: Ok(f.plan.clone()),
