@@ -163,6 +163,7 @@ impl ArmView {
         let scene = build_scene(&input);
         let palette = Palette::for_theme(ui.visuals().dark_mode);
         self.toolbar(ui, &scene, &palette, folder, now, intents);
+        // Room for four lines under the view, whatever they say: the view never jumps.
         let readout_h = 4.0 * ui.text_style_height(&egui::TextStyle::Body) + 14.0;
         let avail = ui.available_rect_before_wrap();
         let rect = egui::Rect::from_min_max(
@@ -181,8 +182,9 @@ impl ArmView {
         self.interact(ui, &response, &mut view, pendant, intents);
         self.view = Some(view);
         self.labels = paint_egui::paint(&ui.painter_at(rect), &scene, &palette, &view);
-        self.readout(ui, &response, &view, pendant, preview.as_ref());
+        // The zones first: short, never pushed out of the room by a wrapped readout.
         ui.horizontal_wrapped(|ui| zones_status(ui, pendant, intents));
+        self.readout(ui, &response, &view, pendant, preview.as_ref());
         self.scene = Some(scene);
     }
 
