@@ -175,9 +175,15 @@ impl Zones {
                 }
                 self.finish()
             }
-            LinkEvent::Reply { .. } => {
-                self.fail(format!("the 2A2H reply from zone {first} held no zone"))
-            }
+            // No record from this number on (a controller with fewer zones `[inferred]`):
+            // what came so far is the whole list.
+            LinkEvent::Reply {
+                reply: Reply::ZoneTable(t),
+                ..
+            } if t.first == first => self.finish(),
+            LinkEvent::Reply { .. } => self.fail(format!(
+                "the 2A2H reply from zone {first} does not answer it (another zone number or message)"
+            )),
             LinkEvent::ErrorReply { code, .. } => self.fail(format!(
                 "the controller refused 2A2H from zone {first}: error {code}"
             )),
@@ -265,6 +271,30 @@ mod tests {
         assert_eq!(said, [(Level::Info, "zones: 2 defined (1, 2)".to_owned())]);
         assert!(!z.reading() && !z.failed());
         assert!(z.zone(1).unwrap().action().contains("only set an output"));
+    }
+
+    #[test]
+    fn a_reply_with_no_record_ends_the_list_and_one_for_another_zone_is_named() {
+        let table = |first, records| LinkEvent::Reply {
+            id: RequestId(4),
+            origin: Origin::User,
+            command: Command::ZoneQuery(ZoneQuery {
+                first: 1,
+                count: 10,
+            }),
+            reply: Reply::ZoneTable(crate::protocol::ZoneTable { first, records }),
+            round_trip: Duration::from_millis(2),
+        };
+        let mut z = Zones::default();
+        z.start(true);
+        z.take_commands();
+        let said = z.handle_event(&table(1, Vec::new()));
+        assert_eq!(said.unwrap().1, "zones: none defined");
+        assert!(!z.failed() && z.boxes().is_empty());
+        z.start(true);
+        let said = z.handle_event(&table(3, Vec::new())).unwrap().1;
+        assert!(said.contains("does not answer it"), "{said}");
+        assert!(z.failed());
     }
 
     #[test]
