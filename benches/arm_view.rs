@@ -1,26 +1,66 @@
-//! Arm view figures: building the scene with a 10,000-point trail, painting it with egui
-//! (shapes and tessellation), and a 1920x1080 PNG with tiny-skia, encoding included.
+//! Arm view figures: building the scene with a 10,000-point trail, 200 taught positions,
+//! 8 zones and a PTP ghost's whole path, painting it with egui (shapes and tessellation), a 1920x1080 PNG
+//! with tiny-skia, encoding included; the path check of a PTP move (joint interpolation
+//! at 1 mm of the tool) against 8 zones; and the p99 of a whole frame (scene, egui
+//! shapes, tessellation; no AccessKit), printed.
 //!
 //! ```sh
 //! cargo bench --bench arm_view
 //! ```
+
+mod view_frames;
 
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use xsel_pendant::render::paint_png::PngPainter;
 use xsel_pendant::render::{
-    Ghost, GhostCheck, Mm, OverlayFrame, Palette, SceneInput, SelectedFrame, View, build_scene,
-    paint_egui,
+    Ghost, GhostCheck, Marker, Mm, OverlayFrame, Palette, SceneInput, SelectedFrame, View,
+    build_scene, paint_egui,
 };
-use xsel_pendant::robot::{CoordSystem, FrameKind, Joints, Pose, RobotModel, Scara};
+use xsel_pendant::robot::{
+    CoordSystem, FrameKind, Joints, Move, PATH_SPACING_MM, Pose, PtpMove, PtpParams, RobotModel,
+    Scara, ZoneBox, sweep,
+};
 
-/// A busy scene's inputs: a 10,000-point trail, frames, an overlay and a reachable ghost.
+/// A busy scene's inputs: a 10,000-point trail, frames, an overlay, 8 zones and a PTP
+/// ghost with its whole path.
 struct Inputs {
     kin: Scara,
     trail: Vec<Mm>,
     overlays: Vec<OverlayFrame>,
     ghost: Ghost,
+    zones: Vec<ZoneBox>,
+    markers: Vec<Marker>,
+}
+
+/// 8 zones of 80 x 60 mm around the reach.
+fn zones() -> Vec<ZoneBox> {
+    (0..8u8)
+        .map(|i| {
+            let c = Mm::ORIGIN.polar(380.0, -120.0 + 34.0 * f64::from(i));
+            ZoneBox::from_corners(
+                i + 1,
+                [Some(c.x - 40.0), Some(c.y - 30.0), Some(0.0), None],
+                [Some(c.x + 40.0), Some(c.y + 30.0), Some(120.0), None],
+            )
+        })
+        .collect()
+}
+
+/// A long PTP move: J1 from -90 to 90, J2 from 30 to 120, Z down 100, J4 a half turn.
+fn ptp_move(kin: &Scara) -> Move {
+    let model = RobotModel::default_model();
+    let params = PtpParams::from_command(&model, 30, 30, 30);
+    Move::Ptp(
+        PtpMove::joints(
+            kin,
+            Joints::new(-90.0, 30.0, 0.0, 0.0),
+            Joints::new(90.0, 120.0, 100.0, 180.0),
+            &params,
+        )
+        .expect("a move within the limits"),
+    )
 }
 
 fn inputs() -> Inputs {
@@ -40,18 +80,40 @@ fn inputs() -> Inputs {
         kind: FrameKind::Work,
         system: CoordSystem::from_wire([150_000, -200_000, 0, 30_000]),
     }];
-    let ghost = Ghost {
-        label: "X+ 10 mm".into(),
-        joints: Some(Joints::new(35.0, 55.0, 50.0, 10.0)),
-        tip: Pose::new(300.0, 300.0, 50.0, 100.0),
-        check: GhostCheck::Reachable,
-        line: Some((Mm::new(200.0, 300.0), Mm::new(300.0, 300.0))),
-    };
+    let zones = zones();
+    let tool = CoordSystem::from_wire([30_000, 0, 20_000, 0]);
+    let path = sweep(&kin, &ptp_move(&kin), &tool, &zones, PATH_SPACING_MM);
+    let mm = |p: &Pose| Mm::new(p.x, p.y);
+    let mut ghost = Ghost::at(
+        "No. 12",
+        Pose::new(300.0, 300.0, 50.0, 100.0),
+        Some(Joints::new(90.0, 120.0, 100.0, 180.0)),
+        GhostCheck::Zone("enters zone 1: press twice".into()),
+    );
+    ghost.path = path.tips.iter().map(mm).collect();
+    ghost.mark = path
+        .first
+        .as_ref()
+        .map(|m| (mm(&m.tip), m.fault.to_string()));
+    ghost.zones = path.zones.clone();
+    // 200 taught positions over the reach, one selected.
+    let markers = (0..200)
+        .map(|i| Marker {
+            at: Mm::ORIGIN.polar(
+                160.0 + f64::from(i % 10) * 30.0,
+                -110.0 + f64::from(i / 10) * 11.0,
+            ),
+            label: (i + 1).to_string(),
+            selected: i == 57,
+        })
+        .collect();
     Inputs {
         kin,
         trail,
         overlays,
         ghost,
+        zones,
+        markers,
     }
 }
 
@@ -72,6 +134,8 @@ fn scene_input(i: &Inputs) -> SceneInput<'_> {
         ghost: Some(&i.ghost),
         trail: &i.trail,
         reported_tip: None,
+        zones: &i.zones,
+        markers: &i.markers,
     }
 }
 
@@ -102,6 +166,34 @@ fn benches(c: &mut Criterion) {
             ctx.tessellate(out.shapes, out.pixels_per_point)
         })
     });
+
+    let kin = i.kin;
+    let mv = ptp_move(&kin);
+    let tool = CoordSystem::from_wire([30_000, 0, 20_000, 0]);
+    let zones = zones();
+    let samples = sweep(&kin, &mv, &tool, &zones, PATH_SPACING_MM).tips.len();
+    println!("arm_view/path_check_ptp_8_zones: {samples} samples");
+    c.bench_function("arm_view/path_check_ptp_8_zones", |b| {
+        b.iter(|| sweep(&kin, black_box(&mv), &tool, &zones, PATH_SPACING_MM))
+    });
+
+    // A whole frame as the window draws it: the scene built, painted and tessellated.
+    let frames: Vec<_> = (0..400)
+        .map(|_| {
+            view_frames::frame(&ctx, false, |ui| {
+                let scene = build_scene(black_box(&input));
+                let rect = ui.max_rect();
+                let view = View::fit(
+                    &scene.bounds,
+                    [rect.min.x, rect.min.y],
+                    [rect.width(), rect.height()],
+                    12.0,
+                );
+                paint_egui::paint(ui.painter(), &scene, &palette, &view);
+            })
+        })
+        .collect();
+    view_frames::stats("arm_view/frame_scene_paint_tessellate_1280x800", frames);
 
     let mut painter = PngPainter::new();
     c.bench_function("arm_view/tiny_skia_png_1920x1080", |b| {

@@ -1,5 +1,6 @@
 //! `xsel-pendant --render-png FILE`: the arm view of a pose drawn by tiny-skia into a PNG,
-//! with no window, GPU or line (documentation, tests); and `--plot-png FILE --capture CSV`:
+//! with no window, GPU or line (documentation, tests), over the built-in simulator's cell
+//! (its zones); and `--plot-png FILE --capture CSV`:
 //! a capture the Plots pane saved, painted as the pane draws it.
 
 use std::io::Write;
@@ -9,8 +10,11 @@ use crate::cli::Args;
 use crate::pendant::samples::view::capture_trace;
 use crate::render::paint_png::PngPainter;
 use crate::render::plot::plot_png;
-use crate::render::{Ghost, GhostCheck, Palette, SceneInput, build_scene};
-use crate::robot::{Arm, Joints, Pose, Scara};
+use crate::render::{Ghost, GhostCheck, Mm, Palette, SceneInput, build_scene};
+use crate::robot::{
+    Arm, CoordSystem, Joints, Move, PATH_SPACING_MM, Pose, PtpMove, PtpParams, RobotModel, Scara,
+    ZoneBox, sweep,
+};
 
 /// A flag value that cannot be used, named.
 #[derive(Debug, thiserror::Error)]
@@ -94,8 +98,15 @@ fn joints(args: &Args, kin: &Scara, home: Joints) -> Result<Joints, RenderArgErr
     Ok(j)
 }
 
-/// The ghost of a move to `--target`, coloured by the reach check.
-fn ghost(args: &Args, kin: &Scara, j: &Joints) -> Result<Option<Ghost>, RenderArgError> {
+/// The ghost of a PTP move to `--target`, coloured by the reach check and the zones its
+/// whole path enters (the window's checks: [`sweep`]).
+fn ghost(
+    args: &Args,
+    model: &RobotModel,
+    kin: &Scara,
+    j: &Joints,
+    zones: &[ZoneBox],
+) -> Result<Option<Ghost>, RenderArgError> {
     let Some(text) = &args.target else {
         return Ok(None);
     };
@@ -103,18 +114,54 @@ fn ghost(args: &Args, kin: &Scara, j: &Joints) -> Result<Option<Ghost>, RenderAr
     let now = kin.forward(j);
     let tip = Pose::new(x, y, now.z, now.r);
     let arm = arm(&args.arm)?;
-    let (joints, check) = match kin.inverse(&tip, arm, j) {
-        Ok(end) if kin.arm_system(&end) != kin.arm_system(j) => (Some(end), GhostCheck::ArmFlip),
-        Ok(end) => (Some(end), GhostCheck::Reachable),
-        Err(e) => (None, GhostCheck::Refused(e.to_string())),
+    let label = format!("target ({arm} arm)");
+    let end = match kin.inverse(&tip, arm, j) {
+        Ok(end) => end,
+        Err(e) => {
+            return Ok(Some(Ghost::at(
+                label,
+                tip,
+                None,
+                GhostCheck::Refused(e.to_string()),
+            )));
+        }
     };
-    Ok(Some(Ghost {
-        label: format!("target ({arm} arm)"),
-        joints,
-        tip,
-        check,
-        line: None,
-    }))
+    let flips = kin.arm_system(&end) != kin.arm_system(j);
+    let params = PtpParams::from_command(model, 30, 30, 30);
+    let mut g = Ghost::at(label, tip, Some(end), GhostCheck::Reachable);
+    if let Ok(m) = PtpMove::joints(kin, *j, end, &params) {
+        let path = sweep(
+            kin,
+            &Move::Ptp(m),
+            &CoordSystem::ZERO,
+            zones,
+            PATH_SPACING_MM,
+        );
+        let mm = |p: &Pose| Mm::new(p.x, p.y);
+        g.path = path.tips.iter().map(mm).collect();
+        g.mark = path
+            .first
+            .as_ref()
+            .map(|m| (mm(&m.tip), m.fault.to_string()));
+        g.zones.clone_from(&path.zones);
+        if let [n, ..] = path.zones[..] {
+            g.check = GhostCheck::Zone(format!("enters zone {n}: press twice"));
+        }
+    }
+    if flips && g.zones.is_empty() {
+        g.check = GhostCheck::ArmFlip;
+    }
+    Ok(Some(g))
+}
+
+/// The built-in simulator's zones for `model` (the cell the window shows out of the box).
+fn builtin_zones(model: &RobotModel) -> Vec<ZoneBox> {
+    crate::files::coords_file::defaults(model)
+        .zones
+        .iter()
+        .map(|(&n, rec)| crate::robot_wire::zone_box(n, rec))
+        .filter(ZoneBox::is_defined)
+        .collect()
 }
 
 fn render(args: &Args) -> Result<String, String> {
@@ -125,9 +172,11 @@ fn render(args: &Args) -> Result<String, String> {
     let kin = Scara::new(&model);
     let [w, h] = size(args.size.as_deref().unwrap_or("1280x800")).map_err(|e| e.to_string())?;
     let j = joints(args, &kin, model.home).map_err(|e| e.to_string())?;
-    let g = ghost(args, &kin, &j).map_err(|e| e.to_string())?;
+    let zones = builtin_zones(&model);
+    let g = ghost(args, &model, &kin, &j, &zones).map_err(|e| e.to_string())?;
     let scene = build_scene(&SceneInput {
         ghost: g.as_ref(),
+        zones: &zones,
         ..SceneInput::pose(&kin, Some(j))
     });
     let palette = if args.light {

@@ -314,6 +314,7 @@ fn run(args: Args) -> Result<(), Failure> {
             .map_err(|e| Failure::Flag(format!("--coords: {e}")))?;
         setup.coords = file.tables;
         setup.positions = file.positions;
+        setup.zones = file.zones;
     }
     if let Some(path) = &args.positions {
         let file = coords_file::load(path, &setup.model)

@@ -1,11 +1,12 @@
-//! Builds the arm view's scene from the robot model and what is known of the arm: the
-//! envelope and limits, the frames, the trail, the ghost of the next step, the arm itself
-//! and the Z/R gauge. Imports only `robot` of the project.
+//! Builds the arm view's scene from the robot model and what is known of the arm and the
+//! cell: the envelope and limits, the controller's zones, the frames, the trail, the ghost
+//! of the next step with its whole path, the arm itself and the Z/R gauge. Imports only
+//! `robot` of the project.
 
 use super::envelope;
 use super::gauge;
 use super::scene::{Anchor, Bounds, Item, Mm, Role, Scene, Shape, fan_fill};
-use crate::robot::{Arm, CoordSystem, FrameKind, IkError, Joints, Pose, Scara};
+use crate::robot::{Arm, CoordSystem, FrameKind, IkError, Joints, Pose, Scara, ZoneBox};
 
 /// An extra frame the operator switched on to be drawn over the arm (a row of the
 /// coordinate-table editor): a work frame sits where it is defined in the base frame, a
@@ -30,6 +31,9 @@ pub enum GhostCheck {
     Reachable,
     /// Reachable, but in the other arm system (the pendant asks for a second press).
     ArmFlip,
+    /// Reachable, but the path enters interference zones: the words ("enters zone 2:
+    /// press twice"; the pendant asks for a second press).
+    Zone(String),
     /// Refused, with the reason shown to the operator.
     Refused(String),
 }
@@ -39,7 +43,7 @@ impl GhostCheck {
         match self {
             GhostCheck::Reachable => Role::GhostReachable,
             GhostCheck::ArmFlip => Role::GhostFlip,
-            GhostCheck::Refused(_) => Role::GhostRefused,
+            GhostCheck::Refused(_) | GhostCheck::Zone(_) => Role::GhostRefused,
         }
     }
 }
@@ -54,8 +58,45 @@ pub struct Ghost {
     /// The tool tip the step aims at, base frame (x, y mm, z mm, r deg).
     pub tip: Pose,
     pub check: GhostCheck,
-    /// A CP step's straight line, base frame.
+    /// A CP step's straight line, base frame (drawn when there is no `path`).
     pub line: Option<(Mm, Mm)>,
+    /// The tool tip's whole path, base frame: PTP through joint interpolation, CP on its
+    /// line (the samples the checks used).
+    pub path: Vec<Mm>,
+    /// The first point of the path that fails a check, and what fails there.
+    pub mark: Option<(Mm, String)>,
+    /// The zones the path enters.
+    pub zones: Vec<u8>,
+}
+
+impl Ghost {
+    /// A ghost of `label` at `tip` with nothing known of its path.
+    pub fn at(
+        label: impl Into<String>,
+        tip: Pose,
+        joints: Option<Joints>,
+        check: GhostCheck,
+    ) -> Self {
+        Ghost {
+            label: label.into(),
+            joints,
+            tip,
+            check,
+            line: None,
+            path: Vec::new(),
+            mark: None,
+            zones: Vec::new(),
+        }
+    }
+}
+
+/// A taught position drawn over the arm: where its tool tip is (base frame), its short
+/// label ("12", "T3") and whether it is the one selected in its table.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Marker {
+    pub at: Mm,
+    pub label: String,
+    pub selected: bool,
 }
 
 /// Everything the scene is built from.
@@ -76,6 +117,10 @@ pub struct SceneInput<'a> {
     /// Z bar and R dial read it, so they agree with the Position pane to 0.001. `None`:
     /// the forward kinematics of `joints`.
     pub reported_tip: Option<Pose>,
+    /// The controller's interference zones, base frame.
+    pub zones: &'a [ZoneBox],
+    /// Taught positions (position table, teach list).
+    pub markers: &'a [Marker],
 }
 
 impl<'a> SceneInput<'a> {
@@ -91,6 +136,8 @@ impl<'a> SceneInput<'a> {
             ghost: None,
             trail: &[],
             reported_tip: None,
+            zones: &[],
+            markers: &[],
         }
     }
 }
@@ -123,6 +170,10 @@ pub fn build_scene(input: &SceneInput<'_>) -> Scene {
     envelope::grid(&mut items, &bounds, reach);
     envelope::envelope(&mut items, kin);
     envelope::j1_limit(&mut items, kin);
+    let entered = input.ghost.map_or(&[][..], |g| &g.zones[..]);
+    for z in input.zones.iter().filter(|z| z.is_defined()) {
+        zone(&mut items, z, entered.contains(&z.number));
+    }
     let tool = input.tool.map_or(CoordSystem::ZERO, |t| t.system);
     if let Some(w) = input.work.filter(|w| w.number != 0) {
         let o = w.system.offset();
@@ -147,6 +198,7 @@ pub fn build_scene(input: &SceneInput<'_>) -> Scene {
             },
         });
     }
+    markers(&mut items, input.markers);
     if let Some(g) = input.ghost {
         ghost(&mut items, kin, g, &tool);
     }
@@ -315,13 +367,85 @@ fn joint_labels(items: &mut Vec<Item>, kin: &Scara, j: &Joints) {
     });
 }
 
+/// Taught positions as dots with their numbers; the selected one larger, in its own
+/// colour, drawn last (over the others).
+fn markers(items: &mut Vec<Item>, markers: &[Marker]) {
+    let (selected, plain): (Vec<&Marker>, Vec<&Marker>) = markers.iter().partition(|m| m.selected);
+    for (m, role, radius_px) in plain
+        .into_iter()
+        .map(|m| (m, Role::Marker, 3.5))
+        .chain(selected.into_iter().map(|m| (m, Role::MarkerSelected, 6.0)))
+    {
+        items.push(Item {
+            role,
+            shape: Shape::Dot {
+                centre: m.at,
+                radius_px,
+            },
+        });
+        items.push(Item {
+            role,
+            shape: Shape::Text {
+                at: m.at,
+                text: m.label.clone(),
+                anchor: Anchor::LeftBottom,
+                offset_px: [radius_px + 1.0, -1.0],
+            },
+        });
+    }
+}
+
+/// A zone in plan: its X-Y rectangle, filled, and "zone N Z a..b" at its corner; red
+/// when the next step's path enters it. A zone that names no X or Y is not drawn.
+fn zone(items: &mut Vec<Item>, z: &ZoneBox, entered: bool) {
+    let Some(((x0, x1), (y0, y1))) = z.plan_rect() else {
+        return;
+    };
+    let role = if entered {
+        Role::ZoneEntered
+    } else {
+        Role::Zone
+    };
+    let corners = vec![
+        Mm::new(x0, y0),
+        Mm::new(x1, y0),
+        Mm::new(x1, y1),
+        Mm::new(x0, y1),
+    ];
+    items.push(Item {
+        role,
+        shape: fan_fill(corners.clone()),
+    });
+    items.push(Item {
+        role,
+        shape: Shape::Polyline {
+            points: corners,
+            closed: true,
+        },
+    });
+    items.push(Item {
+        role,
+        shape: Shape::Text {
+            at: Mm::new(x0, y1),
+            text: z.label(),
+            anchor: Anchor::LeftBottom,
+            offset_px: [2.0, -3.0],
+        },
+    });
+}
+
 fn ghost(items: &mut Vec<Item>, kin: &Scara, g: &Ghost, tool: &CoordSystem) {
     let role = g.check.role();
-    if let Some((a, b)) = g.line {
+    let path = match g.line {
+        _ if g.path.len() >= 2 => Some(g.path.clone()),
+        Some((a, b)) => Some(vec![a, b]),
+        None => None,
+    };
+    if let Some(points) = path {
         items.push(Item {
             role: Role::CpLine,
             shape: Shape::Polyline {
-                points: vec![a, b],
+                points,
                 closed: false,
             },
         });
@@ -340,6 +464,7 @@ fn ghost(items: &mut Vec<Item>, kin: &Scara, g: &Ghost, tool: &CoordSystem) {
     let verdict = match &g.check {
         GhostCheck::Reachable => "reachable".to_string(),
         GhostCheck::ArmFlip => "flips the arm system".to_string(),
+        GhostCheck::Zone(why) => why.clone(),
         GhostCheck::Refused(why) => format!("refused: {why}"),
     };
     // Two lines, on the side of the target away from the gauge.
@@ -356,6 +481,26 @@ fn ghost(items: &mut Vec<Item>, kin: &Scara, g: &Ghost, tool: &CoordSystem) {
                 text,
                 anchor,
                 offset_px: [dx, dy],
+            },
+        });
+    }
+    // The first failing point after the ghost's own lines: they are placed first.
+    if let Some((at, why)) = &g.mark {
+        items.push(Item {
+            role: Role::GhostRefused,
+            shape: Shape::Cross {
+                centre: *at,
+                half_px: 5.0,
+            },
+        });
+        items.push(Item {
+            role: Role::GhostRefused,
+            shape: Shape::Text {
+                at: *at,
+                text: format!("{why} here"),
+                // Below the point: the ghost's own two lines are above its target.
+                anchor: Anchor::CenterTop,
+                offset_px: [0.0, 8.0],
             },
         });
     }

@@ -17,7 +17,7 @@ pub mod style;
 pub mod view;
 
 pub use build::{
-    Ghost, GhostCheck, OverlayFrame, SceneInput, SelectedFrame, build_scene, reach_at,
+    Ghost, GhostCheck, Marker, OverlayFrame, SceneInput, SelectedFrame, build_scene, reach_at,
 };
 pub use scene::{Anchor, Item, Mm, Role, Scene, Shape};
 pub use style::{Palette, Rgba, Style};

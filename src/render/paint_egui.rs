@@ -4,14 +4,15 @@
 use egui::epaint::{Mesh, PathShape, PathStroke};
 use egui::{Color32, FontId, Painter, Pos2, Shape as EguiShape, Stroke, pos2};
 
-use super::labels::{self, LabelBox};
+use super::labels::{self, LabelBox, ShownLabel};
 use super::scene::{Mm, Scene, Shape, arc_points};
 use super::style::{Palette, Rgba, Style};
 use super::view::{View, arrow_head, trail_runs};
 
 /// Paints every item of `scene` seen through `view` (its area in the painter's points);
-/// the labels last, placed clear of each other ([`labels::place`]).
-pub fn paint(painter: &Painter, scene: &Scene, palette: &Palette, view: &View) {
+/// the labels last, placed clear of each other ([`labels::place`]). Returns every label
+/// as placed (shortened or hidden ones too), for the hover and the tests.
+pub fn paint(painter: &Painter, scene: &Scene, palette: &Palette, view: &View) -> Vec<ShownLabel> {
     let mut out = Vec::with_capacity(scene.items.len() + 16);
     out.push(EguiShape::rect_filled(
         painter.clip_rect(),
@@ -29,27 +30,47 @@ pub fn paint(painter: &Painter, scene: &Scene, palette: &Palette, view: &View) {
                 offset_px,
             } => {
                 let (c, size) = style.text;
-                let galley =
-                    painter.layout_no_wrap(text.clone(), FontId::proportional(size), colour(c));
+                let layout =
+                    |t: String| painter.layout_no_wrap(t, FontId::proportional(size), colour(c));
+                let galley = layout(text.clone());
+                let short = labels::short_text(text).map(layout);
                 let s = view.to_screen(*at);
                 let label = LabelBox {
                     anchor_pos: [s[0] + offset_px[0], s[1] + offset_px[1]],
                     fractions: anchor.fractions(),
                     size: [galley.size().x, galley.size().y],
+                    short: short.as_ref().map(|g| [g.size().x, g.size().y]),
                     rank: labels::rank(item.role),
                 };
-                texts.push((galley, c, label));
+                texts.push((galley, short, c, label, text));
             }
             other => shape(&mut out, view, other, &style),
         }
     }
-    let boxes: Vec<LabelBox> = texts.iter().map(|(_, _, b)| *b).collect();
-    for ((galley, c, _), spot) in texts.into_iter().zip(labels::place(view, &boxes)) {
-        if let Some(top_left) = spot {
-            out.push(EguiShape::galley(pos(top_left), galley, colour(c)));
+    let boxes: Vec<LabelBox> = texts.iter().map(|t| t.3).collect();
+    let mut shown = Vec::with_capacity(texts.len());
+    for ((galley, short, c, label, text), spot) in
+        texts.into_iter().zip(labels::place(view, &boxes))
+    {
+        let mut rect = None;
+        if let Some(p) = spot {
+            let g = match short {
+                Some(g) if p.short => g,
+                _ => galley,
+            };
+            let [x, y] = p.top_left;
+            rect = Some([x, y, x + g.size().x, y + g.size().y]);
+            out.push(EguiShape::galley(pos(p.top_left), g, colour(c)));
         }
+        shown.push(ShownLabel {
+            text: text.clone(),
+            anchor: label.anchor_pos,
+            rect,
+            short: spot.is_some_and(|p| p.short),
+        });
     }
     painter.extend(out);
+    shown
 }
 
 fn colour(c: Rgba) -> Color32 {

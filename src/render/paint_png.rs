@@ -107,22 +107,29 @@ impl PngPainter {
                 } => {
                     let (colour, size) = style.text;
                     let galley = self.glyphs.layout(text, size);
+                    let short = labels::short_text(text).map(|t| self.glyphs.layout(&t, size));
                     let s = view.to_screen(*at);
                     let label = LabelBox {
                         anchor_pos: [s[0] + offset_px[0], s[1] + offset_px[1]],
                         fractions: anchor.fractions(),
                         size: [galley.rect.width(), galley.rect.height()],
+                        short: short.as_ref().map(|g| [g.rect.width(), g.rect.height()]),
                         rank: labels::rank(item.role),
                     };
-                    texts.push((galley, colour, label));
+                    texts.push((galley, short, colour, label));
                 }
                 other => self.shape(pixmap, view, other, &style),
             }
         }
-        let boxes: Vec<LabelBox> = texts.iter().map(|(_, _, b)| *b).collect();
-        for ((galley, colour, _), spot) in texts.into_iter().zip(labels::place(view, &boxes)) {
-            if let Some(top_left) = spot {
-                self.glyphs.draw(pixmap, &galley, top_left, colour);
+        let boxes: Vec<LabelBox> = texts.iter().map(|t| t.3).collect();
+        for ((galley, short, colour, _), spot) in texts.into_iter().zip(labels::place(view, &boxes))
+        {
+            if let Some(p) = spot {
+                let g = match short {
+                    Some(g) if p.short => g,
+                    _ => galley,
+                };
+                self.glyphs.draw(pixmap, &g, p.top_left, colour);
             }
         }
     }

@@ -63,8 +63,16 @@ pub enum Role {
     GhostFlip,
     /// The next step's target, refused by the checks.
     GhostRefused,
-    /// A CP step's straight line.
+    /// A step's tool path: CP's straight line, PTP's joint-interpolated curve.
     CpLine,
+    /// An interference zone of the controller (2A2H), in plan.
+    Zone,
+    /// A zone the next step's path enters (the pendant asks for a second press).
+    ZoneEntered,
+    /// A taught position (position table or teach list), numbered.
+    Marker,
+    /// The taught position selected in its table.
+    MarkerSelected,
     /// The polled actual path, fading with age.
     Trail,
     /// The Z and R gauge's scale.

@@ -248,6 +248,58 @@ impl Palette {
                 dashed: true,
                 ..plain
             },
+            Role::Zone => Style {
+                stroke: stroke(
+                    self.pick(Rgba::rgb(225, 150, 70), Rgba::rgb(190, 105, 20)),
+                    1.5,
+                ),
+                fill: Some(self.pick(
+                    Rgba::with_alpha(225, 150, 70, 36),
+                    Rgba::with_alpha(210, 120, 30, 30),
+                )),
+                dashed: true,
+                text: (
+                    self.pick(Rgba::rgb(235, 170, 100), Rgba::rgb(160, 85, 10)),
+                    12.0,
+                ),
+            },
+            Role::ZoneEntered => Style {
+                stroke: stroke(
+                    self.pick(Rgba::rgb(245, 90, 90), Rgba::rgb(200, 30, 30)),
+                    2.5,
+                ),
+                fill: Some(self.pick(
+                    Rgba::with_alpha(245, 90, 90, 70),
+                    Rgba::with_alpha(220, 40, 40, 55),
+                )),
+                dashed: false,
+                text: (
+                    self.pick(Rgba::rgb(255, 120, 110), Rgba::rgb(200, 30, 30)),
+                    13.0,
+                ),
+            },
+            Role::Marker => Style {
+                stroke: stroke(
+                    self.pick(Rgba::rgb(120, 200, 255), Rgba::rgb(20, 110, 190)),
+                    1.5,
+                ),
+                text: (
+                    self.pick(Rgba::rgb(150, 210, 255), Rgba::rgb(20, 95, 170)),
+                    11.0,
+                ),
+                ..plain
+            },
+            Role::MarkerSelected => Style {
+                stroke: stroke(
+                    self.pick(Rgba::rgb(255, 240, 120), Rgba::rgb(170, 120, 0)),
+                    2.5,
+                ),
+                text: (
+                    self.pick(Rgba::rgb(255, 240, 140), Rgba::rgb(140, 95, 0)),
+                    13.0,
+                ),
+                ..plain
+            },
             Role::Trail => Style {
                 stroke: stroke(
                     self.pick(Rgba::rgb(236, 100, 200), Rgba::rgb(190, 40, 150)),

@@ -1,7 +1,7 @@
 //! Scene tests: where the builder puts the arm, the envelope and the ghost.
 
 use super::*;
-use crate::robot::{Arm, CoordSystem, FrameKind, Joints, Pose, RobotModel, Scara};
+use crate::robot::{Arm, CoordSystem, FrameKind, Joints, Pose, RobotModel, Scara, ZoneBox};
 
 fn kin() -> Scara {
     Scara::new(&RobotModel::default_model())
@@ -112,13 +112,12 @@ fn the_envelope_radii_are_the_models() {
 #[test]
 fn a_refused_ghost_carries_the_refused_role_and_its_reason() {
     let k = kin();
-    let ghost = Ghost {
-        label: "X+ 50 mm".into(),
-        joints: None,
-        tip: Pose::new(520.0, 0.0, 0.0, 0.0),
-        check: GhostCheck::Refused("out of reach: 520.000 mm from the J1 axis".into()),
-        line: None,
-    };
+    let ghost = Ghost::at(
+        "X+ 50 mm",
+        Pose::new(520.0, 0.0, 0.0, 0.0),
+        None,
+        GhostCheck::Refused("out of reach: 520.000 mm from the J1 axis".into()),
+    );
     let input = SceneInput {
         ghost: Some(&ghost),
         ..SceneInput::pose(&k, Some(Joints::new(0.0, 20.0, 0.0, 0.0)))
@@ -268,4 +267,116 @@ fn a_label_near_an_edge_is_moved_inside_the_view_and_never_cut() {
     // One wider than the view starts at its left edge.
     let at = text_top_left(&view, [300.0, 200.0], (0.5, 0.5), [900.0, 14.0]);
     assert!(at[0] >= 100.0 && at[0] < 110.0, "{at:?}");
+}
+
+fn zone_box(n: u8, x: (f64, f64), y: (f64, f64)) -> ZoneBox {
+    ZoneBox::from_corners(
+        n,
+        [Some(x.0), Some(y.0), Some(0.0), None],
+        [Some(x.1), Some(y.1), Some(150.0), None],
+    )
+}
+
+fn texts(scene: &Scene, role: Role) -> Vec<String> {
+    scene
+        .with_role(role)
+        .filter_map(|s| match s {
+            Shape::Text { text, .. } => Some(text.clone()),
+            _ => None,
+        })
+        .collect()
+}
+
+#[test]
+fn zones_are_boxes_with_their_z_range_and_the_one_a_path_enters_is_red_with_its_mark() {
+    let k = kin();
+    let zones = [
+        zone_box(1, (330.0, 420.0), (180.0, 320.0)),
+        zone_box(2, (-200.0, -80.0), (250.0, 400.0)),
+        // Not defined (all zeros): never drawn.
+        ZoneBox::from_corners(3, [Some(0.0); 4], [Some(0.0); 4]),
+    ];
+    let input = SceneInput {
+        zones: &zones,
+        ..SceneInput::pose(&k, Some(Joints::new(0.0, 90.0, 0.0, 0.0)))
+    };
+    let scene = build_scene(&input);
+    let mut labels = texts(&scene, Role::Zone);
+    labels.sort();
+    assert_eq!(labels, ["zone 1 Z 0..150", "zone 2 Z 0..150"]);
+    let outlines = scene
+        .with_role(Role::Zone)
+        .filter(|s| matches!(s, Shape::Polyline { closed: true, points } if points.len() == 4))
+        .count();
+    assert_eq!(outlines, 2);
+
+    // A ghost whose path enters zone 1: that zone turns red, the path and its first
+    // point in the zone are drawn.
+    let mut ghost = Ghost::at(
+        "X+ 100 mm",
+        Pose::new(350.0, 250.0, 0.0, 90.0),
+        Some(Joints::new(10.0, 80.0, 0.0, 0.0)),
+        GhostCheck::Zone("enters zone 1: press twice".into()),
+    );
+    ghost.path = (0..=100)
+        .map(|i| Mm::new(250.0 + f64::from(i), 250.0))
+        .collect();
+    ghost.mark = Some((Mm::new(330.0, 250.0), "enters zone 1".into()));
+    ghost.zones = vec![1];
+    let scene = build_scene(&SceneInput {
+        ghost: Some(&ghost),
+        ..input
+    });
+    assert_eq!(texts(&scene, Role::ZoneEntered), ["zone 1 Z 0..150"]);
+    assert_eq!(texts(&scene, Role::Zone).len(), 1, "zone 2 stays as it is");
+    assert!(
+        scene
+            .with_role(Role::CpLine)
+            .any(|s| matches!(s, Shape::Polyline { points, .. } if points.len() == 101))
+    );
+    let refused = texts(&scene, Role::GhostRefused);
+    assert!(
+        refused.contains(&"enters zone 1 here".to_owned()),
+        "{refused:?}"
+    );
+    assert!(
+        refused.contains(&"enters zone 1: press twice".to_owned()),
+        "{refused:?}"
+    );
+}
+
+#[test]
+fn taught_positions_are_numbered_dots_and_the_selected_one_stands_out() {
+    let k = kin();
+    let markers = [
+        Marker {
+            at: Mm::new(350.0, 0.0),
+            label: "1".into(),
+            selected: false,
+        },
+        Marker {
+            at: Mm::new(250.0, -200.0),
+            label: "T2".into(),
+            selected: true,
+        },
+    ];
+    let scene = build_scene(&SceneInput {
+        markers: &markers,
+        ..SceneInput::pose(&k, Some(Joints::new(0.0, 90.0, 0.0, 0.0)))
+    });
+    assert_eq!(texts(&scene, Role::Marker), ["1"]);
+    assert_eq!(texts(&scene, Role::MarkerSelected), ["T2"]);
+    let dot = |role| {
+        scene
+            .with_role(role)
+            .find_map(|s| match s {
+                Shape::Dot { centre, radius_px } => Some((*centre, *radius_px)),
+                _ => None,
+            })
+            .unwrap()
+    };
+    assert_eq!(dot(Role::Marker).0, Mm::new(350.0, 0.0));
+    assert!(dot(Role::MarkerSelected).1 > dot(Role::Marker).1);
+    // The plain markers' numbers are the first labels to go when room is short.
+    assert!(labels::rank(Role::Marker) > labels::rank(Role::Zone));
 }

@@ -58,6 +58,11 @@ pub struct PendantApp {
     /// Where a file name typed without a folder goes.
     folder: FolderCache,
     dock: egui_tiles::Tree<Tab>,
+    /// While the operator has not changed the layout: its arrangement as this window put
+    /// it in place ([`layout::shape_of`]) and whether it is the wide one. The default
+    /// layout then follows the window's size ([`layout::default_for`]); any change of the
+    /// arrangement by the operator (not a tab chosen) ends that.
+    auto_layout: Option<(Vec<String>, bool)>,
     /// Where each pane shown in the last frame was drawn.
     pane_rects: Vec<(Tab, egui::Rect)>,
     started: Instant,
@@ -67,6 +72,23 @@ pub struct PendantApp {
 }
 
 impl PendantApp {
+    /// The default layout for the window's `size` (points), while the operator has not
+    /// changed the layout since this window put it in place.
+    fn fit_default_layout(&mut self, size: egui::Vec2) {
+        let Some((shape, wide)) = &self.auto_layout else {
+            return;
+        };
+        if *shape != layout::shape_of(&self.dock) {
+            // A divider dragged, a pane moved or closed: the operator's layout stays.
+            self.auto_layout = None;
+            return;
+        }
+        if layout::is_wide(size) != *wide {
+            self.dock = layout::default_for(size);
+            self.auto_layout = Some((layout::shape_of(&self.dock), layout::is_wide(size)));
+        }
+    }
+
     pub fn new(cc: &eframe::CreationContext<'_>, options: StartOptions) -> Self {
         let now = Instant::now();
         let Start {
@@ -84,6 +106,11 @@ impl PendantApp {
             panes: Panes::default(),
             work_files,
             folder: FolderCache::default(),
+            auto_layout: layout::is_a_default(&layout).then(|| {
+                let shape = layout::shape_of(&layout);
+                let wide = shape == layout::shape_of(&layout::wide_layout());
+                (shape, wide)
+            }),
             dock: layout,
             pane_rects: Vec::new(),
             started: now,
@@ -155,6 +182,7 @@ impl eframe::App for PendantApp {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         let ctx = ui.ctx().clone();
         self.apply_theme(&ctx);
+        self.fit_default_layout(ctx.content_rect().size());
         let now = Instant::now();
         let mut intents = Vec::new();
         let keys = self.keys.handle(&ctx, &self.pendant, now, &mut intents);
@@ -227,7 +255,7 @@ impl eframe::App for PendantApp {
         self.help_open ^= help_clicked;
         let pad = std::mem::take(&mut self.left.jog.pad);
         self.panes
-            .before(pad.hovered.map(|t| (t.axis, t.direction)));
+            .before(pad.hovered.map(|t| (t.axis, t.direction)), cx.pendant);
         egui::CentralPanel::default().show(ui, |ui| {
             layout::show(
                 ui,
@@ -238,6 +266,7 @@ impl eframe::App for PendantApp {
             );
             self.panes.after(ui.ctx(), ui.max_rect(), &mut cx);
         });
+
         self.lines
             .live_log_shown
             .store(self.panes.frame_log.live_in_sight, Ordering::Relaxed);

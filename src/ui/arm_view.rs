@@ -1,14 +1,16 @@
 //! The arm view pane: the scene of `render` painted live with egui, with zoom (wheel,
 //! pinch), pan (drag), fit (double-click or "Fit"), a hover readout in base and work
 //! coordinates with reachability per arm system, a right-click "Step here" that only
-//! fills the jog panel's target, a fading trail of the polled path, and "Export view as
-//! PNG".
+//! fills the jog panel's target, a fading trail of the polled path, the controller's zones,
+//! the taught positions as markers (hover: the row; right-click: Go to, Select in the
+//! table), and "Export view as PNG".
 
 use std::time::Instant;
 
 use egui::{Color32, RichText, Sense, Ui};
 
 use super::arm_export::Export;
+use super::arm_markers::{self, MarkerKey, Placed};
 use super::pane::{Pane, PaneCx};
 use crate::pendant::jog::JogAxis;
 use crate::pendant::jog::target::StepPreview;
@@ -60,6 +62,19 @@ pub struct ArmView {
     pub hovered_position: Option<crate::protocol::PositionRecord>,
     /// Where the context menu was opened, scene mm.
     menu_at: Option<Mm>,
+    /// The taught positions selected in their tables (set by the layout each frame).
+    pub selected_markers: Vec<MarkerKey>,
+    /// "Select in the table" asked on a marker: the layout hands it to the table.
+    pub select_request: Option<MarkerKey>,
+    /// The marker under the pointer (its Go is the ghost), and the one the open context
+    /// menu is for.
+    hovered_marker: Option<MarkerKey>,
+    menu_marker: Option<MarkerKey>,
+    /// The taught positions placed this frame.
+    placed: Vec<Placed>,
+    /// The labels as painted last (shortened and hidden ones too): their whole text on
+    /// hover; the size tests check that none overlap.
+    labels: Vec<crate::render::labels::ShownLabel>,
     /// The last scene painted (tests read it).
     scene: Option<Scene>,
     export: Export,
@@ -69,6 +84,16 @@ impl ArmView {
     /// The scene painted last.
     pub fn scene(&self) -> Option<&Scene> {
         self.scene.as_ref()
+    }
+
+    /// The labels as painted last.
+    pub fn labels(&self) -> &[crate::render::labels::ShownLabel] {
+        &self.labels
+    }
+
+    /// The view the scene was painted through last (tests find screen points with it).
+    pub fn view(&self) -> Option<View> {
+        self.view
     }
 
     /// Adds the newest polled tool tip to the trail (once per poll).
@@ -108,6 +133,8 @@ impl ArmView {
         intents: &mut Vec<Intent>,
     ) {
         self.record_trail(pendant);
+        self.placed = arm_markers::taught(pendant);
+        let markers = arm_markers::markers(&self.placed, &self.selected_markers);
         let preview = self.preview(pendant, now);
         let ghost = preview.as_ref().map(ghost_of);
         let overlays = overlay_frames(pendant);
@@ -130,11 +157,14 @@ impl ArmView {
             ghost: ghost.as_ref(),
             trail: &self.trail[trail_from..],
             reported_tip: c.sample().map(|(_, base)| base),
+            zones: pendant.zones.boxes(),
+            markers: &markers,
         };
         let scene = build_scene(&input);
         let palette = Palette::for_theme(ui.visuals().dark_mode);
         self.toolbar(ui, &scene, &palette, folder, now, intents);
-        let readout_h = 3.0 * ui.text_style_height(&egui::TextStyle::Body) + 10.0;
+        // Room for four lines under the view, whatever they say: the view never jumps.
+        let readout_h = 4.0 * ui.text_style_height(&egui::TextStyle::Body) + 14.0;
         let avail = ui.available_rect_before_wrap();
         let rect = egui::Rect::from_min_max(
             avail.min,
@@ -151,7 +181,9 @@ impl ArmView {
         };
         self.interact(ui, &response, &mut view, pendant, intents);
         self.view = Some(view);
-        paint_egui::paint(&ui.painter_at(rect), &scene, &palette, &view);
+        self.labels = paint_egui::paint(&ui.painter_at(rect), &scene, &palette, &view);
+        // The zones first: short, never pushed out of the room by a wrapped readout.
+        ui.horizontal_wrapped(|ui| zones_status(ui, pendant, intents));
         self.readout(ui, &response, &view, pendant, preview.as_ref());
         self.scene = Some(scene);
     }
@@ -222,16 +254,53 @@ impl ArmView {
                 12.0,
             );
         }
+        self.hovered_marker = r
+            .hover_pos()
+            .and_then(|p| arm_markers::pick(&self.placed, view, [p.x, p.y]));
+        let hidden = r
+            .hover_pos()
+            .and_then(|p| hidden_label(&self.labels, [p.x, p.y]));
+        if let Some(key) = self.hovered_marker {
+            let row = arm_markers::row_text(pendant, key);
+            r.clone().on_hover_ui_at_pointer(|ui| {
+                ui.label(row);
+            });
+        } else if let Some(text) = hidden {
+            r.clone().on_hover_ui_at_pointer(|ui| {
+                ui.label(text);
+            });
+        }
         if r.secondary_clicked()
             && let Some(p) = r.interact_pointer_pos()
         {
             self.menu_at = Some(view.to_scene([p.x, p.y]));
+            self.menu_marker = arm_markers::pick(&self.placed, view, [p.x, p.y]);
         }
-        r.context_menu(|ui| {
+        let menu = r.context_menu(|ui| {
             let Some(at) = self.menu_at else {
                 ui.close();
                 return;
             };
+            if let Some(key) = self.menu_marker {
+                ui.label(arm_markers::row_text(pendant, key));
+                let go = ui.button(arm_markers::go_label(pendant, key)).on_hover_text(
+                    "The same checks as the table's Go: reach, limits, the whole path, zones (a second press where it enters one)",
+                );
+                if go.clicked() {
+                    intents.push(match key {
+                        MarkerKey::Teach(i) => Intent::TeachGo(i),
+                        MarkerKey::Position(n) => Intent::Positions(
+                            crate::pendant::positions::PositionsIntent::Go(n),
+                        ),
+                    });
+                    ui.close();
+                }
+                if ui.button("Select in the table").clicked() {
+                    self.select_request = Some(key);
+                    ui.close();
+                }
+                ui.separator();
+            }
             let work = pendant.controller.work_frame();
             let Some((w, tip)) = work.zip(pendant.controller.work_position()) else {
                 ui.label("The position and frames are not known yet");
@@ -247,6 +316,9 @@ impl ArmView {
                 ui.close();
             }
         });
+        if menu.is_none() {
+            self.menu_marker = None;
+        }
     }
 
     /// The next step's ghost: the jog button under the pointer (in step mode: a
@@ -261,6 +333,16 @@ impl ArmView {
             .or_else(|| {
                 self.hovered_position
                     .and_then(|r| pendant.preview_position(&r, now))
+            })
+            .or_else(|| {
+                let key = self.hovered_marker.or(self.menu_marker)?;
+                match key {
+                    MarkerKey::Teach(i) => pendant.preview_go(i, now),
+                    MarkerKey::Position(n) => match pendant.positions.row(n) {
+                        crate::pendant::positions::Row::Held(r) => pendant.preview_position(r, now),
+                        _ => None,
+                    },
+                }
             })
             .or_else(|| pendant.preview_target(now))
             .or_else(|| pendant.preview_followed(now))
@@ -323,24 +405,101 @@ impl ArmView {
     }
 }
 
-/// The ghost of a preview, coloured by its check.
-fn ghost_of(p: &StepPreview) -> Ghost {
-    let (check, line) = match &p.plan {
-        Ok(plan) if plan.flips_arm => (GhostCheck::ArmFlip, None),
-        Ok(plan) => (
-            GhostCheck::Reachable,
-            plan.line
-                .map(|(a, b)| (Mm::new(a.x, a.y), Mm::new(b.x, b.y))),
-        ),
-        Err(why) => (GhostCheck::Refused(why.short()), None),
+/// The whole text of a label shortened under the pointer, or of one hidden (no room)
+/// whose anchor is near it.
+fn hidden_label(labels: &[crate::render::labels::ShownLabel], p: [f32; 2]) -> Option<String> {
+    labels.iter().find_map(|l| {
+        let hit = match l.rect {
+            Some(r) if l.short => p[0] >= r[0] && p[0] <= r[2] && p[1] >= r[1] && p[1] <= r[3],
+            Some(_) => false,
+            None => (l.anchor[0] - p[0]).hypot(l.anchor[1] - p[1]) <= 8.0,
+        };
+        hit.then(|| l.text.clone())
+    })
+}
+
+/// The zones as read (or why not) and "Read zones" (2A2H again).
+fn zones_status(ui: &mut Ui, pendant: &Pendant, intents: &mut Vec<Intent>) {
+    let z = &pendant.zones;
+    let text = match (&z.outcome, z.reading()) {
+        (_, true) => RichText::new("Zones: reading..."),
+        (Some((crate::pendant::Level::Warning | crate::pendant::Level::Error, why)), _) => {
+            RichText::new(format!("Zones: {why}")).color(Color32::from_rgb(230, 90, 80))
+        }
+        (Some(_), _) if z.boxes().is_empty() => RichText::new("Zones: none defined"),
+        (Some(_), _) => RichText::new(format!(
+            "Zones: {}",
+            z.boxes()
+                .iter()
+                .map(|b| b.number.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )),
+        (None, _) => RichText::new("Zones: not read"),
     };
-    Ghost {
-        label: p.label.clone(),
-        joints: p.joints,
-        tip: p.tip_base,
-        check,
-        line,
+    let hover: Vec<String> = z
+        .read()
+        .iter()
+        .filter(|r| z.boxes().iter().any(|b| b.number == r.number))
+        .map(|r| {
+            let b = crate::robot_wire::zone_box(r.number, &r.record);
+            format!("{}: {}", b.label(), r.action())
+        })
+        .collect();
+    let label = ui.label(text);
+    if !hover.is_empty() {
+        label.on_hover_text(hover.join("\n"));
     }
+    let read = ui
+        .add_enabled(
+            pendant.line.is_up() && !z.reading(),
+            egui::Button::new("Read zones"),
+        )
+        .on_hover_text("Read the controller's interference zones again (2A2H)");
+    if read.clicked() {
+        intents.push(Intent::ReadZones);
+    }
+}
+
+/// The ghost of a preview, coloured by its check, with the whole path the checks
+/// followed and the first point that fails one.
+pub fn ghost_of(p: &StepPreview) -> Ghost {
+    use crate::pendant::jog::Refusal;
+    use crate::robot::MoveError;
+    let mm = |t: &Pose| Mm::new(t.x, t.y);
+    let mut g = Ghost::at(p.label.clone(), p.tip_base, p.joints, GhostCheck::Reachable);
+    match &p.plan {
+        Ok(plan) => {
+            g.check = match plan.second_press() {
+                Some(why) if !plan.path.zones.is_empty() && p.in_progress => {
+                    GhostCheck::Zone(format!("{why} (confirmed)"))
+                }
+                Some(why) if !plan.path.zones.is_empty() => {
+                    GhostCheck::Zone(format!("{why}: press twice"))
+                }
+                Some(_) => GhostCheck::ArmFlip,
+                None => GhostCheck::Reachable,
+            };
+            g.line = plan.line.map(|(a, b)| (mm(&a), mm(&b)));
+            g.path = plan.path.tips.iter().map(mm).collect();
+            g.mark = plan
+                .path
+                .first
+                .as_ref()
+                .map(|m| (mm(&m.tip), m.fault.to_string()));
+            g.zones = plan.path.zones.clone();
+        }
+        Err(why) => {
+            g.check = GhostCheck::Refused(why.short());
+            if let Refusal::Move(MoveError::CpLine {
+                position, reason, ..
+            }) = why
+            {
+                g.mark = Some((mm(position), format!("fails ({reason})")));
+            }
+        }
+    }
+    g
 }
 
 impl Pane for ArmView {

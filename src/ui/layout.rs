@@ -29,7 +29,7 @@ use super::signals::SignalsPanel;
 use super::simulator::SimulatorPanel;
 use super::status::StatusPane;
 use super::teach::TeachPanel;
-use crate::pendant::JogAxis;
+use crate::pendant::{JogAxis, Pendant};
 use crate::protocol::Direction;
 
 /// One tab of the centre.
@@ -92,6 +92,102 @@ const ALL: [Tab; 14] = [
 /// The first layout: the arm view large on the left over the messages, the frame log and
 /// the plots (tabs); on the right the position over the status (servo, home), teach list,
 /// the controller's positions, coordinate tables and signals as tabs.
+/// The window size (points) from which the default layout is the wide one: a 1920x1080
+/// screen, less the task bars and title.
+pub const WIDE_FROM: [f32; 2] = [1600.0, 900.0];
+
+/// Whether a window of `size` points takes the wide default layout.
+pub fn is_wide(size: egui::Vec2) -> bool {
+    size.x >= WIDE_FROM[0] && size.y >= WIDE_FROM[1]
+}
+
+/// The default layout for a window of `size` points ([`default_layout`] or
+/// [`wide_layout`]).
+pub fn default_for(size: egui::Vec2) -> Tree<Tab> {
+    if is_wide(size) {
+        wide_layout()
+    } else {
+        default_layout()
+    }
+}
+
+/// Whether `tree` is one of the default layouts, unchanged by the operator (a tab chosen
+/// in front does not count).
+pub fn is_a_default(tree: &Tree<Tab>) -> bool {
+    let shape = shape_of(tree);
+    shape == shape_of(&default_layout()) || shape == shape_of(&wide_layout())
+}
+
+/// A layout's arrangement: every tile with its panes or children, each container's
+/// direction and shares; not which tab is in front (choosing a tab changes no layout).
+pub fn shape_of(tree: &Tree<Tab>) -> Vec<String> {
+    let mut out: Vec<String> = tree
+        .tiles
+        .iter()
+        .map(|(id, tile)| match tile {
+            egui_tiles::Tile::Pane(p) => format!("{id:?} pane {p:?}"),
+            egui_tiles::Tile::Container(c) => {
+                let mut s = format!("{id:?} {:?} {:?}", c.kind(), c.children_vec());
+                if let egui_tiles::Container::Linear(l) = c {
+                    for child in &l.children {
+                        s += &format!(" {:.3}", l.shares[*child]);
+                    }
+                }
+                s
+            }
+        })
+        .collect();
+    out.push(format!("root {:?}", tree.root));
+    out.sort();
+    out
+}
+
+/// The default layout on a large screen: the arm view takes most of the height and
+/// width, the plots a tile of their own beside Messages, Alarms and the frame log, the
+/// position and the tables on the right.
+pub fn wide_layout() -> Tree<Tab> {
+    let mut tiles = Tiles::default();
+    let tabs = |tiles: &mut Tiles<Tab>, panes: &[Tab]| {
+        let children = panes.iter().map(|p| tiles.insert_pane(*p)).collect();
+        tiles.insert_tab_tile(children)
+    };
+    let arm = tabs(&mut tiles, &[Tab::Arm]);
+    let position = tabs(&mut tiles, &[Tab::Position]);
+    let status = tabs(
+        &mut tiles,
+        &[
+            Tab::Status,
+            Tab::Axes,
+            Tab::Teach,
+            Tab::Positions,
+            Tab::Coords,
+            Tab::Signals,
+            Tab::Programs,
+            Tab::Simulator,
+        ],
+    );
+    let traffic = tabs(&mut tiles, &[Tab::Messages, Tab::Alarms, Tab::FrameLog]);
+    let plots = tabs(&mut tiles, &[Tab::Plots]);
+    let bottom = tiles.insert_container(Linear::new_binary(
+        LinearDir::Horizontal,
+        [traffic, plots],
+        0.5,
+    ));
+    let left = tiles.insert_container(Linear::new_binary(LinearDir::Vertical, [arm, bottom], 0.6));
+    let right = tiles.insert_container(Linear::new_binary(
+        LinearDir::Vertical,
+        [position, status],
+        0.26,
+    ));
+    let root = tiles.insert_container(Linear::new_binary(
+        LinearDir::Horizontal,
+        [left, right],
+        0.64,
+    ));
+    Tree::new(egui::Id::unique("centre-layout"), root, tiles)
+}
+
+/// The default layout (up to [`WIDE_FROM`]).
 pub fn default_layout() -> Tree<Tab> {
     let mut tiles = Tiles::default();
     let tabs = |tiles: &mut Tiles<Tab>, panes: &[Tab]| {
@@ -211,8 +307,26 @@ impl Panes {
 
     /// Before drawing: what the arm view's ghost follows this frame (the jog button
     /// under the pointer, the teach row and the position hovered last frame).
-    pub fn before(&mut self, hovered_step: Option<(JogAxis, Direction)>) {
+    pub fn before(&mut self, hovered_step: Option<(JogAxis, Direction)>, pendant: &Pendant) {
+        use super::arm_markers::MarkerKey;
         self.arm.hovered_step = hovered_step;
+        // "Select in the table" on a marker, last frame: the table takes it.
+        match self.arm.select_request.take() {
+            Some(MarkerKey::Teach(i)) => {
+                if let Some(p) = pendant.teach.list().get(i) {
+                    self.teach.select(i, &p.name);
+                }
+            }
+            Some(MarkerKey::Position(n)) => self.positions.select(n),
+            None => {}
+        }
+        self.arm.selected_markers = self
+            .teach
+            .selected()
+            .map(MarkerKey::Teach)
+            .into_iter()
+            .chain(self.positions.selected().map(MarkerKey::Position))
+            .collect();
         self.arm.hovered_point = self.teach.hovered_go;
         // Last frame's hovered Go or preview row; this frame's is found while drawing.
         self.arm.hovered_position = self.positions.hovered.take();
@@ -277,6 +391,24 @@ pub fn show(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_large_screen_gets_the_wide_layout_with_every_pane_and_the_plots_in_sight() {
+        let wide = default_for(egui::vec2(1920.0, 1050.0));
+        assert!(wide == wide_layout() && is_a_default(&wide));
+        assert!(default_for(egui::vec2(1280.0, 800.0)) == default_layout());
+        assert!(default_for(egui::vec2(1920.0, 700.0)) == default_layout());
+        for pane in ALL {
+            assert!(wide.tiles.find_pane(&pane).is_some(), "{pane:?}");
+        }
+        // The plots have a tab group of their own: shown, not behind Messages.
+        let plots = wide.tiles.find_pane(&Tab::Plots).unwrap();
+        let group = wide.tiles.parent_of(plots).unwrap();
+        let Some(egui_tiles::Tile::Container(c)) = wide.tiles.get(group) else {
+            panic!("plots in a container")
+        };
+        assert_eq!(c.num_children(), 1);
+    }
 
     /// A layout saved before a pane existed keeps its arrangement and gains the pane as a
     /// tab beside the position table.

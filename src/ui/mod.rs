@@ -6,6 +6,7 @@
 pub mod alarms;
 pub mod app;
 mod arm_export;
+pub mod arm_markers;
 pub mod arm_view;
 mod axes;
 mod connection;

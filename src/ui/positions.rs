@@ -97,9 +97,25 @@ pub struct PositionsPanel {
     pub hovered: Option<PositionRecord>,
     /// The numbers shown, and what they were filtered from (revision, filter, capacity).
     visible: Option<VisibleRows>,
+    /// A row to bring into sight once (the arm view's "Select in the table").
+    scroll_to: Option<u16>,
 }
 
 type VisibleRows = ((u64, Filter, u16), Vec<u16>);
+
+impl PositionsPanel {
+    /// The number in the No. field (Teach here and Go to No. use it): the selected row.
+    pub fn selected(&self) -> Option<u16> {
+        self.number.trim().parse().ok()
+    }
+
+    /// Selects No. `n` (the arm view's "Select in the table"): the No. field takes it and
+    /// the table scrolls to its row.
+    pub fn select(&mut self, n: u16) {
+        self.number = n.to_string();
+        self.scroll_to = Some(n);
+    }
+}
 
 impl Default for PositionsPanel {
     fn default() -> Self {
@@ -111,6 +127,7 @@ impl Default for PositionsPanel {
             name: String::new(),
             edit: None,
             take_the_risk: false,
+            scroll_to: None,
             file: FileWork::new(&FILE_FIELD),
             hovered: None,
             visible: None,
@@ -519,13 +536,22 @@ impl PositionsPanel {
             .map(|e| e.to_string())
             .unwrap_or_default();
         let go_how = go_words(pendant);
+        let selected = self.selected();
         let scroll = ui.spacing().scroll;
         ui.spacing_mut().scroll = egui::style::ScrollStyle::solid();
         let height = ui.available_height();
         egui::ScrollArea::horizontal()
             .id_salt("positions-x")
             .show(ui, |ui| {
-                TableBuilder::new(ui)
+                let mut table = TableBuilder::new(ui);
+                if let Some(i) = self
+                    .scroll_to
+                    .take()
+                    .and_then(|n| visible.iter().position(|&m| m == n))
+                {
+                    table = table.scroll_to_row(i, Some(egui::Align::Center));
+                }
+                table
                     .id_salt("positions-table")
                     .striped(true)
                     .auto_shrink([false, false])
@@ -557,7 +583,12 @@ impl PositionsPanel {
                             let differs = positions.differs(n);
                             row.col(|ui| {
                                 let t = RichText::new(n.to_string());
-                                ui.label(if differs { t.color(AMBER) } else { t });
+                                let t = if differs { t.color(AMBER) } else { t };
+                                if selected == Some(n) {
+                                    ui.label(t.strong().underline());
+                                } else {
+                                    ui.label(t);
+                                }
                             });
                             row.col(|ui| self.name_cell(ui, positions, n, ask));
                             for c in Column::ALL {

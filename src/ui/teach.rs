@@ -57,6 +57,19 @@ pub struct TeachPanel {
     pub hovered_go: Option<usize>,
 }
 
+impl TeachPanel {
+    /// The selected row.
+    pub fn selected(&self) -> Option<usize> {
+        self.selected
+    }
+
+    /// Selects row `i` (the arm view's "Select in the table").
+    pub fn select(&mut self, i: usize, name: &str) {
+        self.selected = Some(i);
+        self.rename = name.to_owned();
+    }
+}
+
 impl Default for TeachPanel {
     fn default() -> Self {
         Self {

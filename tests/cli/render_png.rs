@@ -111,13 +111,12 @@ fn links_joints_and_tool_are_where_the_pose_puts_them_in_both_themes() {
 fn reference() -> tiny_skia::Pixmap {
     let k = kin();
     let j = Joints::new(30.0, 60.0, 50.0, 10.0);
-    let ghost = Ghost {
-        label: "X+ 50 mm".into(),
-        joints: None,
-        tip: Pose::new(480.0, 200.0, 50.0, 100.0),
-        check: GhostCheck::Refused("out of reach: 520.000 mm from the J1 axis".into()),
-        line: None,
-    };
+    let ghost = Ghost::at(
+        "X+ 50 mm",
+        Pose::new(480.0, 200.0, 50.0, 100.0),
+        None,
+        GhostCheck::Refused("out of reach: 520.000 mm from the J1 axis".into()),
+    );
     let trail: Vec<Mm> = (0..200)
         .map(|i| Mm::ORIGIN.polar(300.0, -40.0 + f64::from(i) * 0.35))
         .collect();
@@ -289,4 +288,47 @@ fn plot_png_paints_a_saved_capture_and_names_what_is_wrong() {
         );
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn zones_are_painted_and_the_entered_one_is_red_in_the_png() {
+    use xsel_pendant::robot::ZoneBox;
+    let k = kin();
+    let palette = Palette::dark();
+    let zones = [
+        ZoneBox::from_corners(
+            1,
+            [Some(330.0), Some(180.0), Some(0.0), None],
+            [Some(420.0), Some(320.0), Some(150.0), None],
+        ),
+        ZoneBox::from_corners(
+            2,
+            [Some(-200.0), Some(250.0), Some(0.0), None],
+            [Some(-80.0), Some(400.0), Some(200.0), None],
+        ),
+    ];
+    let mut ghost = Ghost::at(
+        "X+ 100 mm",
+        Pose::new(350.0, 250.0, 0.0, 90.0),
+        None,
+        GhostCheck::Zone("enters zone 1: press twice".into()),
+    );
+    ghost.zones = vec![1];
+    let scene = build_scene(&SceneInput {
+        zones: &zones,
+        ghost: Some(&ghost),
+        ..SceneInput::pose(&k, Some(Joints::new(0.0, 90.0, 0.0, 0.0)))
+    });
+    let view = View::fit(&scene.bounds, [0.0, 0.0], [W as f32, H as f32], 16.0);
+    let p = PngPainter::new()
+        .render(&scene, &palette, W, H)
+        .unwrap_or_else(|e| panic!("render: {e}"));
+    let bg = palette.background.0;
+    let red = at(&p, &view, Mm::new(400.0, 200.0));
+    let plain = at(&p, &view, Mm::new(-100.0, 270.0));
+    assert!(!near(red, bg) && !near(plain, bg), "{red:?} {plain:?}");
+    assert!(
+        red[0] > red[1] + 20 && red[0] > plain[0],
+        "the entered zone is tinted red: {red:?}, the other {plain:?}"
+    );
 }

@@ -187,6 +187,8 @@ fn command() -> impl Strategy<Value = Command> {
                 first,
                 count
             })),
+        (any::<u8>(), any::<u8>())
+            .prop_map(|(first, count)| Command::ZoneQuery(ZoneQuery { first, count })),
         (scara_motion(), targets(), any::<bool>()).prop_map(|(motion, targets, abs)| {
             let m = ScaraMove { motion, targets };
             if abs {
@@ -368,6 +370,29 @@ fn reply() -> impl Strategy<Value = Reply> {
                     records
                 })
             ),
+        (pattern(), any::<u8>(), 0usize..9)
+            .prop_flat_map(|(p, first, tail)| (
+                Just(first),
+                vec(
+                    (
+                        per_axis(p, milli()),
+                        per_axis(p, milli()),
+                        vec(prop_oneof![Just(b'0'), Just(b'A'), Just(b' ')], tail..=tail)
+                    ),
+                    0..6
+                )
+            ))
+            .prop_map(|(first, records)| Reply::ZoneTable(ZoneTable {
+                first,
+                records: records
+                    .into_iter()
+                    .map(|(corner1, corner2, surplus)| ZoneRecord {
+                        corner1,
+                        corner2,
+                        surplus
+                    })
+                    .collect()
+            })),
         (0u16..0x1000).prop_map(|c| Reply::Error(ErrorCode(c))),
     ]
 }

@@ -538,6 +538,35 @@ fn coordinate_queries_are_limited_to_the_reply_buffer(line: Line) {
     assert_eq!(&r[11..13], "1F");
 }
 
+on_both_lines!(zones_are_answered_as_protocol_md_says);
+fn zones_are_answered_as_protocol_md_says(line: Line) {
+    // PROTOCOL.md 3.46/3.50's zone 1, from a coordinate file: the reply byte for byte.
+    let mut setup = fast_setup();
+    let model = setup.model.clone();
+    let file = xsel_pendant::files::coords_file::parse(
+        "[[zone]]\nnumber = 1\ncorner1 = [100.0, -100.0, 0.0]\ncorner2 = [200.0, 100.0, 50.0]\n",
+        &model,
+    )
+    .expect("a zone file");
+    setup.zones = file.zones;
+    let mut c = Client::start(line, setup);
+    assert_eq!(
+        c.cmd("!992A20101"),
+        "#992A2010107000186A0FFFE79600000000000030D40000186A00000C35046"
+    );
+    // Zones 1-10, each record ending after coordinate 2: a zone not in the file is zeros.
+    let r = c.cmd("!992A2010A");
+    assert_eq!(&r[6..10], "010A", "{r}");
+    assert_eq!(r.len(), 10 + 10 * (2 + 6 * 8) + 2, "{r}");
+    assert_eq!(&r[60..110], format!("07{}", "0".repeat(48)), "zone 2: {r}");
+    // A bad number or count: A03, as the position table's range queries answer.
+    for bad in ["!992A20001", "!992A20B01", "!992A20100", "!992A20A02"] {
+        assert_eq!(c.cmd(bad), err("A03"), "{bad}");
+    }
+    // Wrong length: A02.
+    assert_eq!(c.cmd("!992A201"), err("A02"));
+}
+
 on_both_lines!(error_replies_name_the_reason);
 fn error_replies_name_the_reason(line: Line) {
     let mut c = Client::start(line, fast_setup());

@@ -19,6 +19,7 @@ mod layout_file;
 #[cfg(feature = "wgpu")]
 mod frame_log_snapshot;
 mod main_window;
+mod markers;
 mod plots;
 mod positions;
 mod programs;
@@ -28,3 +29,4 @@ mod simulator;
 mod sizes;
 #[cfg(feature = "wgpu")]
 mod snapshots;
+mod zones;

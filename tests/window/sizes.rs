@@ -295,3 +295,66 @@ fn the_pad_grows_with_the_window() {
         "at 1920x1080 the pad's X+ is {large:?}, at 1280x800 {default:?}"
     );
 }
+
+/// The arm view's labels as painted (shortened and hidden ones too): no two placed boxes
+/// overlap and each lies inside the view, with the zones, the taught positions and a ghost
+/// drawn (the busiest the default start gets).
+#[test]
+fn no_two_labels_of_the_arm_view_overlap_at_any_size() {
+    use xsel_pendant::render::labels::boxes_overlap;
+    for (size, ppp) in SIZES {
+        let mut h = app(size, ppp);
+        step_until(&mut h, "the zones drawn", |a| {
+            a.pendant().zones.boxes().len() == 2
+        });
+        show_tab(&mut h, "Positions");
+        crate::kittest_common::click(&mut h, "Read");
+        step_until(&mut h, "the positions read", |a| {
+            a.pendant().positions.held().count() >= 3
+        });
+        h.get_by_role_and_label(egui::accesskit::Role::Button, "X+")
+            .hover();
+        h.run_steps(3);
+        shot(&mut h, "arm-labels", size, ppp);
+        let arm = h.state().arm_view();
+        let view = arm.view().expect("the arm view is drawn");
+        let labels = arm.labels();
+        let placed: Vec<([f32; 4], &str)> = labels
+            .iter()
+            .filter_map(|l| l.rect.map(|r| (r, l.text.as_str())))
+            .collect();
+        assert!(
+            placed.len() >= 10,
+            "the labels are drawn at {size:?} x{ppp}: {labels:?}"
+        );
+        for (i, (a, ta)) in placed.iter().enumerate() {
+            let inside = a[0] >= view.origin[0] - 0.5
+                && a[1] >= view.origin[1] - 0.5
+                && a[2] <= view.origin[0] + view.size[0] + 0.5
+                && a[3] <= view.origin[1] + view.size[1] + 0.5;
+            assert!(inside, "{ta} at {a:?} leaves the view at {size:?} x{ppp}");
+            for (b, tb) in &placed[i + 1..] {
+                assert!(
+                    !boxes_overlap(*a, *b),
+                    "\"{ta}\" {a:?} and \"{tb}\" {b:?} overlap at {size:?} x{ppp}"
+                );
+            }
+        }
+        for zone in ["zone 1", "zone 2"] {
+            assert!(
+                labels.iter().any(|l| l.text.starts_with(zone)),
+                "{zone} labelled at {size:?} x{ppp}"
+            );
+        }
+        // A 1920x1080 window takes the wide layout: the arm view has most of the height,
+        // and the Plots are in sight beside the messages.
+        if size[0] >= 1920.0 {
+            let arm = h.state().pane_rect(Tab::Arm).expect("the arm view");
+            assert!(arm.height() > 0.5 * size[1], "{arm:?} at {size:?}");
+            assert!(
+                h.state().pane_rect(Tab::Plots).is_some(),
+                "the plots in sight at {size:?}"
+            );
+        }
+    }
+}

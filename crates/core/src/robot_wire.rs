@@ -1,6 +1,6 @@
 //! Wire codes <-> robot types, the one home for both: arm policy (2D4H-2D6H operation
-//! type bits 3-4), jog frame (236H bits 1-2), arm system (2A1H/2A3H common status) and
-//! table kind (2A0H/2A4H coordinate type).
+//! type bits 3-4), jog frame (236H bits 1-2), arm system (2A1H/2A3H common status),
+//! table kind (2A0H/2A4H coordinate type) and interference zone (2A2H record).
 //!
 //! Sits above `protocol` (which knows the bits) and `robot` (which knows nothing of the
 //! wire); the simulator uses it, and so will the pendant.
@@ -86,6 +86,20 @@ impl From<robot::FrameKind> for protocol::CoordKind {
             robot::FrameKind::Tool => protocol::CoordKind::Tool,
         }
     }
+}
+
+/// The box of 2A2H record `rec` of zone `number`: axes 1-4 are the SCARA's X, Y, Z
+/// (0.001 mm) and R (0.001 deg) in the base frame (PROTOCOL.md 3.46); other axes of the
+/// pattern are not the arm's and are left out.
+pub fn zone_box(number: u8, rec: &protocol::ZoneRecord) -> robot::ZoneBox {
+    let axis = |c: &protocol::PerAxis<protocol::Milli>| {
+        [1u8, 2, 3, 4].map(|n| {
+            protocol::Axis::new(n)
+                .and_then(|a| c.get(a))
+                .map(|v| v.units())
+        })
+    };
+    robot::ZoneBox::from_corners(number, axis(&rec.corner1), axis(&rec.corner2))
 }
 
 /// The frame a 236H jog moves in, or `None` for the each-axis (joint) system.

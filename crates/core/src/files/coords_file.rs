@@ -1,5 +1,6 @@
-//! Coordinate-table files (TOML): work and tool coordinate systems and the 2D6H position
-//! table, as the simulator loads them and the pendant saves its table drafts.
+//! Coordinate-table files (TOML): work and tool coordinate systems, the 2D6H position
+//! table and the interference-check zones, as the simulator loads them and the pendant
+//! saves its table drafts.
 //!
 //! Layout (every section optional; numbers not listed stay all zeros; lengths in mm and
 //! angles in deg, resolution 0.001 as on the wire):
@@ -22,7 +23,16 @@
 //! y = 50.0                # omitted coordinates: the axis is not part of the record
 //! speed = 0               # optional: 0 = parameter value (% for PTP, mm/s for CP)
 //! arm = "right"           # optional: SCARA 1's arm system, "right" or "left"
+//! [[zone]]                # a simple interference-check zone (2A2H), base coordinates
+//! number = 1              # 1 to 10 (protocol::ZONE_NUMBERS)
+//! corner1 = [100.0, -100.0, 0.0]   # X, Y, Z of one corner, mm
+//! corner2 = [200.0, 100.0, 50.0]   # the opposite corner
+//! name = "feeder"         # optional, for people
 //! ```
+//!
+//! Zones are boxes on X, Y and Z only (pattern 07, as PROTOCOL.md 3.46's example): the
+//! simulator's choice, so that every record of a 2A2H reply has one length `[inferred]`.
+//! Files written before zones existed load unchanged (no zones).
 //!
 //! A position with no coordinate holds no data and is not loaded (a controller's position
 //! with no axis is not "effective", PROTOCOL.md 3.25 `[inferred]`). Files written before
@@ -34,7 +44,8 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use crate::protocol::{
-    Axis, CentiG, Milli, MmPerSec, PerAxis, PositionRecord, RecordArm, RecordArms,
+    Axis, CentiG, Milli, MmPerSec, PerAxis, PositionRecord, RecordArm, RecordArms, ZONE_NUMBERS,
+    ZoneRecord,
 };
 use crate::robot::{CoordSystem, CoordTables, FrameKind, Micrometres, Millidegrees, RobotModel};
 
@@ -50,6 +61,10 @@ pub const MAX_POSITION_NUMBER: u16 = 20_000;
 /// work frame, axes 5-6 the linear axes (mm).
 pub type PositionTable = BTreeMap<u16, PositionRecord>;
 
+/// Zone number -> record: the simulator's interference-check zones (2A2H) and what the
+/// file holds. Corners on X, Y, Z of the base frame (axes 1-3).
+pub type Zones = BTreeMap<u8, ZoneRecord>;
+
 #[derive(Debug, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct FileDoc {
@@ -61,7 +76,22 @@ struct FileDoc {
     tool: Vec<FileFrame>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     position: Vec<FilePosition>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    zone: Vec<FileZone>,
 }
+
+#[derive(Debug, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileZone {
+    number: u8,
+    corner1: [f64; 3],
+    corner2: [f64; 3],
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    name: Option<String>,
+}
+
+/// The axes of a file zone's corners: X, Y, Z.
+const ZONE_AXES: [Axis; 3] = [Axis::A1, Axis::A2, Axis::A3];
 
 #[derive(Debug, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -130,11 +160,12 @@ pub enum CoordsFileError {
     Entry(String),
 }
 
-/// Work/tool tables and position table read from a file.
+/// Work/tool tables, position table and zones read from a file.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct CoordsFile {
     pub tables: CoordTables,
     pub positions: PositionTable,
+    pub zones: Zones,
 }
 
 fn wire(v: f64, what: &str) -> Result<i32, CoordsFileError> {
@@ -218,7 +249,38 @@ pub fn parse(text: &str, model: &RobotModel) -> Result<CoordsFile, CoordsFileErr
             },
         );
     }
-    Ok(CoordsFile { tables, positions })
+    let zones = parse_zones(&doc.zone)?;
+    Ok(CoordsFile {
+        tables,
+        positions,
+        zones,
+    })
+}
+
+fn parse_zones(list: &[FileZone]) -> Result<Zones, CoordsFileError> {
+    let mut zones = Zones::new();
+    for z in list {
+        let what = format!("zone No. {}", z.number);
+        if !ZONE_NUMBERS.contains(&z.number) {
+            return Err(CoordsFileError::Entry(format!(
+                "{what}: numbers run from {} to {}",
+                ZONE_NUMBERS.start(),
+                ZONE_NUMBERS.end()
+            )));
+        }
+        let corner = |c: &[f64; 3]| -> Result<PerAxis<Milli>, CoordsFileError> {
+            let mut p = PerAxis::new();
+            for (axis, v) in ZONE_AXES.into_iter().zip(c) {
+                p.set(axis, Milli(wire(*v, &what)?));
+            }
+            Ok(p)
+        };
+        let rec = ZoneRecord::new(corner(&z.corner1)?, corner(&z.corner2)?);
+        if zones.insert(z.number, rec).is_some() {
+            return Err(CoordsFileError::Entry(format!("{what} is given twice")));
+        }
+    }
+    Ok(zones)
 }
 
 /// Reads and parses a coordinate file.
@@ -233,9 +295,10 @@ pub fn load(path: impl AsRef<Path>, model: &RobotModel) -> Result<CoordsFile, Co
     parse(&text, model)
 }
 
-/// Writes tables and positions in the file format (non-zero entries only; axes 7-8 and
-/// SCARA 2's arm system, which this single-SCARA format has no place for, are left out).
-pub fn to_toml(tables: &CoordTables, positions: &PositionTable) -> String {
+/// Writes tables, positions and zones in the file format (non-zero entries only; axes
+/// 7-8, SCARA 2's arm system and zone axes other than X, Y, Z, which this single-SCARA
+/// format has no place for, are left out).
+pub fn to_toml(tables: &CoordTables, positions: &PositionTable, zones: &Zones) -> String {
     let mm = |v: i32| crate::protocol::Milli(v).units();
     let frames = |entries: &[CoordSystem]| {
         entries
@@ -279,6 +342,19 @@ pub fn to_toml(tables: &CoordTables, positions: &PositionTable) -> String {
                 }
             })
             .collect(),
+        zone: zones
+            .iter()
+            .map(|(&number, z)| {
+                let corner =
+                    |c: &PerAxis<Milli>| ZONE_AXES.map(|a| mm(c.get(a).unwrap_or_default().0));
+                FileZone {
+                    number,
+                    corner1: corner(&z.corner1),
+                    corner2: corner(&z.corner2),
+                    name: None,
+                }
+            })
+            .collect(),
     };
     toml::to_string(&doc).unwrap_or_default()
 }
@@ -293,6 +369,7 @@ pub fn defaults(model: &RobotModel) -> CoordsFile {
     parse(EXAMPLE, model).unwrap_or_else(|_| CoordsFile {
         tables: CoordTables::for_model(model),
         positions: PositionTable::new(),
+        zones: Zones::new(),
     })
 }
 
@@ -307,7 +384,8 @@ mod tests {
         assert_ne!(f.tables.work.get(1), Some(&CoordSystem::ZERO));
         assert_ne!(f.tables.tool.get(1), Some(&CoordSystem::ZERO));
         assert!(!f.positions.is_empty());
-        let again = parse(&to_toml(&f.tables, &f.positions), &model).unwrap();
+        assert!(f.zones.len() >= 2, "the built-in simulator shows zones");
+        let again = parse(&to_toml(&f.tables, &f.positions, &f.zones), &model).unwrap();
         assert_eq!(again, f);
     }
 
@@ -367,7 +445,41 @@ mod tests {
             !f.positions.contains_key(&9),
             "a position with no axis holds no data"
         );
-        let again = parse(&to_toml(&f.tables, &f.positions), &model).unwrap();
+        let again = parse(&to_toml(&f.tables, &f.positions, &f.zones), &model).unwrap();
         assert_eq!(again.positions, f.positions);
+        assert!(f.zones.is_empty(), "a file without zones has none");
+    }
+
+    #[test]
+    fn zones_load_by_two_corners_and_bad_ones_are_refused() {
+        let model = RobotModel::default_model();
+        let text = "[[zone]]\nnumber = 2\ncorner1 = [100.0, -100.0, 0.0]\ncorner2 = [200.0, 100.0, 50.0]\nname = \"feeder\"\n";
+        let f = parse(text, &model).unwrap();
+        let z = &f.zones[&2];
+        assert_eq!(z.corner1.pattern().0, 0b111);
+        assert_eq!(z.corner1.get(Axis::A2), Some(Milli(-100_000)));
+        assert_eq!(z.corner2.get(Axis::A3), Some(Milli(50_000)));
+        let again = parse(&to_toml(&f.tables, &f.positions, &f.zones), &model).unwrap();
+        assert_eq!(again.zones, f.zones);
+        for bad in [
+            "[[zone]]\nnumber = 0\ncorner1 = [0.0, 0.0, 0.0]\ncorner2 = [1.0, 1.0, 1.0]",
+            "[[zone]]\nnumber = 11\ncorner1 = [0.0, 0.0, 0.0]\ncorner2 = [1.0, 1.0, 1.0]",
+            "[[zone]]\nnumber = 1\ncorner1 = [0.0, 0.0, 0.0]\ncorner2 = [1.0, 1.0, 1.0]\n[[zone]]\nnumber = 1\ncorner1 = [0.0, 0.0, 0.0]\ncorner2 = [1.0, 1.0, 1.0]",
+            "[[zone]]\nnumber = 1\ncorner1 = [0.0, 0.0, 0.0]\ncorner2 = [1.0, 1.0, inf]",
+        ] {
+            assert!(
+                matches!(parse(bad, &model), Err(CoordsFileError::Entry(_))),
+                "{bad}"
+            );
+        }
+        for bad in [
+            "[[zone]]\nnumber = 1\ncorner1 = [0.0, 0.0]\ncorner2 = [1.0, 1.0, 1.0]",
+            "[[zone]]\nnumber = 1\ncorner1 = [0.0, 0.0, 0.0]",
+        ] {
+            assert!(
+                matches!(parse(bad, &model), Err(CoordsFileError::Syntax(_))),
+                "{bad}"
+            );
+        }
     }
 }

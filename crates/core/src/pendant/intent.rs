@@ -42,6 +42,8 @@ pub enum Intent {
     Programs(super::programs::ProgramsIntent),
     /// The Alarms view.
     Alarms(super::alarms::AlarmsIntent),
+    /// Read the controller's interference zones again (2A2H).
+    ReadZones,
     /// Controller snapshots (in the Alarms view).
     Snapshot(super::snapshot::SnapshotIntent),
     /// The teach list after an edit (reorder, delete, rename), as a whole.

@@ -20,6 +20,7 @@ pub mod script;
 pub mod signals;
 pub mod snapshot;
 pub mod teach;
+pub mod zones;
 
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
@@ -55,6 +56,7 @@ macro_rules! jog_cx {
             controller: &$p.controller,
             settings: &$p.settings.jog,
             line_up: $p.line.is_up(),
+            zones: $p.zones.boxes(),
         }
     };
 }
@@ -164,6 +166,8 @@ pub struct Pendant {
     pub alarms: alarms::Alarms,
     /// Controller snapshots: the one being taken, the latest two, a comparison.
     pub snapshots: snapshot::Snapshots,
+    /// The controller's interference zones (2A2H).
+    pub zones: zones::Zones,
 }
 
 impl Pendant {
@@ -188,6 +192,7 @@ impl Pendant {
             programs: programs::Programs::default(),
             alarms: alarms::Alarms::default(),
             snapshots: snapshot::Snapshots::default(),
+            zones: zones::Zones::default(),
             coords: coords::CoordEditor::new(model.work_table_size, model.tool_table_size),
             kin: Scara::new(&model),
             model,
@@ -351,6 +356,7 @@ impl Pendant {
             self.say(Level::Warning, text, _now);
         }
         self.alarms.line_gone();
+        self.zones.line_gone();
         if let Some((level, text)) = self.snapshots.line_gone() {
             self.say(level, text, _now);
         }
@@ -384,6 +390,19 @@ impl Pendant {
             }
             return self.alarms_out();
         }
+        if event_command(&event).is_some_and(zones::Zones::owns) {
+            let before = self.zones.revision();
+            if let Some((level, text)) = self.zones.handle_event(&event) {
+                self.say(level, text, now);
+            }
+            if self.zones.revision() != before {
+                // A press confirmed against the old zones is asked again.
+                self.jog.confirmations_lapse();
+                self.positions.go_confirm = None;
+                self.teach.go_confirm = None;
+            }
+            return self.zones_out();
+        }
         if event_command(&event).is_some_and(programs::Programs::owns) {
             for (level, text) in self.programs.handle_event(&event, now) {
                 self.say(level, text, now);
@@ -407,6 +426,8 @@ impl Pendant {
                 self.requests.push(Request::ReadTable(CoordKind::Work));
                 self.alarms.connected();
                 self.alarms_out();
+                self.zones.start(true);
+                self.zones_out();
             }
             LinkEvent::Disconnected { reason } => {
                 let reason = match connection::open_hint(&reason) {
@@ -662,6 +683,7 @@ impl Pendant {
         self.jog.stop(cause, now);
         self.axes.stop(cause);
         self.positions.go_confirm = None;
+        self.teach.go_confirm = None;
         self.programs.stopped();
         // The operator's own STOP is news of the expected kind; any other is a warning.
         let level = match cause {
@@ -805,6 +827,7 @@ impl Pendant {
             Intent::Signals(s) => self.apply_signals(s, now),
             Intent::Programs(p) => self.apply_programs(p, now),
             Intent::Alarms(a) => self.apply_alarms(a, now),
+            Intent::ReadZones => self.read_zones(now),
             Intent::Snapshot(s) => self.apply_snapshot(s, now),
             Intent::TeachLoaded { path, read } => {
                 let said = self.teach.loaded(&path, read);
@@ -949,12 +972,8 @@ impl Pendant {
             .go_confirm
             .take()
             .is_some_and(|(m, at)| m == n && now.duration_since(at) < CONFIRM_FOR);
-        if plan.flips_arm && !confirmed {
+        if !confirmed && let Some(text) = plan.confirm_text(&format!("Go to No. {n}"), "again") {
             self.positions.go_confirm = Some((n, now));
-            let text = format!(
-                "Go to No. {n} flips the arm system: press again within {} s to confirm",
-                CONFIRM_FOR.as_secs()
-            );
             return self.jog.says(&mut out, Level::Warning, text, now);
         }
         let differs = if self.positions.differs(n) {
@@ -992,6 +1011,21 @@ impl Pendant {
             self.say(level, text, now);
         }
         self.alarms_out();
+    }
+
+    /// Reads the controller's zones again (2A2H): the boxes the checks use are replaced.
+    pub fn read_zones(&mut self, now: Instant) {
+        if let Some((level, text)) = self.zones.start(self.line.is_up()) {
+            self.say(level, text, now);
+        }
+        self.zones_out();
+    }
+
+    /// Moves the zone reads to the requests, in the line time the polls leave.
+    fn zones_out(&mut self) {
+        for command in self.zones.take_commands() {
+            self.requests.push(Request::Spare(command));
+        }
     }
 
     /// Moves the alarm history's reads to the requests, in the line time the polls leave.
@@ -1312,7 +1346,8 @@ impl Pendant {
     }
 
     /// "Go" on a taught point: 2D4H after the frame check and the same checks as a step;
-    /// the RMC axes it names move with it.
+    /// an arm flip or a path into a zone asks for a second press; the RMC axes it names
+    /// move with it.
     pub fn teach_go(&mut self, index: usize, now: Instant) {
         let Some(point) = self.teach.list().get(index).cloned() else {
             return;
@@ -1343,7 +1378,18 @@ impl Pendant {
             .jog
             .arm_now(&cx, now)
             .and_then(|arm| jog::plan_go(cx.model, cx.kin, &self.jog.sent(&cx), &point, &arm));
+        let confirmed = self.teach.go_confirm.take().is_some_and(|(go, at)| {
+            go == (index, self.teach.revision()) && now.duration_since(at) < CONFIRM_FOR
+        });
         match plan {
+            Ok(plan)
+                if !confirmed
+                    && let Some(text) =
+                        plan.confirm_text(&format!("Go to \"{}\"", point.name), "Go again") =>
+            {
+                self.teach.go_confirm = Some(((index, self.teach.revision()), now));
+                self.jog.says(&mut out, Level::Warning, text, now);
+            }
             Ok(plan) => {
                 self.jog.send(&mut out, plan);
                 self.axes.queue(axis_moves);

@@ -59,7 +59,7 @@ pub(super) fn submitted(p: &mut Pendant) -> Vec<Command> {
 }
 
 #[test]
-fn connecting_asks_for_the_version_both_tables_in_turn_and_the_alarm_history() {
+fn connecting_asks_for_the_version_both_tables_in_turn_the_alarm_history_and_the_zones() {
     let now = t0();
     let mut p = pendant();
     p.handle_event(
@@ -78,6 +78,11 @@ fn connecting_asks_for_the_version_both_tables_in_turn_and_the_alarm_history() {
             Request::Spare(Command::ErrorDetail(
                 crate::protocol::ErrorDetailQuery::ListRecord { record: 1 }
             )),
+            // The zones, every number in one query (the reply says how many came).
+            Request::Spare(Command::ZoneQuery(crate::protocol::ZoneQuery {
+                first: 1,
+                count: 10
+            })),
         ]
     );
     assert!(p.line.is_up());

@@ -17,6 +17,7 @@ use super::messages::programs::{ProgramAction, ProgramCall, ProgramStatusQuery};
 use super::messages::scara::{ScaraMove, ScaraPositionMove};
 use super::messages::scara_status::{ScaraStatusQuery, ScaraStatusQuery2};
 use super::messages::signals::{BitChange, BitQuery, BitSpace, VarData, VarKind, VarQuery};
+use super::messages::zones::ZoneQuery;
 use super::writer::{Writer, encode_frame};
 
 /// A command frame's meaning (PROTOCOL.md section 3).
@@ -57,6 +58,8 @@ pub enum Command {
     CoordQuery(CoordQuery),
     /// 2A1H SCARA axis status query.
     ScaraStatus(ScaraStatusQuery),
+    /// 2A2H simple interference-check zone definition query.
+    ZoneQuery(ZoneQuery),
     /// 2A3H SCARA axis status query 2.
     ScaraStatus2(ScaraStatusQuery2),
     /// 2A4H coordinate system definition query 2.
@@ -107,6 +110,7 @@ impl Command {
             Command::SpeedChange(_) => MessageId::SPEED_CHANGE,
             Command::CoordQuery(_) => MessageId::COORD_QUERY,
             Command::ScaraStatus(_) => MessageId::SCARA_STATUS,
+            Command::ZoneQuery(_) => MessageId::ZONE_QUERY,
             Command::ScaraStatus2(_) => MessageId::SCARA_STATUS_2,
             Command::CoordQuery2(_) => MessageId::COORD_QUERY_2,
             Command::ScaraMoveAbsolute(_) => MessageId::SCARA_MOVE_ABSOLUTE,
@@ -204,6 +208,7 @@ impl Command {
             Command::CoordQuery(q) => 15 + 32 * usize::from(q.count),
             Command::ScaraStatus(q) => 18 + 16 * n(q.axes),
             Command::ScaraStatus2(q) => 26 + 16 * n(q.axes),
+            Command::ZoneQuery(q) => q.max_reply_len(),
             Command::CoordQuery2(q) => 17 + 8 * n(q.axes) * usize::from(q.count),
             Command::PositionQuery(q) => q.max_reply_len(),
             Command::PositionWrite(w) => super::PositionsWritten::frame_len(w.kind),
@@ -259,6 +264,7 @@ impl Command {
             Command::CoordQuery(q) => q.write(w),
             Command::ScaraStatus(q) => q.write(w),
             Command::ScaraStatus2(q) => q.write(w),
+            Command::ZoneQuery(q) => q.write(w),
             Command::CoordQuery2(q) => q.write(w),
             Command::ScaraMoveAbsolute(m) | Command::ScaraMoveRelative(m) => m.write(w),
             Command::ScaraMovePosition(m) => m.write(w),
@@ -324,6 +330,7 @@ pub(crate) fn decode_command_data(
         MessageId::COORD_QUERY => Command::CoordQuery(CoordQuery::read(r)?),
         MessageId::SCARA_STATUS => Command::ScaraStatus(ScaraStatusQuery::read(r)?),
         MessageId::SCARA_STATUS_2 => Command::ScaraStatus2(ScaraStatusQuery2::read(r)?),
+        MessageId::ZONE_QUERY => Command::ZoneQuery(ZoneQuery::read(r)?),
         MessageId::COORD_QUERY_2 => Command::CoordQuery2(CoordQuery2::read(r)?),
         MessageId::SCARA_MOVE_ABSOLUTE => Command::ScaraMoveAbsolute(ScaraMove::read(r, "target")?),
         MessageId::SCARA_MOVE_RELATIVE => {

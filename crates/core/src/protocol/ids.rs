@@ -154,6 +154,8 @@ impl MessageId {
     pub const COORD_QUERY: MessageId = MessageId(0x2A0);
     /// 2A1H SCARA axis status query.
     pub const SCARA_STATUS: MessageId = MessageId(0x2A1);
+    /// 2A2H simple interference-check zone definition data query.
+    pub const ZONE_QUERY: MessageId = MessageId(0x2A2);
     /// 2A3H SCARA axis status query 2.
     pub const SCARA_STATUS_2: MessageId = MessageId(0x2A3);
     /// 2A4H coordinate system definition data query 2 (axis pattern).
@@ -217,7 +219,7 @@ impl MessageId {
     pub const PROGRAM_RESUME: MessageId = MessageId(0x257);
 
     /// Every message ID this library knows, ascending.
-    pub const ALL: [MessageId; 46] = [
+    pub const ALL: [MessageId; 47] = [
         Self::TEST_CALL,
         Self::VERSION,
         Self::POSITION_QUERY,
@@ -259,6 +261,7 @@ impl MessageId {
         Self::POSITION_CHANGE_WRITE_3,
         Self::COORD_QUERY,
         Self::SCARA_STATUS,
+        Self::ZONE_QUERY,
         Self::SCARA_STATUS_2,
         Self::COORD_QUERY_2,
         Self::SCARA_MOVE_ABSOLUTE,
@@ -310,6 +313,7 @@ impl MessageId {
             0x291 => "change position data write 3",
             0x2A0 => "coordinate system data query",
             0x2A1 => "SCARA axis status query",
+            0x2A2 => "interference-check zone data query",
             0x2A3 => "SCARA axis status query 2",
             0x2A4 => "coordinate system data query 2",
             0x2D4 => "SCARA absolute move",

@@ -71,5 +71,6 @@ pub use messages::status::{
     AxisState, AxisStatus, EncoderStatus, HomeState, SensorInput, SystemMode, SystemStatus,
     SystemStatus1, SystemStatus2, SystemStatus3,
 };
+pub use messages::zones::{ZONE_NUMBERS, ZONE_TAIL_ALLOWANCE, ZoneQuery, ZoneRecord, ZoneTable};
 pub use reply::Reply;
 pub use units::{AxisUnit, CentiG, Milli, MmPerSec, Percent};

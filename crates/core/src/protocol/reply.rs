@@ -16,6 +16,7 @@ use super::messages::programs::ProgramStatus;
 use super::messages::scara_status::{ScaraStatus, ScaraStatus2};
 use super::messages::signals::{BitData, BitSpace, VarData, VarKind, VarsWritten};
 use super::messages::status::{AxisState, SystemStatus, read_axis_blocks, write_axis_blocks};
+use super::messages::zones::ZoneTable;
 use super::units::AxisUnit;
 use super::writer::{Writer, encode_frame};
 
@@ -39,6 +40,8 @@ pub enum Reply {
     CoordTable(CoordTable),
     /// 2A1H SCARA axis status.
     ScaraStatus(ScaraStatus),
+    /// 2A2H interference-check zone definitions (records sized by the reply length).
+    ZoneTable(ZoneTable),
     /// 2A3H SCARA axis status 2.
     ScaraStatus2(ScaraStatus2),
     /// 2A4H coordinate system definitions by axis pattern.
@@ -71,6 +74,7 @@ impl Reply {
             Reply::ErrorDetail(_) => MessageId::ERROR_DETAIL,
             Reply::CoordTable(_) => MessageId::COORD_QUERY,
             Reply::ScaraStatus(_) => MessageId::SCARA_STATUS,
+            Reply::ZoneTable(_) => MessageId::ZONE_QUERY,
             Reply::ScaraStatus2(_) => MessageId::SCARA_STATUS_2,
             Reply::CoordTable2(_) => MessageId::COORD_QUERY_2,
             Reply::Positions(p) => p.kind.id(),
@@ -138,6 +142,7 @@ impl Reply {
             Reply::ErrorDetail(d) => d.write(w),
             Reply::CoordTable(t) => t.write(w),
             Reply::ScaraStatus(s) => s.write(w),
+            Reply::ZoneTable(t) => t.write(w),
             Reply::ScaraStatus2(s) => s.write(w),
             Reply::CoordTable2(t) => t.write(w),
             Reply::Positions(p) => p.write(w),
@@ -203,6 +208,7 @@ pub(crate) fn decode_reply_data(
         MessageId::ERROR_DETAIL => Reply::ErrorDetail(ErrorDetail::read(r)?),
         MessageId::COORD_QUERY => Reply::CoordTable(CoordTable::read(r)?),
         MessageId::SCARA_STATUS => Reply::ScaraStatus(ScaraStatus::read(r)?),
+        MessageId::ZONE_QUERY => Reply::ZoneTable(ZoneTable::read(r)?),
         MessageId::SCARA_STATUS_2 => Reply::ScaraStatus2(ScaraStatus2::read(r)?),
         MessageId::COORD_QUERY_2 => Reply::CoordTable2(CoordTable2::read(r)?),
         MessageId::POSITION_QUERY => positions(r, PositionQueryKind::Query)?,

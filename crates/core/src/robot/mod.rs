@@ -9,6 +9,7 @@ pub mod frames;
 pub mod kinematics;
 pub mod model;
 pub mod motion;
+pub mod path;
 pub mod profile;
 pub mod units;
 
@@ -26,5 +27,6 @@ pub use motion::{
     ArmPolicy, CpParams, MotionStatus, Move, MoveError, MoveSample, Positions, PtpMove, PtpParams,
     RelativeTo, in_position, relative_move, solve_arm_policy,
 };
+pub use path::{MAX_PATH_SAMPLES, PATH_SPACING_MM, PathCheck, PathFault, PathMark, ZoneBox, sweep};
 pub use profile::{Phase, ProfileError, ProfileSample, Trapezoid};
 pub use units::{Joints, Micrometres, Millidegrees, Pose, round_wire};

@@ -9,7 +9,7 @@ use super::motion::{Motion, MotionKind};
 use super::programs::Programs;
 use super::signals::Signals;
 use super::state::{Alarm, AxisKind, AxisState, Counters, HomeProgress, Mode, SimConfig};
-use crate::files::coords_file::{self, PositionTable};
+use crate::files::coords_file::{self, PositionTable, Zones};
 use crate::protocol::{
     Command, ErrorCode, Frame, FrameErrorKind, Header, MessageId, RealEncoding, Reply, Sc, Station,
 };
@@ -40,6 +40,8 @@ pub struct SimSetup {
     /// The position table (209H-291H, 26BH, 2D6H); numbers above the model's maximum
     /// (`config.position_digits`) are kept but never reached.
     pub positions: PositionTable,
+    /// The simple interference-check zones (2A2H), by number.
+    pub zones: Zones,
     /// SEL programs (213H, 253H-257H); by default the demo ([`crate::sel::DEMO`]).
     pub programs: Vec<crate::sel::Program>,
 }
@@ -59,6 +61,7 @@ impl SimSetup {
             model,
             coords: defaults.tables,
             positions: defaults.positions,
+            zones: defaults.zones,
             programs: crate::sel::parse(crate::sel::DEMO)
                 .runnable()
                 .cloned()
@@ -97,6 +100,7 @@ pub struct Controller {
     pub(crate) kin: Scara,
     pub(crate) coords: CoordTables,
     pub(crate) positions: PositionTable,
+    pub(crate) zones: Zones,
     pub(crate) work_no: usize,
     pub(crate) tool_no: usize,
     pub(crate) axes: [AxisState; 8],
@@ -135,6 +139,7 @@ impl Controller {
             model: setup.model,
             coords: setup.coords,
             positions: setup.positions,
+            zones: setup.zones,
             work_no: 0,
             tool_no: 0,
             axes: [AxisState::default(); 8],
@@ -370,6 +375,7 @@ impl Controller {
             Command::ErrorDetail(q) => self.msg_error_detail(q)?,
             Command::CoordQuery(q) => self.msg_coords(q)?,
             Command::CoordQuery2(q) => self.msg_coords2(q)?,
+            Command::ZoneQuery(q) => self.msg_zones(q)?,
             Command::ScaraStatus(q) => self.msg_scara_status(q.axes, q.system),
             Command::ScaraStatus2(q) => self.msg_scara_status2(q.axes, q.system_1_4),
             Command::PositionQuery(q) => self.msg_position_query(q)?,

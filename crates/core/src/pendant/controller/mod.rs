@@ -225,6 +225,11 @@ impl ControllerState {
         *table.records.get(usize::from(work))?
     }
 
+    /// Work frame `n`'s definition, once the work table is read.
+    pub fn work_frame_of(&self, n: u8) -> Option<CoordSystem> {
+        *self.work_table.as_ref()?.records.get(usize::from(n))?
+    }
+
     /// The selected tool's definition, once the tool table is read.
     pub fn tool_frame(&self) -> Option<CoordSystem> {
         let (_, tool) = self.frame_numbers()?;

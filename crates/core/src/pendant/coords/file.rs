@@ -426,7 +426,11 @@ fn json_error(e: &serde_json::Error, line0: usize) -> FileError {
 /// The tables as the simulator's coordinate file (`xsel-sim --coords`); rows never
 /// read are left out, which the simulator takes as zeros.
 pub fn to_sim_toml(tables: &TablePair) -> String {
-    coords_file::to_toml(&tables.to_coord_tables(), &Default::default())
+    coords_file::to_toml(
+        &tables.to_coord_tables(),
+        &Default::default(),
+        &Default::default(),
+    )
 }
 
 /// Reads a simulator coordinate file (its tables; 2D6H positions are ignored). Every row

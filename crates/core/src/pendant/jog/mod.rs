@@ -82,6 +82,9 @@ pub struct JogCx<'a> {
     pub controller: &'a ControllerState,
     pub settings: &'a JogSettings,
     pub line_up: bool,
+    /// The controller's interference zones as read (2A2H): every move's path is checked
+    /// against them.
+    pub zones: &'a [crate::robot::ZoneBox],
 }
 
 impl JogCx<'_> {
@@ -100,7 +103,7 @@ impl JogCx<'_> {
 impl JogState {
     /// What the planner needs of the arm now: polled joints, the command and target
     /// positions of the move being followed, and the selected work and tool frames.
-    pub fn arm_now(&self, cx: &JogCx, now: Instant) -> Result<jog::ArmNow, Refusal> {
+    pub fn arm_now<'a>(&self, cx: &JogCx<'a>, now: Instant) -> Result<jog::ArmNow<'a>, Refusal> {
         let c = cx.controller;
         let joints = c.joint_position().ok_or(Refusal::NoPosition)?;
         let work = c.work_frame().ok_or(Refusal::NoTable("work"))?;
@@ -115,6 +118,7 @@ impl JogState {
             target,
             work,
             tool,
+            zones: cx.zones,
         })
     }
 
@@ -204,18 +208,11 @@ impl JogState {
             a == axis && d == dir && now.duration_since(at) < CONFIRM_FOR
         });
         let sign = if dir == Direction::Positive { "+" } else { "-" };
-        if plan.flips_arm && !confirmed {
+        if !confirmed
+            && let Some(text) = plan.confirm_text(&format!("{}{sign}", axis.name()), "again")
+        {
             self.confirm = Some((axis, dir, now));
-            return self.says(
-                out,
-                Level::Warning,
-                format!(
-                    "{}{sign} flips the arm system: press again within {} s to confirm",
-                    axis.name(),
-                    CONFIRM_FOR.as_secs()
-                ),
-                now,
-            );
+            return self.says(out, Level::Warning, text, now);
         }
         out.push(Request::Submit(plan.command.clone()));
         self.says(
@@ -357,6 +354,13 @@ impl JogState {
 
     /// The jog choices changed: a refusal or an armed confirmation made under the old
     /// ones goes.
+    /// What the checks see changed (the zones read again): every armed second press is
+    /// taken back, the step's and the target's.
+    pub fn confirmations_lapse(&mut self) {
+        self.confirm = None;
+        self.lapse_target_confirm();
+    }
+
     pub fn settings_changed(&mut self) {
         self.confirm = None;
         if self

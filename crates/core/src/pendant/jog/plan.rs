@@ -10,8 +10,8 @@ use crate::protocol::{
 };
 use crate::robot::{
     ArmSystem, CoordSystem, CpMove, CpParams, DEFAULT_CHECK_SPACING_MM, JogFrame, Joints, Move,
-    MoveError, Pose, PtpMove, PtpParams, RelativeTo, RobotModel, Scara, jog_delta_to_work,
-    tip_in_work,
+    MoveError, PATH_SPACING_MM, PathCheck, Pose, PtpMove, PtpParams, RelativeTo, RobotModel, Scara,
+    ZoneBox, jog_delta_to_work, sweep, tip_in_work,
 };
 
 /// The step ladder, mm (or deg for R and the rotary joints).
@@ -260,9 +260,9 @@ impl Refusal {
     }
 }
 
-/// What the planner needs to know of the arm now.
+/// What the planner needs to know of the arm now (and of the cell: its zones).
 #[derive(Clone, Copy, Debug)]
-pub struct ArmNow {
+pub struct ArmNow<'a> {
     /// Polled joints.
     pub joints: Joints,
     /// Where the last accepted move ends (joints), if one is known.
@@ -271,6 +271,9 @@ pub struct ArmNow {
     pub target: Option<Joints>,
     pub work: CoordSystem,
     pub tool: CoordSystem,
+    /// The controller's interference zones, base frame: a path into one asks for a
+    /// second press.
+    pub zones: &'a [ZoneBox],
 }
 
 /// A checked step: the command to send and what it will do.
@@ -288,6 +291,47 @@ pub struct PlannedStep {
     /// The same move as the robot layer plans it, followed to show the motion phase.
     /// [inferred] The controller reports no phase; the pendant replays the profile.
     pub profile: Move,
+    /// The tool tip's whole path, sampled and checked (the zones it enters); the ghost
+    /// draws the same samples.
+    pub path: PathCheck,
+}
+
+impl PlannedStep {
+    /// Why this move waits for a second press: it flips the arm system, its path enters
+    /// interference zones; `None`: it goes on the first.
+    pub fn second_press(&self) -> Option<String> {
+        let mut why = Vec::new();
+        if self.flips_arm {
+            why.push("flips the arm system".to_owned());
+        }
+        match self.path.zones.as_slice() {
+            [] => {}
+            [n] => why.push(format!("enters zone {n}")),
+            many => why.push(format!(
+                "enters zones {}",
+                many.iter()
+                    .map(u8::to_string)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )),
+        }
+        (!why.is_empty()).then(|| why.join(" and "))
+    }
+
+    /// The words that ask for the second press: `what` (the move's name) and why, what a
+    /// zone does, and the time left to press again.
+    pub fn confirm_text(&self, what: &str, again: &str) -> Option<String> {
+        let why = self.second_press()?;
+        let zone = if self.path.zones.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", crate::pendant::zones::ZONE_ACTION)
+        };
+        Some(format!(
+            "{what} {why}{zone}: press {again} within {} s to confirm",
+            crate::pendant::CONFIRM_FOR.as_secs()
+        ))
+    }
 }
 
 fn check_step(step: f64) -> Result<f64, Refusal> {
@@ -359,6 +403,7 @@ struct CheckedMove {
     profile: Move,
     line: Option<(Pose, Pose)>,
     flips_arm: bool,
+    path: PathCheck,
 }
 
 impl CheckedMove {
@@ -370,6 +415,7 @@ impl CheckedMove {
             line: self.line,
             flips_arm: self.flips_arm,
             profile: self.profile,
+            path: self.path,
         }
     }
 }
@@ -429,12 +475,14 @@ fn check_move(
             (motion, Move::Cp(Box::new(m)), line, false)
         }
     };
+    let path = sweep(kin, &profile, &now.tool, now.zones, PATH_SPACING_MM);
     Ok(CheckedMove {
         motion,
         end_work: *end_work,
         profile,
         line,
         flips_arm,
+        path,
     })
 }
 
@@ -554,13 +602,15 @@ fn plan_joint_step(
             speed: Percent(settings.speed(SpeedSource::Percent)),
         },
     });
+    let profile = Move::Ptp(PtpMove::joints(kin, now.joints, end, &params)?);
     Ok(PlannedStep {
         command,
         end,
         end_work: tip_in_work(kin, &end, &now.work, &now.tool),
         line: None,
         flips_arm: false,
-        profile: Move::Ptp(PtpMove::joints(kin, now.joints, end, &params)?),
+        path: sweep(kin, &profile, &now.tool, now.zones, PATH_SPACING_MM),
+        profile,
     })
 }
 

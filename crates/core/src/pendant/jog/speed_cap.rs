@@ -207,6 +207,7 @@ mod tests {
                     target: None,
                     work: CoordSystem::ZERO,
                     tool: CoordSystem::ZERO,
+                    zones: &[],
                 };
                 plan_step(&model, &kin, &sent, axis, Direction::Positive, &now)
                     .expect("a 1 mm step from the middle of the reach")

@@ -33,6 +33,8 @@ pub struct StepTarget {
 #[derive(Clone, Debug)]
 pub struct StepPreview {
     pub label: String,
+    /// The move was sent and runs (its checks were passed, its second press given).
+    pub in_progress: bool,
     pub tip_base: Pose,
     pub joints: Option<Joints>,
     pub plan: Result<PlannedStep, Refusal>,
@@ -88,6 +90,13 @@ impl JogState {
         }
     }
 
+    /// A pending "Go to target" confirmation lapses (the target stays).
+    pub(super) fn lapse_target_confirm(&mut self) {
+        if let Some(t) = self.step_target.as_mut() {
+            t.confirm = None;
+        }
+    }
+
     pub fn clear_step_target(&mut self) {
         self.step_target = None;
     }
@@ -104,6 +113,7 @@ impl JogState {
         };
         Some(StepPreview {
             label: "target".into(),
+            in_progress: false,
             tip_base,
             joints: plan.as_ref().ok().map(|p| p.end),
             plan,
@@ -127,6 +137,7 @@ impl JogState {
         };
         StepPreview {
             label: point.name.clone(),
+            in_progress: false,
             tip_base,
             joints: plan.as_ref().ok().map(|p| p.end),
             plan,
@@ -171,6 +182,7 @@ impl JogState {
         };
         Some(StepPreview {
             label: format!("No. {}", rec.number),
+            in_progress: false,
             tip_base,
             joints: plan.as_ref().ok().map(|p| p.end),
             plan,
@@ -199,19 +211,12 @@ impl JogState {
         let confirmed = t
             .confirm
             .is_some_and(|at| now.duration_since(at) < CONFIRM_FOR);
-        if plan.flips_arm && !confirmed {
+        if !confirmed && let Some(text) = plan.confirm_text("the target", "\"Go to target\" again")
+        {
             if let Some(st) = self.step_target.as_mut() {
                 st.confirm = Some(now);
             }
-            return self.says(
-                out,
-                Level::Warning,
-                format!(
-                    "the target flips the arm system: press \"Go to target\" again within {} s to confirm",
-                    CONFIRM_FOR.as_secs()
-                ),
-                now,
-            );
+            return self.says(out, Level::Warning, text, now);
         }
         // Sent: the ghost now shows the move in progress.
         self.step_target = None;
@@ -274,6 +279,7 @@ impl JogState {
         };
         let sign = if dir == Direction::Positive { "+" } else { "-" };
         Some(StepPreview {
+            in_progress: false,
             label: format!(
                 "{}{sign} {} {}",
                 axis.name(),
@@ -295,6 +301,7 @@ impl JogState {
         let tool = cx.controller.tool_frame()?;
         Some(StepPreview {
             label: "moving to".into(),
+            in_progress: true,
             tip_base: tool.flange_to_tip(&cx.kin.forward(&f.plan.end)),
             joints: Some(f.plan.end),
             plan: Ok(f.plan.clone()),

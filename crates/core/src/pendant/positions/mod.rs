@@ -364,6 +364,14 @@ impl Positions {
         std::mem::take(&mut self.commands)
     }
 
+    /// The records the controller holds, as read, by number.
+    pub fn held(&self) -> impl Iterator<Item = &PositionRecord> + '_ {
+        self.rows.iter().filter_map(|r| match r {
+            Row::Held(p) => Some(p),
+            _ => None,
+        })
+    }
+
     /// The controller's row `n` (1-based); `Unread` outside the table.
     pub fn row(&self, n: u16) -> &Row {
         static UNREAD: Row = Row::Unread;

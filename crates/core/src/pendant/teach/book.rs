@@ -23,6 +23,9 @@ pub struct TeachBook {
     before_load: Option<(String, TeachList)>,
     /// The last word on a file (loaded, refused, undone).
     feedback: Option<(Level, String)>,
+    /// A Go (point index, list revision) that flips the arm or enters a zone, waiting for
+    /// a second press until then; any change of the list takes it back.
+    pub(crate) go_confirm: Option<((usize, u64), std::time::Instant)>,
 }
 
 impl TeachBook {

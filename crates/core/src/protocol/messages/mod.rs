@@ -46,3 +46,4 @@ pub mod scara;
 pub mod scara_status;
 pub mod signals;
 pub mod status;
+pub mod zones;

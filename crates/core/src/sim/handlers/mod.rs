@@ -12,6 +12,7 @@ mod scara;
 mod signals;
 mod status;
 mod system;
+mod zones;
 
 use super::controller::Controller;
 use super::errors::SimError;
