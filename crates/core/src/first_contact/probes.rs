@@ -4,7 +4,9 @@
 use std::fmt::Write as _;
 
 use super::{Answer, Exchange, ReceivedKind};
-use crate::protocol::{MessageId, RealEncoding, Reply, ScMode, Station, VarValues, checksum};
+use crate::protocol::{
+    MessageId, RealEncoding, Reply, ScMode, Station, VarValues, ZoneTable, checksum,
+};
 
 /// What is sent: a message ID and its data characters, with the SC computed or `@@`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -359,7 +361,11 @@ fn reply_findings(
                 ));
             }
         }
-        Check::Zone => out.push(zone_record(body)),
+        Check::Zone => {
+            if let Some(Reply::ZoneTable(table)) = &decoded {
+                out.push(zone_record(table));
+            }
+        }
         Check::Decode => match &decoded {
             Some(Reply::Version(v)) => out.push(format!(
                 "model {:02X}, unit code {:02X}, version {:04X}, built {:04}-{:02}-{:02} {:02}:{:02}",
@@ -374,42 +380,28 @@ fn reply_findings(
     }
 }
 
-/// The 2A2H arithmetic of PROTOCOL.md 3.46: record size from the reply's length
-/// against 2 + 16 x (axes set), and any surplus.
-pub(super) fn zone_record(body: &[u8]) -> String {
-    // `#` station ID zone(2) count(2), then records, then SC: 14 bytes with CR LF.
-    let text = String::from_utf8_lossy(body);
-    let count = text
-        .get(8..10)
-        .and_then(|c| usize::from_str_radix(c, 16).ok());
-    let pattern = text
-        .get(10..12)
-        .and_then(|p| u8::from_str_radix(p, 16).ok());
-    let (Some(count), Some(pattern)) = (count, pattern) else {
-        return "the reply is too short to hold a record".into();
-    };
-    if count == 0 {
+/// What a 2A2H reply says of the record's length (PROTOCOL.md 3.46): the protocol's
+/// reader sizes records from the reply's length and keeps what follows coordinate 2.
+pub(super) fn zone_record(table: &ZoneTable) -> String {
+    let Some(first) = table.records.first() else {
         return "no record came back (zone 1 not defined?)".into();
-    }
-    let records_len = body.len().saturating_sub(12);
-    let per_record = records_len / count;
-    let expected = 2 + 16 * pattern.count_ones() as usize;
-    let mut s = String::new();
-    let _ = write!(
-        s,
-        "{count} record(s) of {per_record} characters; coordinates end at {expected} (axis pattern {pattern:02X})"
+    };
+    let readable = first.readable_len();
+    let whole = readable + first.surplus.len();
+    let mut s = format!(
+        "{} record(s) of {whole} characters; coordinates end at {readable} ({} axes)",
+        table.records.len(),
+        first.corner1.len()
     );
-    if !records_len.is_multiple_of(count) {
-        let _ = write!(s, "; the length does not divide by the count");
-    } else if per_record > expected {
-        let surplus = text.get(10 + expected..10 + per_record).unwrap_or("");
+    if first.surplus.is_empty() {
+        s.push_str("; nothing follows coordinate 2");
+    } else {
         let _ = write!(
             s,
-            "; {} more character(s) follow coordinate 2 in each record: `{surplus}` (the unread tail of p.69)",
-            per_record - expected
+            "; {} more character(s) follow coordinate 2 in each record: `{}` (the unread tail of p.69)",
+            first.surplus.len(),
+            first.surplus_text()
         );
-    } else if per_record == expected {
-        let _ = write!(s, "; nothing follows coordinate 2");
     }
     s
 }
