@@ -39,6 +39,8 @@ fn a_snapshot_of_xsel_sim_is_written_whole_and_reads_back() {
     assert_eq!(snapshot.versions.len(), 4);
     assert!(!snapshot.positions.is_empty());
     assert_eq!(snapshot.work.len(), 32);
+    // The simulator's example coordinate file defines two zones.
+    assert_eq!(snapshot.zones.len(), 2, "{:?}", snapshot.zones);
     let _ = std::fs::remove_file(&path);
 }
 

@@ -1058,8 +1058,8 @@ impl Pendant {
     }
 
     /// The parts of a snapshot other sub-models read: the position table (its view's
-    /// read of every number), the alarm history, and the coordinate tables read at
-    /// connect. Handed over once, taken in when they end.
+    /// read of every number), the alarm history, the coordinate tables read at connect
+    /// and the zones (read again). Handed over once, taken in when they end.
     fn snapshot_work(&mut self, now: Instant) {
         use snapshot::{Part, Snapshots};
         let handed = self.snapshots.handed();
@@ -1128,6 +1128,29 @@ impl Pendant {
                 );
                 self.snapshots
                     .part_read(Snapshots::tables(work.as_deref(), tool.as_deref()))
+            }
+            Some(Part::Zones) if !handed => {
+                let said = self.zones.start(self.line.is_up());
+                self.snapshots.handed_over();
+                self.zones_out();
+                said
+            }
+            Some(Part::Zones) if !self.zones.reading() => {
+                let defined: Vec<(u8, crate::protocol::ZoneRecord)> = self
+                    .zones
+                    .read()
+                    .iter()
+                    .filter(|z| self.zones.boxes().iter().any(|b| b.number == z.number))
+                    .map(|z| (z.number, z.record.clone()))
+                    .collect();
+                let failed = self.zones.failed().then(|| {
+                    self.zones
+                        .outcome
+                        .as_ref()
+                        .map_or(String::new(), |o| o.1.clone())
+                });
+                self.snapshots
+                    .part_read(Snapshots::zones_read(&defined, failed))
             }
             _ => None,
         };

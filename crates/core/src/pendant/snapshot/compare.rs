@@ -112,6 +112,13 @@ pub fn compare(old: &Snapshot, new: &Snapshot) -> Comparison {
         reals(&new.reals),
         |v| v.clone(),
     );
+    rows(
+        &mut d,
+        "zones",
+        keyed(&old.zones, |z| format!("zone {}", z.number)),
+        keyed(&new.zones, |z| format!("zone {}", z.number)),
+        zone_text,
+    );
     alarms(&mut d, &old.alarms, &new.alarms);
     for (which, s) in [("old", old), ("new", new)] {
         if !s.missing.is_empty() {
@@ -202,4 +209,19 @@ fn alarms(out: &mut Vec<Difference>, old: &[AlarmEntry], new: &[AlarmEntry]) {
             ),
         });
     }
+}
+
+/// A zone's corners (and its unread tail) in a row of the differences.
+fn zone_text(z: &super::Zone) -> String {
+    let corner = |c: &BTreeMap<String, f64>| {
+        c.iter()
+            .map(|(a, v)| format!("{a} {v:.3}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let mut s = format!("{} to {}", corner(&z.corner1), corner(&z.corner2));
+    if !z.tail.is_empty() {
+        s.push_str(&format!(" (tail {})", z.tail));
+    }
+    s
 }

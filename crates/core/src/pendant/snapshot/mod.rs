@@ -23,7 +23,7 @@ use super::Level;
 use crate::link::LinkEvent;
 use crate::protocol::{
     BitData, BitQuery, BitSpace, Command, ErrorDetail, GLOBAL_FLAGS, PositionRecord, RecordArm,
-    Reply, UnitType, VarKind, VarQuery, VarValues, VersionInfo, VersionQuery,
+    Reply, UnitType, VarKind, VarQuery, VarValues, VersionInfo, VersionQuery, ZoneRecord,
 };
 use crate::robot::CoordSystem;
 
@@ -119,6 +119,33 @@ impl Frame {
     }
 }
 
+/// One interference zone: a box by two corners in base coordinates (mm, deg) on the
+/// axes its record names, and the record's unread tail raw (PROTOCOL.md 3.46).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Zone {
+    pub number: u8,
+    pub corner1: BTreeMap<String, f64>,
+    pub corner2: BTreeMap<String, f64>,
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub tail: String,
+}
+
+impl Zone {
+    fn of(number: u8, r: &ZoneRecord) -> Zone {
+        let corner = |c: &crate::protocol::PerAxis<crate::protocol::Milli>| {
+            c.iter()
+                .map(|(a, v)| (format!("axis {}", a.number()), f64::from(v.0) / 1000.0))
+                .collect()
+        };
+        Zone {
+            number,
+            corner1: corner(&r.corner1),
+            corner2: corner(&r.corner2),
+            tail: r.surplus_text(),
+        }
+    }
+}
+
 /// One record of the alarm history.
 #[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct AlarmEntry {
@@ -161,6 +188,10 @@ pub struct Snapshot {
     /// (PROTOCOL.md 3.40: the encoding is a controller setting).
     pub reals: BTreeMap<u16, String>,
     pub alarms: Vec<AlarmEntry>,
+    /// The interference zones defined (2A2H); absent from files written before zones
+    /// were read (they load as none).
+    #[serde(default)]
+    pub zones: Vec<Zone>,
     /// What could not be read, and why.
     pub missing: Vec<String>,
 }
@@ -208,13 +239,14 @@ impl Snapshot {
     /// One line: when, over what, how much.
     pub fn summary(&self) -> String {
         let mut s = format!(
-            "{} over {}: {} position(s), {} alarm(s), {} flag(s) on, {} variable(s) set",
+            "{} over {}: {} position(s), {} alarm(s), {} flag(s) on, {} variable(s) set, {} zone(s)",
             self.taken,
             self.line,
             self.positions.len(),
             self.alarms.len(),
             self.flags_on.len(),
-            self.integers.len() + self.reals.len()
+            self.integers.len() + self.reals.len(),
+            self.zones.len()
         );
         if !self.missing.is_empty() {
             s.push_str(&format!("; not read: {}", self.missing.join("; ")));
@@ -236,9 +268,11 @@ pub enum Part {
     Alarms,
     /// Copied from the coordinate tables read at connect.
     Tables,
+    /// Read by the zones sub-model.
+    Zones,
 }
 
-const PARTS: [Part; 7] = [
+const PARTS: [Part; 8] = [
     Part::Versions,
     Part::Flags,
     Part::Integers,
@@ -246,6 +280,7 @@ const PARTS: [Part; 7] = [
     Part::Positions,
     Part::Alarms,
     Part::Tables,
+    Part::Zones,
 ];
 
 impl Part {
@@ -258,6 +293,7 @@ impl Part {
             Part::Positions => "position table",
             Part::Alarms => "alarm history",
             Part::Tables => "coordinate tables",
+            Part::Zones => "interference zones (2A2H)",
         }
     }
 }
@@ -439,7 +475,7 @@ impl Snapshots {
                 })
             }
             // Read by others: the pendant hands them over.
-            Part::Positions | Part::Alarms | Part::Tables => return,
+            Part::Positions | Part::Alarms | Part::Tables | Part::Zones => return,
         };
         t.in_flight = Some(command.clone());
         self.commands.push(command);
@@ -477,6 +513,17 @@ impl Snapshots {
     /// The positions read: every record the table held.
     pub fn positions_read(records: &[PositionRecord]) -> impl FnOnce(&mut Snapshot) + '_ {
         move |s| s.positions = records.iter().map(Position::from).collect()
+    }
+
+    /// The defined zones as read, or why they are missing.
+    pub fn zones_read(
+        read: &[(u8, ZoneRecord)],
+        failed: Option<String>,
+    ) -> impl FnOnce(&mut Snapshot) + '_ {
+        move |s| match failed {
+            Some(why) => s.missing.push(format!("interference zones: {why}")),
+            None => s.zones = read.iter().map(|(n, r)| Zone::of(*n, r)).collect(),
+        }
     }
 
     /// The coordinate tables read at connect (or why they are missing).

@@ -66,6 +66,33 @@ fn two_snapshots_around_a_change_show_exactly_that_change() {
     assert_eq!(b.p.snapshots.comparison.as_ref(), Some(&c));
     // The positions view saw the read too.
     assert!(b.p.positions.read.is_none());
+
+    // The zones are part of it: a zone moved on the controller is one more row.
+    assert_eq!(
+        second.zones.len(),
+        b.sim.zones().len(),
+        "{:?}",
+        second.missing
+    );
+    let mut zone = b.sim.zones()[&1].clone();
+    zone.corner2.set(
+        crate::protocol::Axis::new(1).unwrap(),
+        crate::protocol::Milli(250_000),
+    );
+    b.sim.zones.insert(1, zone);
+    let third = take(&mut b);
+    let c = compare(&second, &third);
+    let rows: Vec<(&str, &str)> = c
+        .differences
+        .iter()
+        .map(|d| (d.table, d.row.as_str()))
+        .collect();
+    assert_eq!(rows, [("zones", "zone 1")]);
+    assert!(
+        c.differences[0].new.contains("axis 1 250.000"),
+        "{:?}",
+        c.differences[0]
+    );
 }
 
 #[test]
