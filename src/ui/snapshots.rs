@@ -118,7 +118,7 @@ impl SnapshotsSection {
                 .add_enabled(taking.is_none(), egui::Button::new("Take snapshot"))
                 .on_hover_text(
                     "Read versions, the position table, the coordinate tables, global flags \
-                     and variables and the alarm history into one snapshot",
+                     and variables, the alarm history and the zones into one snapshot",
                 )
                 .clicked()
             {
@@ -143,6 +143,25 @@ impl SnapshotsSection {
                 .clicked()
             {
                 ask.push(SnapshotIntent::CompareLast);
+            }
+            let source = snapshots.restore_source();
+            let restore = ui
+                .add_enabled(
+                    source.is_some() && taking.is_none(),
+                    egui::Button::new("Restore positions to the draft"),
+                )
+                .on_hover_text(match source {
+                    Some(s) => format!(
+                        "Put the {} position(s) of the snapshot of {} into the Positions \
+                         view's draft (one Undo step). Nothing is sent: Write there shows \
+                         every changed row first.",
+                        s.positions.len(),
+                        s.taken
+                    ),
+                    None => "Take or open a snapshot first".to_owned(),
+                });
+            if restore.clicked() {
+                ask.push(SnapshotIntent::RestorePositions);
             }
         });
         said_line(ui, &snapshots.feedback);

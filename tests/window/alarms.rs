@@ -93,4 +93,18 @@ fn alarms_arrive_with_their_frames_and_two_snapshots_show_exactly_what_changed()
         [("positions", "No. 00001"), ("integer variables", "210")]
     );
     step_until_shown(&mut h, "axis 2 -12.500");
+
+    // Restore: the first snapshot's positions into the Positions draft, where only
+    // No. 1 differs from the controller; nothing goes out until Write there.
+    let before = sim(h.state(), |c| c.positions()[&1]);
+    click_button(&mut h, "Restore positions to the draft");
+    step_until_shown(&mut h, "put into the Positions draft");
+    let changed = h.state().pendant().positions.changed();
+    assert_eq!(changed.iter().map(|r| r.number).collect::<Vec<_>>(), [1]);
+    assert_ne!(changed[0], before);
+    assert_eq!(
+        sim(h.state(), |c| c.positions()[&1]),
+        before,
+        "nothing sent"
+    );
 }

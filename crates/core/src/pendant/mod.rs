@@ -1037,6 +1037,11 @@ impl Pendant {
 
     /// Applies one snapshot intent: the sub-model decides; its words go to Messages.
     pub fn apply_snapshot(&mut self, intent: snapshot::SnapshotIntent, now: Instant) {
+        if let snapshot::SnapshotIntent::RestorePositions = intent {
+            let (level, text) = self.restore_positions();
+            self.snapshots.feedback = Some((level, text.clone()));
+            return self.say(level, text, now);
+        }
         let line = match &self.line {
             LineState::Up { line, .. } => Some(line.as_str()),
             _ => None,
@@ -1048,6 +1053,44 @@ impl Pendant {
             self.say(level, text, now);
         }
         self.snapshot_out();
+    }
+
+    /// A snapshot's positions into the Positions draft (one undo step); the write is the
+    /// operator's, through the view's preview.
+    fn restore_positions(&mut self) -> (Level, String) {
+        let Some(source) = self.snapshots.restore_source() else {
+            return (Level::Warning, "take or open a snapshot first".into());
+        };
+        if self.positions.busy() {
+            return (
+                Level::Warning,
+                "the position table is being read or written: restore when it is done".into(),
+            );
+        }
+        let records: Result<Vec<_>, String> = source
+            .positions
+            .iter()
+            .map(|p| p.to_record().map(|r| (r, None)))
+            .collect();
+        let taken = source.taken.clone();
+        match records.and_then(|r| self.positions.import(r)) {
+            Ok(0) => (
+                Level::Warning,
+                format!("the snapshot of {taken} holds no position: nothing restored"),
+            ),
+            Ok(n) => (
+                Level::Info,
+                format!(
+                    "{n} position(s) of the snapshot of {taken} put into the Positions draft \
+                     (Undo takes them back): nothing is sent until Write there, with its \
+                     preview; numbers the snapshot does not hold are left as they are"
+                ),
+            ),
+            Err(e) => (
+                Level::Warning,
+                format!("not restored: {e} (the draft is unchanged)"),
+            ),
+        }
     }
 
     /// Moves the snapshot's own reads to the requests, in the line time the polls leave.

@@ -96,6 +96,51 @@ impl From<&PositionRecord> for Position {
     }
 }
 
+impl Position {
+    /// The record this row was read from (what the Positions view's draft takes); a
+    /// row a file changed into nonsense is named.
+    pub fn to_record(&self) -> Result<PositionRecord, String> {
+        let mut coords = crate::protocol::PerAxis::new();
+        for (name, value) in &self.axes {
+            let axis = name
+                .strip_prefix("axis ")
+                .and_then(|n| n.parse::<u8>().ok())
+                .and_then(crate::protocol::Axis::new)
+                .ok_or_else(|| format!("No. {}: `{name}` is not an axis", self.number))?;
+            let milli = (value * 1000.0).round();
+            if !milli.is_finite() || milli.abs() > f64::from(i32::MAX) {
+                return Err(format!(
+                    "No. {}: {name} {value} is out of range",
+                    self.number
+                ));
+            }
+            coords.set(axis, crate::protocol::Milli(milli as i32));
+        }
+        let scara1 = match self.arm.as_str() {
+            "right" => RecordArm::Right,
+            "left" => RecordArm::Left,
+            "" => RecordArm::Unspecified,
+            other => {
+                return Err(format!(
+                    "No. {}: `{other}` is not an arm system",
+                    self.number
+                ));
+            }
+        };
+        Ok(PositionRecord {
+            number: self.number,
+            coords,
+            accel: crate::protocol::CentiG(self.accel),
+            decel: crate::protocol::CentiG(self.decel),
+            speed: crate::protocol::MmPerSec(self.speed),
+            arms: crate::protocol::RecordArms {
+                scara1,
+                ..Default::default()
+            },
+        })
+    }
+}
+
 /// One record of a coordinate table (mm, deg).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Frame {
@@ -323,6 +368,10 @@ pub enum SnapshotIntent {
         path: String,
         read: Result<Box<Snapshot>, String>,
     },
+    /// The positions of the older snapshot (the one compared against, or a file opened)
+    /// into the Positions view's draft, to be written with its preview: never sent by
+    /// itself.
+    RestorePositions,
     /// A snapshot written to a file (or why not).
     Saved {
         path: String,
@@ -343,6 +392,12 @@ pub struct Snapshots {
 }
 
 impl Snapshots {
+    /// The snapshot positions are restored from: the older of the last two (or the file
+    /// opened), else the only one.
+    pub fn restore_source(&self) -> Option<&Snapshot> {
+        self.previous.as_ref().or(self.latest.as_ref())
+    }
+
     /// The part being read, when a snapshot is being taken.
     pub fn part(&self) -> Option<Part> {
         self.taking.as_ref().map(|t| PARTS[t.part])
@@ -434,6 +489,8 @@ impl Snapshots {
                     self.say(Level::Info, said)
                 }
             },
+            // The pendant carries it out (it crosses into the Positions view).
+            SnapshotIntent::RestorePositions => None,
             SnapshotIntent::Saved { path, result } => match result {
                 Ok(()) => self.say(Level::Info, format!("snapshot saved to {path}")),
                 Err(e) => self.say(Level::Error, format!("snapshot not saved: {e}")),

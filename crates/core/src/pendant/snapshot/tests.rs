@@ -67,6 +67,25 @@ fn two_snapshots_around_a_change_show_exactly_that_change() {
     // The positions view saw the read too.
     assert!(b.p.positions.read.is_none());
 
+    // Restore: the older snapshot's positions go into the Positions draft, and only
+    // the position changed since differs from the controller; nothing is sent.
+    let sent = b.sent.len();
+    b.apply(Intent::Snapshot(SnapshotIntent::RestorePositions));
+    assert_eq!(b.sent.len(), sent, "a restore sends nothing");
+    let changed = b.p.positions.changed();
+    assert_eq!(changed.len(), 1, "{changed:?}");
+    assert_eq!(changed[0].number, 2);
+    assert_eq!(
+        crate::pendant::snapshot::Position::from(&changed[0]),
+        first
+            .positions
+            .iter()
+            .find(|p| p.number == 2)
+            .unwrap()
+            .clone()
+    );
+    assert!(b.p.positions.can_undo());
+
     // The zones are part of it: a zone moved on the controller is one more row.
     assert_eq!(
         second.zones.len(),
@@ -176,4 +195,24 @@ fn different_versions_are_said_first_and_alarm_lists_compare_by_their_tops() {
     b.alarms = vec![alarm(0xB07, 1)];
     let c = compare(&a, &b);
     assert_eq!(c.differences[1].row, "the list");
+}
+
+#[test]
+fn a_position_changed_into_nonsense_in_a_file_is_named_not_restored() {
+    let mut p = Position {
+        number: 7,
+        arm: "right".into(),
+        ..Position::default()
+    };
+    p.axes.insert("axis 1".into(), 12.5);
+    let r = p.to_record().expect("a good row");
+    assert_eq!(Position::from(&r), p);
+    p.axes.insert("axis 9".into(), 1.0);
+    assert_eq!(p.to_record().unwrap_err(), "No. 7: `axis 9` is not an axis");
+    p.axes.remove("axis 9");
+    p.axes.insert("axis 2".into(), 1e12);
+    assert!(p.to_record().unwrap_err().contains("out of range"));
+    p.axes.remove("axis 2");
+    p.arm = "middle".into();
+    assert!(p.to_record().unwrap_err().contains("not an arm system"));
 }
