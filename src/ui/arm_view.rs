@@ -78,7 +78,13 @@ pub struct ArmView {
     /// The last scene painted (tests read it).
     scene: Option<Scene>,
     export: Export,
+    /// In a narrow pane the export controls are folded behind "PNG..." (opened).
+    export_open: bool,
 }
+
+/// Below this pane width the export controls fold behind one button, so the toolbar
+/// keeps to one row and the drawing keeps its height (a 1024x700 panel PC).
+const EXPORT_INLINE_FROM: f32 = 760.0;
 
 impl ArmView {
     /// The scene painted last.
@@ -209,12 +215,19 @@ impl ArmView {
                 self.trail.clear();
             }
             ui.separator();
-            let pane = self.view.map_or([1280, 800], |v| {
-                [v.size[0].round() as u32, v.size[1].round() as u32]
-            });
-            if let Some(view) = self.view {
-                let shown = (scene, palette, &view, pane);
-                self.export.controls(ui, shown, folder, now);
+            let inline = ui.max_rect().width() >= EXPORT_INLINE_FROM;
+            if !inline {
+                ui.toggle_value(&mut self.export_open, "PNG...")
+                    .on_hover_text("Export the view as a PNG file");
+            }
+            if inline || self.export_open {
+                let pane = self.view.map_or([1280, 800], |v| {
+                    [v.size[0].round() as u32, v.size[1].round() as u32]
+                });
+                if let Some(view) = self.view {
+                    let shown = (scene, palette, &view, pane);
+                    self.export.controls(ui, shown, folder, now);
+                }
             }
         });
         self.export.poll(ui, now, intents);
