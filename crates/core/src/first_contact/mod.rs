@@ -16,7 +16,7 @@ mod tests;
 
 use std::time::{Duration, Instant};
 
-use crate::protocol::{ErrorCode, Header, OwnedFrame, Station, StreamDecoder};
+use crate::protocol::{ErrorCode, Header, OwnedFrame, Reply, Station, StreamDecoder};
 
 pub use probes::{Ask, QUESTIONS, Question};
 pub use report::{ReportHeader, render, summary_text};
@@ -299,7 +299,10 @@ impl FirstContact {
             }
         };
         let answer = (kind == ReceivedKind::Answer).then(|| match parsed.header() {
-            Header::Error => Answer::Refused(error_code(parsed.data())),
+            Header::Error => Answer::Refused(match Reply::decode(parsed) {
+                Ok(Reply::Error(code)) => code,
+                _ => ErrorCode::NONE,
+            }),
             _ => Answer::Reply(frame.clone()),
         });
         self.keep(at, raw, kind);
@@ -328,13 +331,4 @@ impl FirstContact {
         };
         last.received.push(Received { at, bytes, kind });
     }
-}
-
-/// The error number of an `&` frame's data (`000` when unreadable: the frame parsed, so
-/// it has three hex digits).
-fn error_code(data: &[u8]) -> ErrorCode {
-    std::str::from_utf8(data)
-        .ok()
-        .and_then(|s| u16::from_str_radix(s, 16).ok())
-        .map_or(ErrorCode::NONE, ErrorCode)
 }

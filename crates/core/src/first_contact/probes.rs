@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 
 use super::{Answer, Exchange, ReceivedKind};
 use crate::protocol::{
-    MessageId, RealEncoding, Reply, ScMode, Station, VarValues, ZoneTable, checksum,
+    MessageId, RealEncoding, Reply, ScMode, Station, VarValues, ZoneTable, command_frame,
 };
 
 /// What is sent: a message ID and its data characters, with the SC computed or `@@`.
@@ -32,16 +32,7 @@ impl Ask {
 
     /// The whole frame for `station`, CR LF included.
     pub fn bytes(&self, station: Station) -> Vec<u8> {
-        let mut frame = format!("!{station}{:03X}{}", self.id, self.data).into_bytes();
-        match self.sc {
-            ScMode::Computed => {
-                let sc = checksum(&frame);
-                frame.extend_from_slice(format!("{sc:02X}").as_bytes());
-            }
-            ScMode::AtAt => frame.extend_from_slice(b"@@"),
-        }
-        frame.extend_from_slice(b"\r\n");
-        frame
+        command_frame(station, self.id(), self.data.as_bytes(), self.sc)
     }
 }
 

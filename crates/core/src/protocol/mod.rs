@@ -74,3 +74,4 @@ pub use messages::status::{
 pub use messages::zones::{ZONE_NUMBERS, ZONE_TAIL_ALLOWANCE, ZoneQuery, ZoneRecord, ZoneTable};
 pub use reply::Reply;
 pub use units::{AxisUnit, CentiG, Milli, MmPerSec, Percent};
+pub use writer::command_frame;

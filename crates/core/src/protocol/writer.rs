@@ -62,6 +62,19 @@ impl Writer<'_> {
     }
 }
 
+/// A command frame from data characters as they are (a first contact's probes, which
+/// include requests no typed command would make): header, station, ID, `data`, SC (or
+/// `@@`), CR LF.
+pub fn command_frame(station: Station, id: MessageId, data: &[u8], sc: ScMode) -> Vec<u8> {
+    let mut out = Vec::with_capacity(data.len() + 10);
+    // The body only copies bytes: it cannot fail.
+    let _ = encode_frame(&mut out, Header::Command, station, Some(id), id, sc, |w| {
+        w.bytes(data);
+        Ok(())
+    });
+    out
+}
+
 /// Writes one whole frame: header, station, ID (if any), the body, SC, CR LF. On error
 /// nothing is left in `out`.
 #[inline]
