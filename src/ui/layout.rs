@@ -146,49 +146,31 @@ pub fn shape_of(tree: &Tree<Tab>) -> Vec<String> {
 /// width, the plots a tile of their own beside Messages, Alarms and the frame log, the
 /// position and the tables on the right.
 pub fn wide_layout() -> Tree<Tab> {
-    let mut tiles = Tiles::default();
-    let tabs = |tiles: &mut Tiles<Tab>, panes: &[Tab]| {
-        let children = panes.iter().map(|p| tiles.insert_pane(*p)).collect();
-        tiles.insert_tab_tile(children)
-    };
-    let arm = tabs(&mut tiles, &[Tab::Arm]);
-    let position = tabs(&mut tiles, &[Tab::Position]);
-    let status = tabs(
-        &mut tiles,
-        &[
-            Tab::Status,
-            Tab::Axes,
-            Tab::Teach,
-            Tab::Positions,
-            Tab::Coords,
-            Tab::Signals,
-            Tab::Programs,
-            Tab::Simulator,
-        ],
-    );
-    let traffic = tabs(&mut tiles, &[Tab::Messages, Tab::Alarms, Tab::FrameLog]);
-    let plots = tabs(&mut tiles, &[Tab::Plots]);
-    let bottom = tiles.insert_container(Linear::new_binary(
-        LinearDir::Horizontal,
-        [traffic, plots],
-        0.5,
-    ));
-    let left = tiles.insert_container(Linear::new_binary(LinearDir::Vertical, [arm, bottom], 0.6));
-    let right = tiles.insert_container(Linear::new_binary(
-        LinearDir::Vertical,
-        [position, status],
-        0.26,
-    ));
-    let root = tiles.insert_container(Linear::new_binary(
-        LinearDir::Horizontal,
-        [left, right],
-        0.64,
-    ));
-    Tree::new(egui::Id::unique("centre-layout"), root, tiles)
+    centre(true)
 }
 
 /// The default layout (up to [`WIDE_FROM`]).
 pub fn default_layout() -> Tree<Tab> {
+    centre(false)
+}
+
+/// The tabs beside Status, in both defaults.
+const TABLE_TABS: [Tab; 8] = [
+    Tab::Status,
+    Tab::Axes,
+    Tab::Teach,
+    Tab::Positions,
+    Tab::Coords,
+    Tab::Signals,
+    Tab::Programs,
+    Tab::Simulator,
+];
+
+/// Both defaults from one arrangement (tiles inserted in one order, so a saved default
+/// is recognised): the arm view over the traffic on the left, the position over the
+/// tables on the right; the wide one gives the plots a tile of their own and the arm
+/// view more room.
+fn centre(wide: bool) -> Tree<Tab> {
     let mut tiles = Tiles::default();
     let tabs = |tiles: &mut Tiles<Tab>, panes: &[Tab]| {
         let children = panes.iter().map(|p| tiles.insert_pane(*p)).collect();
@@ -196,37 +178,37 @@ pub fn default_layout() -> Tree<Tab> {
     };
     let arm = tabs(&mut tiles, &[Tab::Arm]);
     let position = tabs(&mut tiles, &[Tab::Position]);
-    let status = tabs(
-        &mut tiles,
-        &[
-            Tab::Status,
-            Tab::Axes,
-            Tab::Teach,
-            Tab::Positions,
-            Tab::Coords,
-            Tab::Signals,
-            Tab::Programs,
-            Tab::Simulator,
-        ],
-    );
-    let traffic = tabs(
-        &mut tiles,
-        &[Tab::Messages, Tab::Alarms, Tab::FrameLog, Tab::Plots],
-    );
+    let status = tabs(&mut tiles, &TABLE_TABS);
+    let (bottom, arm_share, right_share, left_share) = if wide {
+        let traffic = tabs(&mut tiles, &[Tab::Messages, Tab::Alarms, Tab::FrameLog]);
+        let plots = tabs(&mut tiles, &[Tab::Plots]);
+        let bottom = tiles.insert_container(Linear::new_binary(
+            LinearDir::Horizontal,
+            [traffic, plots],
+            0.5,
+        ));
+        (bottom, 0.6, 0.26, 0.64)
+    } else {
+        let traffic = tabs(
+            &mut tiles,
+            &[Tab::Messages, Tab::Alarms, Tab::FrameLog, Tab::Plots],
+        );
+        (traffic, 0.48, 0.3, 0.56)
+    };
     let left = tiles.insert_container(Linear::new_binary(
         LinearDir::Vertical,
-        [arm, traffic],
-        0.48,
+        [arm, bottom],
+        arm_share,
     ));
     let right = tiles.insert_container(Linear::new_binary(
         LinearDir::Vertical,
         [position, status],
-        0.3,
+        right_share,
     ));
     let root = tiles.insert_container(Linear::new_binary(
         LinearDir::Horizontal,
         [left, right],
-        0.56,
+        left_share,
     ));
     Tree::new(egui::Id::unique("centre-layout"), root, tiles)
 }
