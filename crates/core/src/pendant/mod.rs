@@ -693,6 +693,25 @@ impl Pendant {
         self.jog_says(level, format!("STOP sent ({})", cause.name()), now);
     }
 
+    /// A held continuous jog about to enter `zones`: STOP (latched), then the next press
+    /// of the same control, once released, may jog into them.
+    fn stop_before_zones(&mut self, target: jog::hold::JogTarget, zones: &[u8], now: Instant) {
+        self.stop_by(StopCause::Zone(zones[0]), now);
+        self.jog.arm_zone_pass(target, zones, now);
+        let label = target.label();
+        self.jog_says(
+            Level::Warning,
+            format!(
+                "{label} stopped before {} ({}): release it, then press {label} again \
+                 within {} s to jog into it",
+                jog::zone_watch::zones_text(zones),
+                zones::ZONE_ACTION,
+                CONFIRM_FOR.as_secs()
+            ),
+            now,
+        );
+    }
+
     /// The link's own STOPs (lapsed lease, stalled line) reach Messages and latch.
     fn link_stop(&mut self, now: Instant, event: &LinkEvent) {
         let origin = match event {
@@ -773,6 +792,9 @@ impl Pendant {
         }
         if let Err(why) = self.motion_ready(now) {
             return self.stop_by(StopCause::NotReady(why), now);
+        }
+        if let Some((target, zones)) = self.jog.zone_ahead(&jog_cx!(self), now) {
+            return self.stop_before_zones(target, &zones, now);
         }
         if let Some(label) = self.jog.ended_by_controller(&self.controller) {
             self.jog_says(

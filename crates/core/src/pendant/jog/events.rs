@@ -73,6 +73,7 @@ impl JogState {
     pub fn stop(&mut self, cause: StopCause, now: Instant) {
         self.hold.stop(cause);
         self.confirm = None;
+        self.zone_pass = None;
         if let Some(f) = self.followed.as_mut() {
             f.stopped.get_or_insert(now);
         }
@@ -82,6 +83,7 @@ impl JogState {
     /// the move followed is stopped short.
     pub fn stopped_outside(&mut self, cause: StopCause, now: Instant) {
         self.hold.stop(cause);
+        self.zone_pass = None;
         if let Some(f) = self.followed.as_mut() {
             f.stopped.get_or_insert(now);
         }
@@ -91,6 +93,7 @@ impl JogState {
     /// The line went down: nothing is followed; true when a jog was held (latched).
     pub fn line_lost(&mut self) -> bool {
         let jogging = self.hold.stop(StopCause::LineLost).is_some();
+        self.zone_pass = None;
         self.followed = None;
         self.command_position = None;
         jogging

@@ -87,6 +87,8 @@ pub enum StopCause {
     NotReady(NotReady),
     /// The window lost the keyboard and pointer.
     FocusLost,
+    /// A continuous jog came within its stopping distance of this interference zone.
+    Zone(u8),
     /// An RMC axis held toward a configured soft limit came within stopping distance of it.
     SoftLimit,
     /// The window is closing.
@@ -106,6 +108,7 @@ impl StopCause {
             StopCause::Refused => "the jog was refused".into(),
             StopCause::NotReady(why) => why.to_string(),
             StopCause::FocusLost => "the window lost focus".into(),
+            StopCause::Zone(n) => format!("zone {n} ahead"),
             StopCause::SoftLimit => "the axis reached its soft limit".into(),
             StopCause::Exit => "the window closed".into(),
         }

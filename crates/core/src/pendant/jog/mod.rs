@@ -8,6 +8,7 @@ pub mod hold;
 pub mod plan;
 pub mod speed_cap;
 pub mod target;
+pub mod zone_watch;
 
 use std::time::Instant;
 
@@ -46,6 +47,10 @@ pub struct JogState {
     pub(super) confirm: Option<(JogAxis, crate::protocol::Direction, Instant)>,
     /// The target filled in from the arm view ("step here"), moved to only on "Go".
     pub(super) step_target: Option<target::StepTarget>,
+    /// A continuous jog into interference zones, waiting for a second press until then.
+    pub(super) zone_pass: Option<zone_watch::ZonePass>,
+    /// The zones the held continuous jog was confirmed into (it may enter these).
+    pub(super) zones_let: Vec<u8>,
 }
 
 impl Default for JogState {
@@ -60,6 +65,8 @@ impl Default for JogState {
             jog_end_said: false,
             confirm: None,
             step_target: None,
+            zone_pass: None,
+            zones_let: Vec::new(),
         }
     }
 }
@@ -314,6 +321,28 @@ impl JogState {
                 now,
             );
         }
+        let zones_let = match self.zones_ahead(cx, target, now) {
+            Ok(entered) if entered.is_empty() => Vec::new(),
+            Ok(entered) => {
+                let Some(pass) = self
+                    .zone_pass
+                    .take()
+                    .filter(|p| p.lets(target, &entered, now))
+                else {
+                    return self.ask_zone_pass(out, target, entered, now);
+                };
+                pass.zones
+            }
+            Err(why) => {
+                let text = format!(
+                    "{} not sent: the zones cannot be checked: {why}",
+                    target.label()
+                );
+                return self.says(out, Level::Warning, text, now);
+            }
+        };
+        self.zone_pass = None;
+        self.zones_let = zones_let;
         let command = jog::continuous_jog(&self.sent(cx), target.axis, target.direction);
         out.push(Request::Submit(command));
         self.hold.started(input, target, now);
@@ -322,6 +351,65 @@ impl JogState {
         self.followed = None;
         self.command_position = None;
         self.says(out, Level::Info, format!("jogging {}", target.label()), now);
+    }
+
+    /// The zones a continuous jog of `target` would enter before a STOP could hold it,
+    /// from where the arm is (none where no zone is read).
+    fn zones_ahead(&self, cx: &JogCx, target: JogTarget, now: Instant) -> Result<Vec<u8>, Refusal> {
+        if !cx.zones.iter().any(crate::robot::ZoneBox::is_defined) {
+            return Ok(Vec::new());
+        }
+        let arm = self.arm_now(cx, now)?;
+        Ok(
+            zone_watch::way_ahead(cx.model, cx.kin, &self.sent(cx), target, &arm)
+                .map(|way| zone_watch::zones_entered(&way, &arm))
+                .unwrap_or_default(),
+        )
+    }
+
+    /// A continuous jog toward zones: not sent, a second press of the same control asked
+    /// for.
+    fn ask_zone_pass(&mut self, out: &mut Out, target: JogTarget, zones: Vec<u8>, now: Instant) {
+        let label = target.label();
+        let text = format!(
+            "{label} would enter {} within its stopping distance ({}): press {label} \
+             again within {} s to jog into it",
+            zone_watch::zones_text(&zones),
+            super::zones::ZONE_ACTION,
+            CONFIRM_FOR.as_secs()
+        );
+        self.zone_pass = Some(zone_watch::ZonePass {
+            target,
+            zones,
+            at: now,
+        });
+        self.says(out, Level::Warning, text, now);
+    }
+
+    /// The held continuous jog, if the way it may still go enters a zone it was not
+    /// confirmed into: its label and those zones (the caller STOPs it, then arms the
+    /// second press with [`JogState::arm_zone_pass`]).
+    pub fn zone_ahead(&self, cx: &JogCx, now: Instant) -> Option<(JogTarget, Vec<u8>)> {
+        let jog = self.hold.jog()?;
+        let mut entered = self.zones_ahead(cx, jog.target, now).ok()?;
+        entered.retain(|z| !self.zones_let.contains(z));
+        (!entered.is_empty()).then_some((jog.target, entered))
+    }
+
+    /// After a jog stopped before `zones`: the next press of `target` (once released)
+    /// within the confirmation time may jog into them and those it was let into.
+    pub fn arm_zone_pass(&mut self, target: JogTarget, zones: &[u8], now: Instant) {
+        let mut all = std::mem::take(&mut self.zones_let);
+        for z in zones {
+            if !all.contains(z) {
+                all.push(*z);
+            }
+        }
+        self.zone_pass = Some(zone_watch::ZonePass {
+            target,
+            zones: all,
+            at: now,
+        });
     }
 
     /// The window lost focus: it cannot see a key or button come up, so the jog stops.
@@ -358,11 +446,13 @@ impl JogState {
     /// taken back, the step's and the target's.
     pub fn confirmations_lapse(&mut self) {
         self.confirm = None;
+        self.zone_pass = None;
         self.lapse_target_confirm();
     }
 
     pub fn settings_changed(&mut self) {
         self.confirm = None;
+        self.zone_pass = None;
         if self
             .feedback
             .as_ref()
