@@ -704,7 +704,7 @@ impl Pendant {
             format!(
                 "{label} stopped before {} ({}): release it, then press {label} again \
                  within {} s to jog into it",
-                jog::zone_watch::zones_text(zones),
+                jog::zones_text(zones),
                 zones::ZONE_ACTION,
                 CONFIRM_FOR.as_secs()
             ),

@@ -374,7 +374,7 @@ impl JogState {
         let text = format!(
             "{label} would enter {} within its stopping distance ({}): press {label} \
              again within {} s to jog into it",
-            zone_watch::zones_text(&zones),
+            plan::zones_text(&zones),
             super::zones::ZONE_ACTION,
             CONFIRM_FOR.as_secs()
         );

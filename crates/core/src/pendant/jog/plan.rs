@@ -304,16 +304,8 @@ impl PlannedStep {
         if self.flips_arm {
             why.push("flips the arm system".to_owned());
         }
-        match self.path.zones.as_slice() {
-            [] => {}
-            [n] => why.push(format!("enters zone {n}")),
-            many => why.push(format!(
-                "enters zones {}",
-                many.iter()
-                    .map(u8::to_string)
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            )),
+        if !self.path.zones.is_empty() {
+            why.push(format!("enters {}", zones_text(&self.path.zones)));
         }
         (!why.is_empty()).then(|| why.join(" and "))
     }
@@ -331,6 +323,20 @@ impl PlannedStep {
             "{what} {why}{zone}: press {again} within {} s to confirm",
             crate::pendant::CONFIRM_FOR.as_secs()
         ))
+    }
+}
+
+/// Zones named as the pendant says them: "zone 2", "zones 1, 2".
+pub fn zones_text(zones: &[u8]) -> String {
+    let list = zones
+        .iter()
+        .map(u8::to_string)
+        .collect::<Vec<_>>()
+        .join(", ");
+    if zones.len() == 1 {
+        format!("zone {list}")
+    } else {
+        format!("zones {list}")
     }
 }
 

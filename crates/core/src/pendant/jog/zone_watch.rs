@@ -95,20 +95,6 @@ pub fn zones_entered(way: &PlannedStep, now: &ArmNow) -> Vec<u8> {
         .collect()
 }
 
-/// "zone 2", "zones 1, 2".
-pub fn zones_text(zones: &[u8]) -> String {
-    let list = zones
-        .iter()
-        .map(u8::to_string)
-        .collect::<Vec<_>>()
-        .join(", ");
-    if zones.len() == 1 {
-        format!("zone {list}")
-    } else {
-        format!("zones {list}")
-    }
-}
-
 /// A second press armed for a continuous jog into zones: the same control, pressed
 /// again within [`crate::pendant::CONFIRM_FOR`], may jog into them.
 #[derive(Clone, Debug, PartialEq)]
